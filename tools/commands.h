@@ -1,0 +1,11 @@
+// Subcommands of the arttrack program. Each lives in its own
+// tools/arttrack_<name>.cc and registers itself on the CLI11 app.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace arttrack::cli {
+
+void register_render(CLI::App& app);
+
+}  // namespace arttrack::cli

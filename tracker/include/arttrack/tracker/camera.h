@@ -1,0 +1,53 @@
+// Pinhole camera intrinsics and depth images, shared by the tracker, the
+// simulator and the tools.
+//
+// Frames: the camera's optical frame has z forward (along the optical axis),
+// x right and y down. Depth is metres along the optical axis (planar depth,
+// not ray length); 0 means no return.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace arttrack {
+
+// Pinhole intrinsics in pixels. Pixel (u, v) covers [u, u+1) x [v, v+1); its
+// centre is (u + 0.5, v + 0.5). A point (x, y, z) in the optical frame
+// projects to (fx x / z + cx, fy y / z + cy).
+struct CameraIntrinsics {
+  int width = 0;
+  int height = 0;
+  double fx = 0;  // focal length, pixels
+  double fy = 0;
+  double cx = 0;  // principal point, pixels (W/2 for a centred one)
+  double cy = 0;
+
+  // Square pixels and a centred principal point from a vertical field of view
+  // (the only intrinsics MuJoCo 2.2 cameras have).
+  static CameraIntrinsics from_vertical_fov(int width, int height, double fovy_rad);
+
+  // The same camera at another resolution (e.g. 640x480 subsampled to 80x60).
+  CameraIntrinsics scaled_to(int new_width, int new_height) const;
+
+  bool operator==(const CameraIntrinsics&) const = default;
+};
+
+// A depth image, row-major, metres along the optical axis, 0 for no return.
+struct DepthImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> depth_m;
+
+  DepthImage() = default;
+  DepthImage(int w, int h, float fill = 0.f) : width(w), height(h), depth_m(size_t(w) * h, fill) {}
+
+  float& at(int u, int v) { return depth_m[size_t(v) * width + u]; }
+  float at(int u, int v) const { return depth_m[size_t(v) * width + u]; }
+  bool empty() const { return depth_m.empty(); }
+};
+
+// Subsamples by taking the centre pixel of each block (no averaging across
+// depth edges, which would invent depths that are on no surface).
+DepthImage subsample_depth(const DepthImage& image, int new_width, int new_height);
+
+}  // namespace arttrack
