@@ -1,5 +1,6 @@
 #include "arttrack/tracker/camera.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 

@@ -6,6 +6,7 @@
 // not ray length); 0 means no return.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -39,10 +40,11 @@ struct DepthImage {
   std::vector<float> depth_m;
 
   DepthImage() = default;
-  DepthImage(int w, int h, float fill = 0.f) : width(w), height(h), depth_m(size_t(w) * h, fill) {}
+  DepthImage(int w, int h, float fill = 0.f)
+      : width(w), height(h), depth_m(std::size_t(w) * h, fill) {}
 
-  float& at(int u, int v) { return depth_m[size_t(v) * width + u]; }
-  float at(int u, int v) const { return depth_m[size_t(v) * width + u]; }
+  float& at(int u, int v) { return depth_m[std::size_t(v) * width + u]; }
+  float at(int u, int v) const { return depth_m[std::size_t(v) * width + u]; }
   bool empty() const { return depth_m.empty(); }
 };
 

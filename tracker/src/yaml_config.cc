@@ -1,0 +1,216 @@
+#include "arttrack/tracker/yaml_config.h"
+
+#include <filesystem>
+#include <sstream>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Deep merge: maps merge key by key, anything else in `over` replaces `base`.
+YAML::Node merge(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string key = kv.first.as<std::string>();
+    out[key] = out[key] ? merge(out[key], kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+YAML::Node parse_file(const std::string& path) {
+  if (!fs::exists(path)) throw InputError(path + ": file not found");
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot read file");
+  }
+}
+
+YAML::Node load_with_extends(const std::string& path, std::vector<std::string>& chain) {
+  const std::string canonical = fs::weakly_canonical(path).string();
+  for (const auto& seen : chain)
+    if (seen == canonical) throw InputError(path + ": 'extends' forms a cycle");
+  chain.push_back(canonical);
+  YAML::Node node = parse_file(path);
+  if (node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
+  if (!node.IsMap()) throw InputError(path + ": the top level must be a map of keys");
+  if (!node["extends"]) return node;
+  const YAML::Node ext = node["extends"];
+  if (!ext.IsScalar()) throw InputError(path + ": key 'extends' must be a file name");
+  fs::path base_path = ext.as<std::string>();
+  if (base_path.is_relative()) base_path = fs::path(path).parent_path() / base_path;
+  YAML::Node base = load_with_extends(base_path.string(), chain);
+  node.remove("extends");
+  return merge(base, node);
+}
+
+std::string describe(const YAML::Node& n) {
+  if (!n) return "nothing";
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a map";
+  return "null";
+}
+
+}  // namespace
+
+YamlDocument load_yaml_file(const std::string& path) {
+  std::vector<std::string> chain;
+  return {load_with_extends(path, chain), path};
+}
+
+YamlDocument load_yaml_string(const std::string& text, const std::string& source) {
+  try {
+    YAML::Node node = YAML::Load(text);
+    if (node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
+    if (!node.IsMap()) throw InputError(source + ": the top level must be a map of keys");
+    return {node, source};
+  } catch (const YAML::ParserException& e) {
+    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+}
+
+void apply_override(YamlDocument& doc, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("override '" + assignment +
+                     "': expected key=value (e.g. encoders.bias_deg=5)");
+  const std::string key = assignment.substr(0, eq);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(eq + 1));
+  } catch (const YAML::ParserException& e) {
+    throw InputError("override '" + assignment + "': value is not valid YAML: " + e.msg);
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) throw InputError("override '" + assignment + "': empty key component");
+    parts.push_back(part);
+  }
+  // Walk with explicit copies: yaml-cpp nodes are references, and assigning to
+  // a loop variable would rebind the tree.
+  std::vector<YAML::Node> path{doc.root};
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node next = path.back()[parts[i]];
+    if (next && !next.IsMap() && !next.IsNull())
+      throw InputError("override '" + assignment + "': '" + parts[i] + "' is not a map");
+    if (!next || next.IsNull()) {
+      path.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
+      next = path.back()[parts[i]];
+    }
+    path.push_back(next);
+  }
+  path.back()[parts.back()] = value;
+}
+
+ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string path)
+    : node_(node),
+      file_(std::move(file)),
+      path_(std::move(path)),
+      used_(std::make_shared<std::set<std::string>>()),
+      children_(std::make_shared<std::map<std::string, ConfigNode>>()) {}
+
+std::string ConfigNode::path_of(const std::string& key) const {
+  if (key.empty()) return path_;
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+void ConfigNode::fail(const std::string& key, const std::string& problem) const {
+  std::string what = "key '" + path_of(key) + "'";
+  if (path_of(key).empty()) what = "the document";
+  throw InputError(file_ + ": " + what + " " + problem);
+}
+
+bool ConfigNode::has(const std::string& key) const {
+  return node_.IsMap() && node_[key] && !node_[key].IsNull();
+}
+
+YAML::Node ConfigNode::value(const std::string& key) const {
+  used_->insert(key);
+  return node_[key];
+}
+
+double ConfigNode::number(const std::string& key, double fallback, double min, double max) const {
+  if (!has(key)) return fallback;
+  return required_number(key, min, max);
+}
+
+double ConfigNode::required_number(const std::string& key, double min, double max) const {
+  if (!has(key)) fail(key, "is required but missing");
+  const YAML::Node n = value(key);
+  double v;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be a number, got " + describe(n));
+  }
+  if (!(v >= min && v <= max)) {
+    std::ostringstream os;
+    os << "= " << v << " is out of range [" << min << ", " << max << "]";
+    fail(key, os.str());
+  }
+  return v;
+}
+
+std::string ConfigNode::choice(const std::string& key, const std::string& fallback,
+                               const std::vector<std::string>& choices) const {
+  const std::string v = get<std::string>(key, fallback);
+  for (const auto& c : choices)
+    if (c == v) return v;
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+  fail(key, "= '" + v + "' is not one of: " + list);
+}
+
+ConfigNode ConfigNode::child(const std::string& key) const {
+  if (auto it = children_->find(key); it != children_->end()) return it->second;
+  YAML::Node n = has(key) ? value(key) : YAML::Node(YAML::NodeType::Map);
+  if (!n.IsMap()) fail(key, "must be a map, got " + describe(n));
+  ConfigNode c(n, file_, path_of(key));
+  children_->emplace(key, c);
+  return c;
+}
+
+std::vector<ConfigNode> ConfigNode::list(const std::string& key) const {
+  std::vector<ConfigNode> out;
+  if (!has(key)) return out;
+  YAML::Node n = value(key);
+  if (!n.IsSequence()) fail(key, "must be a list, got " + describe(n));
+  for (size_t i = 0; i < n.size(); ++i) {
+    const std::string item = key + "[" + std::to_string(i) + "]";
+    if (auto it = children_->find(item); it != children_->end()) {
+      out.push_back(it->second);
+      continue;
+    }
+    ConfigNode c(n[i], file_, path_of(item));
+    children_->emplace(item, c);
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<std::string> ConfigNode::keys() const {
+  std::vector<std::string> out;
+  if (!node_.IsMap()) return out;
+  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  return out;
+}
+
+void ConfigNode::finish() const {
+  if (node_.IsMap()) {
+    for (const auto& kv : node_) {
+      const std::string key = kv.first.as<std::string>();
+      if (!used_->count(key)) fail(key, "is not a known key here");
+    }
+  }
+  for (const auto& [key, c] : *children_) c.finish();
+}
+
+}  // namespace arttrack
