@@ -1,0 +1,26 @@
+// Depth images as PNG files: 16-bit greyscale in millimetres (0 = no
+// return; the usual format of depth datasets), and an 8-bit false-colour
+// preview for looking at.
+#pragma once
+
+#include <filesystem>
+
+#include "arttrack/tracker/camera.h"
+
+namespace arttrack::sim {
+
+// Writes depth as 16-bit millimetres, rounded; depths beyond 65.535 m are
+// clamped, non-finite or non-positive depths become 0. Errors (cannot
+// write): InputError naming the file.
+void write_depth_png_mm(const std::filesystem::path& path, const DepthImage& depth);
+
+// Reads a 16-bit (or 8-bit) single-channel PNG of millimetres as metres.
+// Missing file, not a PNG, colour or alpha channels: InputError naming the file.
+DepthImage read_depth_png_mm(const std::filesystem::path& path);
+
+// Writes a jet-coloured RGB preview: near red ... far blue between min_m and
+// max_m (both 0: the image's own valid range), black where there is no return.
+void write_depth_preview_png(const std::filesystem::path& path, const DepthImage& depth,
+                             double min_m = 0, double max_m = 0);
+
+}  // namespace arttrack::sim

@@ -1,0 +1,133 @@
+#include "mesh_convert.h"
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <assimp/Importer.hpp>
+
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack::sim {
+namespace fs = std::filesystem;
+
+namespace {
+
+using Triangle = std::array<Eigen::Vector3f, 3>;
+
+// MuJoCo 2.2 rejects STL files with more faces than this.
+constexpr size_t kMaxFaces = 200000;
+
+// A binary STL is exactly 84 + 50 n bytes, n being the count at byte 80; an
+// ASCII file virtually never is. The header text is irrelevant ("solid" is a
+// legal start of a binary header).
+bool read_binary_stl(const fs::path& path, std::vector<Triangle>& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  in.seekg(0, std::ios::end);
+  const auto size = uint64_t(in.tellg());
+  if (size < 84) return false;
+  in.seekg(80);
+  uint32_t n = 0;
+  in.read(reinterpret_cast<char*>(&n), 4);
+  if (size != 84 + 50 * uint64_t(n)) return false;
+  std::vector<char> buf(size_t(n) * 50);
+  in.read(buf.data(), std::streamsize(buf.size()));
+  if (!in) return false;
+  out.resize(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const char* rec = buf.data() + size_t(i) * 50 + 12;  // skip the normal
+    for (int k = 0; k < 3; ++k) {
+      float xyz[3];
+      std::memcpy(xyz, rec + 12 * k, 12);
+      out[i][k] = Eigen::Vector3f(xyz[0], xyz[1], xyz[2]);
+    }
+  }
+  return true;
+}
+
+void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
+             std::vector<Triangle>& out) {
+  const aiMatrix4x4 T = parent * node->mTransformation;
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[i]];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines have no surface
+      Triangle t;
+      for (int k = 0; k < 3; ++k) {
+        const aiVector3D v = T * mesh->mVertices[face.mIndices[k]];
+        t[k] = Eigen::Vector3f(v.x, v.y, v.z);
+      }
+      out.push_back(t);
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], T, out);
+}
+
+void read_with_assimp(const fs::path& path, const std::string& context,
+                      std::vector<Triangle>& out) {
+  Assimp::Importer importer;
+  // URDF meshes are used in their file's own axes (ROS does the same).
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate);
+  if (!scene || !scene->mRootNode)
+    throw InputError(context + ": cannot read mesh '" + path.string() +
+                     "': " + importer.GetErrorString());
+  collect(scene, scene->mRootNode, aiMatrix4x4(), out);
+}
+
+void put_f32(std::vector<char>& buf, size_t& at, float v) {
+  std::memcpy(buf.data() + at, &v, 4);
+  at += 4;
+}
+
+}  // namespace
+
+int convert_mesh_to_binary_stl(const fs::path& source, const fs::path& target,
+                               const Eigen::Vector3d& scale, const std::string& context) {
+  if (!fs::is_regular_file(source))
+    throw InputError(context + ": mesh file '" + source.string() + "' not found");
+  std::vector<Triangle> tris;
+  std::string ext = source.extension().string();
+  for (char& c : ext) c = char(std::tolower(c));
+  if (!(ext == ".stl" && read_binary_stl(source, tris))) read_with_assimp(source, context, tris);
+  if (tris.empty()) throw InputError(context + ": mesh '" + source.string() + "' has no triangles");
+  if (tris.size() > kMaxFaces)
+    throw InputError(context + ": mesh '" + source.string() + "' has " +
+                     std::to_string(tris.size()) + " triangles, more than MuJoCo 2.2's " +
+                     std::to_string(kMaxFaces));
+
+  // A mirroring scale turns the surface inside out; swapping two corners of
+  // every triangle keeps normals pointing outward.
+  const bool mirror = scale.x() * scale.y() * scale.z() < 0;
+  const Eigen::Vector3f s = scale.cast<float>();
+  std::vector<char> buf(84 + 50 * tris.size(), 0);
+  const char header[] = "binary STL written by arttrack";
+  std::memcpy(buf.data(), header, sizeof(header) - 1);
+  const auto n = uint32_t(tris.size());
+  std::memcpy(buf.data() + 80, &n, 4);
+  size_t at = 84;
+  for (Triangle t : tris) {
+    for (auto& v : t) v = v.cwiseProduct(s);
+    if (mirror) std::swap(t[1], t[2]);
+    Eigen::Vector3f normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    if (normal.norm() > 0) normal.normalize();
+    for (int k = 0; k < 3; ++k) put_f32(buf, at, normal[k]);
+    for (const auto& v : t)
+      for (int k = 0; k < 3; ++k) put_f32(buf, at, v[k]);
+    at += 2;  // attribute byte count
+  }
+  std::ofstream out(target, std::ios::binary);
+  out.write(buf.data(), std::streamsize(buf.size()));
+  if (!out) throw InputError(context + ": cannot write converted mesh '" + target.string() + "'");
+  return int(tris.size());
+}
+
+}  // namespace arttrack::sim
