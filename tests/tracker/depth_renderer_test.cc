@@ -1,0 +1,346 @@
+#include "arttrack/tracker/depth_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <numbers>
+#include <random>
+
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
+
+// Counts heap allocations, to check that rendering allocates nothing.
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace arttrack {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// One shape on the base link, seen by a camera `distance` metres above it
+// looking down (optical z = -base z, optical x = base x, optical y = -base y).
+std::string shape_above(const std::string& geometry, double distance) {
+  return R"(<robot name="shape">
+  <link name="base_link"><visual><geometry>)" +
+         geometry + R"(</geometry></visual></link>
+  <link name="camera_optical_frame"/>
+  <joint name="mount" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
+    <origin xyz="0 0 )" +
+         std::to_string(distance) + R"(" rpy="3.141592653589793 0 0"/></joint>
+</robot>)";
+}
+
+DepthImage render_once(const RobotModel& model, const CameraIntrinsics& camera,
+                       const RenderOptions& options = {}) {
+  KinematicsState state(model);
+  forward_kinematics(model, Eigen::VectorXd::Zero(model.num_joints()), state);
+  DepthRenderer renderer(model, camera, options);
+  DepthImage depth;
+  renderer.render(state, depth);
+  return depth;
+}
+
+int covered_in_row(const DepthImage& depth, int v) {
+  int n = 0;
+  for (int u = 0; u < depth.width; ++u) n += depth.at(u, v) > 0;
+  return n;
+}
+int covered_in_column(const DepthImage& depth, int u) {
+  int n = 0;
+  for (int v = 0; v < depth.height; ++v) n += depth.at(u, v) > 0;
+  return n;
+}
+
+// Number of pixel centres u + 0.5 within [c - half, c + half].
+int centres_within(double c, double half) {
+  return int(std::floor(c + half - 0.5) - std::ceil(c - half - 0.5) + 1);
+}
+
+TEST(DepthRenderer, BoxFaceHasPlanarDepthAndExactSilhouette) {
+  // A 0.2 x 0.3 x 0.1 box, its top face 0.95 m from the camera.
+  const RobotModel model =
+      RobotModel::from_urdf_string(shape_above(R"(<box size="0.2 0.3 0.1"/>)", 1.0), "");
+  for (const auto& [w, h] : {std::pair{80, 60}, {640, 480}, {97, 61}}) {
+    const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(w, h, 45 * kPi / 180);
+    const DepthImage depth = render_once(model, camera);
+    ASSERT_EQ(depth.width, w);
+    EXPECT_NEAR(depth.at(w / 2, h / 2), 0.95, 1e-5);
+    // Only the top face is visible and it is fronto-parallel: one depth.
+    for (float d : depth.depth_m) {
+      if (d > 0) {
+        ASSERT_NEAR(d, 0.95, 1e-5);
+      }
+    }
+    // Face x in [-0.1, 0.1] (image u), y in [-0.15, 0.15] (image v).
+    const int width = centres_within(camera.cx, camera.fx * 0.1 / 0.95);
+    const int height = centres_within(camera.cy, camera.fy * 0.15 / 0.95);
+    EXPECT_NEAR(covered_in_row(depth, h / 2), width, 1) << w << "x" << h;
+    EXPECT_NEAR(covered_in_column(depth, w / 2), height, 1) << w << "x" << h;
+  }
+}
+
+TEST(DepthRenderer, SphereSilhouetteDepthAndNoCracks) {
+  const double r = 0.1, d = 1.0;
+  RobotModelOptions options;
+  options.sphere_segments = 24;
+  const RobotModel model =
+      RobotModel::from_urdf_string(shape_above(R"(<sphere radius="0.1"/>)", d), "", options);
+  for (const auto& [w, h] : {std::pair{80, 60}, {640, 480}}) {
+    const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(w, h, 45 * kPi / 180);
+    const DepthImage depth = render_once(model, camera);
+    // A centred sphere's silhouette is a circle of radius f r / sqrt(d^2 - r^2).
+    const double rho = camera.fx * r / std::sqrt(d * d - r * r);
+    const double dy = h / 2 + 0.5 - camera.cy;  // row h/2's centre below the principal point
+    EXPECT_NEAR(covered_in_row(depth, h / 2),
+                centres_within(camera.cx, std::sqrt(rho * rho - dy * dy)), 1);
+    // Depth against the true sphere inside 80 % of the silhouette, within the
+    // tessellation's deviation; and no pixel missing there (no cracks).
+    int checked = 0;
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const Eigen::Vector3d ray((u + 0.5 - camera.cx) / camera.fx,
+                                  (v + 0.5 - camera.cy) / camera.fy, 1);
+        const double off_axis = std::hypot(u + 0.5 - camera.cx, v + 0.5 - camera.cy);
+        if (off_axis > 0.8 * rho) continue;
+        // Nearest intersection of z * ray with the sphere centred at (0, 0, d).
+        const double a = ray.squaredNorm(), b = -2 * d, c = d * d - r * r;
+        const double z = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
+        ASSERT_GT(depth.at(u, v), 0.f) << "hole at " << u << "," << v;
+        EXPECT_NEAR(depth.at(u, v), z, 0.02 * r) << u << "," << v;
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 50);
+  }
+}
+
+// A slab whose top face is a floor 0.2 m below the camera, from 1 m behind it
+// to 3 m ahead: the face crosses the near plane.
+constexpr char kFloor[] = R"(<robot name="floor">
+  <link name="camera_optical_frame"/>
+  <link name="slab"><visual><origin xyz="0 0.3 1"/><geometry><box size="2 0.2 4"/></geometry></visual></link>
+  <joint name="mount" type="fixed"><parent link="camera_optical_frame"/><child link="slab"/></joint>
+</robot>)";
+
+TEST(DepthRenderer, NearPlaneClipsAndKeepsTheVisiblePart) {
+  RobotModelOptions model_options;
+  model_options.add_virtual_camera_joints = false;
+  const RobotModel model = RobotModel::from_urdf_string(kFloor, "", model_options);
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kPi / 180);
+  for (const float near : {0.01f, 0.6f}) {
+    const DepthImage depth = render_once(model, camera, RenderOptions{.near_m = near});
+    const int u = 40;  // the centre column
+    int rendered_rows = 0;
+    for (int v = 0; v < camera.height; ++v) {
+      const double below = v + 0.5 - camera.cy;
+      // Ray through the pixel centre meets the plane y = 0.2 at z = 0.2 fy / below.
+      const double z = below > 0 ? 0.2 * camera.fy / below : 1e9;
+      const double expected = (z >= near && z <= 3.0) ? z : 0.0;
+      if (std::abs(z - near) < 1e-3 || std::abs(z - 3.0) < 1e-3) continue;  // on a cut
+      EXPECT_NEAR(depth.at(u, v), expected, 1e-5 * expected) << "near " << near << " row " << v;
+      rendered_rows += expected > 0;
+    }
+    EXPECT_GT(rendered_rows, 5);
+  }
+}
+
+// Two links, each with a box, a cylinder or a sphere, on a 4-DOF arm.
+constexpr char kArm[] = R"(<robot name="arm">
+  <link name="base_link"><visual><origin xyz="0 0 0.05"/><geometry><box size="0.3 0.3 0.1"/></geometry></visual></link>
+  <link name="upper">
+    <visual><origin xyz="0 0 0.2"/><geometry><cylinder radius="0.05" length="0.4"/></geometry></visual>
+    <visual><origin xyz="0 0 0.4"/><geometry><sphere radius="0.07"/></geometry></visual>
+  </link>
+  <link name="lower"><visual><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.08 0.06"/></geometry></visual></link>
+  <link name="pan"/>
+  <link name="camera_optical_frame"/>
+  <joint name="shoulder" type="revolute"><parent link="base_link"/><child link="upper"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="lower"/>
+    <origin xyz="0 0 0.4"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="head_pan" type="revolute"><parent link="base_link"/><child link="pan"/>
+    <origin xyz="0.9 0 0.5"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="cam" type="fixed"><parent link="pan"/><child link="camera_optical_frame"/>
+    <origin rpy="-1.9 0 1.5707963267948966"/></joint>
+</robot>)";
+
+// Brute force: the nearest front-facing triangle hit by each pixel's ray,
+// intersected in double precision (Moller-Trumbore), z >= near.
+DepthImage ray_cast(const RobotModel& model, const KinematicsState& state,
+                    const CameraIntrinsics& camera, double near) {
+  DepthImage depth(camera.width, camera.height);
+  const Eigen::Isometry3d T_cam_root =
+      state.T_root_link[model.camera_link()].inverse(Eigen::Isometry);
+  std::vector<std::array<Eigen::Vector3d, 3>> triangles;
+  for (int l : model.links_with_geometry()) {
+    const Eigen::Isometry3d T = T_cam_root * state.T_root_link[l];
+    const TriangleMesh& mesh = model.link(l).mesh;
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      std::array<Eigen::Vector3d, 3> p;
+      for (int k = 0; k < 3; ++k) p[k] = T * mesh.vertices_m[t[k]].cast<double>();
+      if ((p[1] - p[0]).cross(p[2] - p[0]).dot(p[0]) < 0) triangles.push_back(p);  // faces us
+    }
+  }
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector3d ray((u + 0.5 - camera.cx) / camera.fx,
+                                (v + 0.5 - camera.cy) / camera.fy, 1);
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& p : triangles) {
+        const Eigen::Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0];
+        const Eigen::Vector3d h = ray.cross(e2);
+        const double det = e1.dot(h);
+        if (std::abs(det) < 1e-15) continue;
+        const double s = (-p[0]).dot(h) / det;  // ray origin is the camera centre
+        const Eigen::Vector3d qv = (-p[0]).cross(e1);
+        const double t = ray.dot(qv) / det;
+        const double z = e2.dot(qv) / det;  // ray has unit z: parameter = depth
+        if (s < 0 || t < 0 || s + t > 1 || z < near) continue;
+        best = std::min(best, z);
+      }
+      if (std::isfinite(best)) depth.at(u, v) = float(best);
+    }
+  }
+  return depth;
+}
+
+TEST(DepthRenderer, AgreesWithBruteForceRayCasting) {
+  const RobotModel model = RobotModel::from_urdf_string(kArm, "");
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  KinematicsState state(model);
+  for (const auto& [w, h] : {std::pair{80, 60}, {160, 120}}) {
+    const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(w, h, 50 * kPi / 180);
+    DepthRenderer renderer(model, camera);
+    DepthImage depth;
+    int covered = 0, coverage_mismatches = 0, depth_mismatches = 0;
+    for (int trial = 0; trial < 6; ++trial) {
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+      for (int j = 0; j < 3; ++j) q[j] = 0.8 * U(rng);
+      for (int j = 3; j < 6; ++j) q[j] = 0.05 * U(rng);
+      for (int j = 6; j < 9; ++j) q[j] = 0.1 * U(rng);
+      forward_kinematics(model, q, state);
+      renderer.render(state, depth);
+      const DepthImage truth = ray_cast(model, state, camera, renderer.options().near_m);
+      for (int i = 0; i < w * h; ++i) {
+        covered += truth.depth_m[i] > 0;
+        if ((depth.depth_m[i] > 0) != (truth.depth_m[i] > 0)) {
+          ++coverage_mismatches;
+        } else if (std::abs(depth.depth_m[i] - truth.depth_m[i]) > 1e-4 * truth.depth_m[i]) {
+          ++depth_mismatches;
+        }
+      }
+    }
+    EXPECT_GT(covered, w * h / 2) << "the arm should fill much of the view";
+    // Only a pixel centre within rounding of a silhouette edge may differ.
+    EXPECT_LE(coverage_mismatches, 2) << w << "x" << h << " of " << covered;
+    EXPECT_LE(depth_mismatches, 2) << w << "x" << h << " of " << covered;
+  }
+}
+
+TEST(DepthRenderer, SubsetsCachesAndRectangles) {
+  const RobotModel model = RobotModel::from_urdf_string(kArm, "");
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 50 * kPi / 180);
+  DepthRenderer renderer(model, camera);
+  KinematicsState state(model);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+  q[model.joint_index("shoulder")] = 0.3;
+  q[model.joint_index("elbow")] = -0.6;
+  forward_kinematics(model, q, state);
+  DepthImage all, subset, cached;
+  const PixelRect all_rect = renderer.render(state, all);
+
+  // The bounding rectangle is that of the nonzero pixels.
+  PixelRect expected{80, 60, 0, 0};
+  for (int v = 0; v < 60; ++v) {
+    for (int u = 0; u < 80; ++u) {
+      if (all.at(u, v) > 0)
+        expected = {std::min(expected.u0, u), std::min(expected.v0, v),
+                    std::max(expected.u1, u + 1), std::max(expected.v1, v + 1)};
+    }
+  }
+  EXPECT_EQ(all_rect.u0, expected.u0);
+  EXPECT_EQ(all_rect.v0, expected.v0);
+  EXPECT_EQ(all_rect.u1, expected.u1);
+  EXPECT_EQ(all_rect.v1, expected.v1);
+
+  // The elbow's links alone, merged with the rest, give the full image.
+  const int elbow = model.joint_index("elbow");
+  const LinkSet lower = model.links_moved_by(elbow);
+  LinkSet rest(lower.size());
+  for (size_t l = 0; l < lower.size(); ++l) rest[l] = !lower[l];
+  const PixelRect lower_rect = renderer.render_links(state, lower, subset);
+  EXPECT_GT(lower_rect.area(), 0);
+  DepthImage merged;
+  renderer.render_links(state, rest, merged);
+  merge_nearer(subset, lower_rect, merged);
+  EXPECT_EQ(merged.depth_m, all.depth_m);
+  for (int v = 0; v < 60; ++v) {
+    for (int u = 0; u < 80; ++u) {
+      const bool inside =
+          u >= lower_rect.u0 && u < lower_rect.u1 && v >= lower_rect.v0 && v < lower_rect.v1;
+      if (!inside) {
+        ASSERT_EQ(subset.at(u, v), 0.f);
+      }
+    }
+  }
+
+  // A cache for the elbow: hypotheses moving only the elbow render exactly
+  // like full renders.
+  CachedRenderer cache(renderer, {elbow});
+  cache.set_reference(state);
+  KinematicsState hypothesis(model);
+  DepthImage full;
+  for (double delta : {0.0, 0.2, -0.5}) {
+    Eigen::VectorXd qh = q;
+    qh[elbow] += delta;
+    forward_kinematics(model, qh, hypothesis);
+    cache.render(hypothesis, cached);
+    renderer.render(hypothesis, full);
+    EXPECT_EQ(cached.depth_m, full.depth_m) << delta;
+  }
+  // A camera DOF moves everything, so its cache holds nothing.
+  CachedRenderer camera_cache(renderer, {model.joint_index("camera_offset_yaw")});
+  camera_cache.set_reference(state);
+  for (float d : camera_cache.cached_depth().depth_m) ASSERT_EQ(d, 0.f);
+  // The head pan moves the camera too.
+  const LinkSet pan_links = links_affecting_depth(model, {model.joint_index("head_pan")});
+  for (bool b : pan_links) EXPECT_TRUE(b);
+}
+
+TEST(DepthRenderer, RenderingAllocatesNothingOnceSized) {
+  const RobotModel model = RobotModel::from_urdf_string(kArm, "");
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 50 * kPi / 180);
+  DepthRenderer renderer(model, camera);
+  KinematicsState state(model);
+  Eigen::VectorXd q = Eigen::VectorXd::Constant(model.num_joints(), 0.01);
+  forward_kinematics(model, q, state);
+  DepthImage depth, cached;
+  CachedRenderer cache(renderer, {model.joint_index("elbow")});
+  cache.set_reference(state);
+  const LinkSet links = model.links_moved_by(model.joint_index("shoulder"));
+  renderer.render(state, depth);
+  cache.render(state, cached);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 10; ++i) {
+    forward_kinematics(model, q, state);
+    renderer.render(state, depth);
+    renderer.render_links(state, links, depth);
+    cache.render(state, cached);
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+}  // namespace
+}  // namespace arttrack

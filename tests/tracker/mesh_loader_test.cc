@@ -1,0 +1,227 @@
+#include "arttrack/tracker/mesh_loader.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder per test for the mesh files it writes.
+fs::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_mesh_" + std::to_string(getpid())) / info->name();
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// Volume enclosed by a closed mesh (divergence theorem); positive when the
+// triangles face outwards.
+double signed_volume(const TriangleMesh& mesh) {
+  double volume = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices_m[t[0]].cast<double>();
+    const Eigen::Vector3d b = mesh.vertices_m[t[1]].cast<double>();
+    const Eigen::Vector3d c = mesh.vertices_m[t[2]].cast<double>();
+    volume += a.dot(b.cross(c)) / 6;
+  }
+  return volume;
+}
+
+// Every directed edge is matched by the opposite edge of exactly one other
+// triangle: the surface is closed and consistently wound.
+bool closed_and_consistent(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, int> directed;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  }
+  for (const auto& [edge, count] : directed) {
+    if (count != 1) return false;
+    auto it = directed.find({edge.second, edge.first});
+    if (it == directed.end() || it->second != 1) return false;
+  }
+  return true;
+}
+
+bool has_vertex(const TriangleMesh& mesh, const Eigen::Vector3f& p, float tol = 1e-6f) {
+  for (const Eigen::Vector3f& v : mesh.vertices_m) {
+    if ((v - p).norm() < tol) return true;
+  }
+  return false;
+}
+
+// Two geometries (a triangle and a quad), placed by nested nodes with
+// translate, matrix and rotate transforms, in centimetres, Z up.
+constexpr char kTwoMeshDae[] = R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tri" name="tri"><mesh>
+      <source id="tri_pos"><float_array id="tri_arr" count="9">0 0 0 1 0 0 0 1 0</float_array>
+        <technique_common><accessor source="#tri_arr" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="tri_vtx"><input semantic="POSITION" source="#tri_pos"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#tri_vtx" offset="0"/><p>0 1 2</p></triangles>
+    </mesh></geometry>
+    <geometry id="quad" name="quad"><mesh>
+      <source id="quad_pos"><float_array id="quad_arr" count="12">0 0 0 2 0 0 2 2 0 0 2 0</float_array>
+        <technique_common><accessor source="#quad_arr" count="4" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="quad_vtx"><input semantic="POSITION" source="#quad_pos"/></vertices>
+      <polylist count="1"><input semantic="VERTEX" source="#quad_vtx" offset="0"/>
+        <vcount>4</vcount><p>0 1 2 3</p></polylist>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="scene">
+      <node id="a" name="a"><translate>10 0 0</translate><instance_geometry url="#tri"/></node>
+      <node id="b" name="b"><matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix>
+        <node id="c" name="c"><rotate>0 0 1 90</rotate><instance_geometry url="#quad"/></node>
+      </node>
+    </visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)";
+
+TEST(MeshLoader, DaeLoadsEverySubMeshWithNodeTransformsAndUnits) {
+  const fs::path path = test_dir() / "two.dae";
+  write_file(path, kTwoMeshDae);
+  const TriangleMesh mesh = load_mesh(path.string());
+  EXPECT_EQ(mesh.triangles.size(), 3u);  // the triangle and the quad's two halves
+  EXPECT_EQ(mesh.vertices_m.size(), 7u);
+  // Triangle: translated 10 cm along x. Quad: turned 90 degrees about z,
+  // lifted 5 cm. Centimetres become metres; Z stays up (no Y-up rotation).
+  for (const Eigen::Vector3f& p : {Eigen::Vector3f(0.10f, 0, 0), Eigen::Vector3f(0.11f, 0, 0),
+                                   Eigen::Vector3f(0.10f, 0.01f, 0)}) {
+    EXPECT_TRUE(has_vertex(mesh, p)) << p.transpose();
+  }
+  for (const Eigen::Vector3f& p :
+       {Eigen::Vector3f(0, 0, 0.05f), Eigen::Vector3f(0, 0.02f, 0.05f),
+        Eigen::Vector3f(-0.02f, 0.02f, 0.05f), Eigen::Vector3f(-0.02f, 0, 0.05f)}) {
+    EXPECT_TRUE(has_vertex(mesh, p)) << p.transpose();
+  }
+}
+
+// Binary STL whose 80-byte header starts with "solid", as many CAD tools write.
+void write_binary_stl(const fs::path& path, const std::vector<std::array<float, 9>>& triangles) {
+  std::ofstream out(path, std::ios::binary);
+  char header[80];
+  std::memset(header, ' ', sizeof header);
+  std::memcpy(header, "solid part exported by CAD", 26);
+  out.write(header, sizeof header);
+  const uint32_t n = uint32_t(triangles.size());
+  out.write(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : triangles) {
+    const float normal[3] = {0, 0, 0};
+    out.write(reinterpret_cast<const char*>(normal), sizeof normal);
+    out.write(reinterpret_cast<const char*>(t.data()), 9 * sizeof(float));
+    const uint16_t attribute = 0;
+    out.write(reinterpret_cast<const char*>(&attribute), 2);
+  }
+}
+
+TEST(MeshLoader, BinaryStlWithSolidHeaderAndScale) {
+  const fs::path path = test_dir() / "square.stl";
+  write_binary_stl(path, {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}});
+  const TriangleMesh mesh = load_mesh(path.string(), Eigen::Vector3d(2, 3, 4));
+  ASSERT_EQ(mesh.triangles.size(), 2u);
+  EXPECT_EQ(mesh.vertices_m.size(), 4u);  // the shared corners welded
+  for (const Eigen::Vector3f& p : {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(2, 0, 0),
+                                   Eigen::Vector3f(2, 3, 0), Eigen::Vector3f(0, 3, 0)}) {
+    EXPECT_TRUE(has_vertex(mesh, p)) << p.transpose();
+  }
+}
+
+// A unit cube of six quads wound counter-clockwise seen from outside.
+constexpr char kCubeObj[] = R"(# unit cube
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+v 1 0 1
+v 1 1 1
+v 0 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+)";
+
+TEST(MeshLoader, ObjQuadsAreTriangulatedClosedAndOutward) {
+  const fs::path path = test_dir() / "cube.obj";
+  write_file(path, kCubeObj);
+  const TriangleMesh mesh = load_mesh(path.string());
+  EXPECT_EQ(mesh.triangles.size(), 12u);
+  EXPECT_EQ(mesh.vertices_m.size(), 8u);
+  EXPECT_TRUE(closed_and_consistent(mesh));
+  EXPECT_NEAR(signed_volume(mesh), 1.0, 1e-6);
+}
+
+TEST(MeshLoader, MissingAndGarbageFilesNameTheFile) {
+  const fs::path dir = test_dir();
+  try {
+    load_mesh((dir / "nowhere.stl").string());
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nowhere.stl"), std::string::npos) << e.what();
+  }
+  write_file(dir / "garbage.obj", "this is not a mesh\n");
+  try {
+    load_mesh((dir / "garbage.obj").string());
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("garbage.obj"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshLoader, PrimitivesAreClosedOutwardWithTheRightVolume) {
+  const double pi = std::numbers::pi;
+  const TriangleMesh box = make_box(Eigen::Vector3d(0.2, 0.3, 0.4));
+  EXPECT_TRUE(closed_and_consistent(box));
+  EXPECT_NEAR(signed_volume(box), 0.2 * 0.3 * 0.4, 1e-8);
+
+  // The area-preserving polygon makes the cylinder's volume exact.
+  const TriangleMesh cylinder = make_cylinder(0.05, 0.3, 32);
+  EXPECT_TRUE(closed_and_consistent(cylinder));
+  EXPECT_NEAR(signed_volume(cylinder), pi * 0.05 * 0.05 * 0.3, 1e-7);
+  EXPECT_EQ(cylinder.triangles.size(), 4u * 32);
+
+  const TriangleMesh sphere = make_sphere(0.1, 16);
+  EXPECT_TRUE(closed_and_consistent(sphere));
+  EXPECT_NEAR(signed_volume(sphere), 4.0 / 3 * pi * 1e-3, 0.05 * 4.0 / 3 * pi * 1e-3);
+}
+
+TEST(MeshLoader, AppendWithMirrorKeepsTrianglesOutward) {
+  TriangleMesh mirrored;
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  T.linear() = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  T.translation() = Eigen::Vector3d(1, 2, 3);
+  mirrored.append(make_box(Eigen::Vector3d(0.1, 0.2, 0.3)), T);
+  EXPECT_TRUE(closed_and_consistent(mirrored));
+  EXPECT_NEAR(signed_volume(mirrored), 0.1 * 0.2 * 0.3, 1e-7);
+}
+
+}  // namespace
+}  // namespace arttrack

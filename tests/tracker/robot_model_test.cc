@@ -1,0 +1,252 @@
+#include "arttrack/tracker/robot_model.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_robot_" + std::to_string(getpid())) / info->name();
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The message of the InputError that `f` throws ("" if none).
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A branching tree: base -> arm (revolute, then a prismatic and a fixed
+// joint) and base -> head (continuous) -> camera (fixed).
+constexpr char kTree[] = R"(<robot name="tree">
+  <link name="base_link"><visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual></link>
+  <link name="upper"><visual><geometry><cylinder radius="0.05" length="0.3"/></geometry></visual></link>
+  <link name="slider"/>
+  <link name="tool"><visual><geometry><sphere radius="0.03"/></geometry></visual></link>
+  <link name="head"/>
+  <link name="camera_optical_frame"/>
+  <joint name="b_shoulder" type="revolute">
+    <parent link="base_link"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-1.5" upper="2.0" effort="1" velocity="1"/>
+  </joint>
+  <joint name="b_slide" type="prismatic">
+    <parent link="upper"/><child link="slider"/><origin xyz="0 0 0.3"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.2" effort="1" velocity="1"/>
+  </joint>
+  <joint name="b_tool_mount" type="fixed"><parent link="slider"/><child link="tool"/></joint>
+  <joint name="a_head_pan" type="continuous">
+    <parent link="base_link"/><child link="head"/><origin xyz="0 0 0.5"/><axis xyz="0 0 1"/>
+  </joint>
+  <joint name="a_camera_mount" type="fixed">
+    <parent link="head"/><child link="camera_optical_frame"/><origin xyz="0.1 0 0" rpy="-1.5708 0 -1.5708"/>
+  </joint>
+</robot>
+)";
+
+TEST(RobotModel, TreeOrderDofsLimitsAndVirtualJoints) {
+  const RobotModel model = RobotModel::from_urdf_string(kTree, "");
+  // 6 URDF links + 6 virtual frames; 3 URDF DOFs + 6 virtual.
+  EXPECT_EQ(model.num_links(), 12);
+  ASSERT_EQ(model.num_joints(), 9);
+  // Depth-first, siblings by joint name: the a_ branch before the b_ branch.
+  const std::vector<std::string> expected = {
+      "a_head_pan",         "b_shoulder",          "b_slide",
+      "camera_offset_x",    "camera_offset_y",     "camera_offset_z",
+      "camera_offset_roll", "camera_offset_pitch", "camera_offset_yaw"};
+  EXPECT_EQ(model.joint_names(), expected);
+  for (int l = 1; l < model.num_links(); ++l) EXPECT_LT(model.link(l).parent, l);
+  EXPECT_EQ(model.link_name(0), "base_link");
+
+  const int shoulder = model.joint_index("b_shoulder");
+  EXPECT_EQ(model.joint_type(shoulder), JointType::kRevolute);
+  EXPECT_EQ(model.joint_lower(shoulder), -1.5);
+  EXPECT_EQ(model.joint_upper(shoulder), 2.0);
+  EXPECT_EQ(model.link_name(model.joint_child_link(shoulder)), "upper");
+  const int pan = model.joint_index("a_head_pan");
+  EXPECT_TRUE(std::isinf(model.joint_upper(pan)));
+  EXPECT_FALSE(model.is_virtual_joint(pan));
+  EXPECT_TRUE(model.is_virtual_joint(model.joint_index("camera_offset_yaw")));
+  EXPECT_EQ(model.joint_type(model.joint_index("camera_offset_z")), JointType::kPrismatic);
+  EXPECT_EQ(model.joint_type(model.joint_index("camera_offset_roll")), JointType::kRevolute);
+
+  EXPECT_EQ(model.link_name(model.nominal_camera_link()), "camera_optical_frame");
+  EXPECT_EQ(model.link_name(model.camera_link()), "camera_optical_frame_corrected");
+
+  // The shoulder moves its whole subtree and nothing else.
+  const LinkSet moved = model.links_moved_by(shoulder);
+  for (int l = 0; l < model.num_links(); ++l) {
+    const std::string& name = model.link_name(l);
+    EXPECT_EQ(bool(moved[l]), name == "upper" || name == "slider" || name == "tool") << name;
+  }
+  // Links with geometry: base, upper, tool.
+  EXPECT_EQ(model.links_with_geometry().size(), 3u);
+}
+
+TEST(RobotModel, WithoutVirtualJointsTheCameraIsTheNominalFrame) {
+  RobotModelOptions options;
+  options.add_virtual_camera_joints = false;
+  const RobotModel model = RobotModel::from_urdf_string(kTree, "", options);
+  EXPECT_EQ(model.num_joints(), 3);
+  EXPECT_EQ(model.camera_link(), model.nominal_camera_link());
+}
+
+TEST(RobotModel, LookupErrorsNameTheItemAndTheFile) {
+  const fs::path path = test_dir() / "tree.urdf";
+  write_file(path, kTree);
+  const RobotModel model = RobotModel::from_urdf_file(path.string());
+  std::string msg = error_of([&] { model.joint_index("elbow"); });
+  EXPECT_TRUE(contains(msg, "'elbow'") && contains(msg, path.string())) << msg;
+  msg = error_of([&] { model.joint_index("b_tool_mount"); });
+  EXPECT_TRUE(contains(msg, "'b_tool_mount'") && contains(msg, "fixed")) << msg;
+  msg = error_of([&] { model.link_index("gripper"); });
+  EXPECT_TRUE(contains(msg, "'gripper'") && contains(msg, path.string())) << msg;
+  EXPECT_EQ(model.link_name(model.link_index("tool")), "tool");
+}
+
+TEST(RobotModel, FileErrorsNameTheFile) {
+  const fs::path dir = test_dir();
+  std::string msg = error_of([&] { RobotModel::from_urdf_file((dir / "absent.urdf").string()); });
+  EXPECT_TRUE(contains(msg, "absent.urdf")) << msg;
+
+  write_file(dir / "broken.urdf", "<robot name=\"x\"><link name=\"a\"></robot");
+  msg = error_of([&] { RobotModel::from_urdf_file((dir / "broken.urdf").string()); });
+  EXPECT_TRUE(contains(msg, "broken.urdf")) << msg;
+}
+
+constexpr char kJointTemplate[] = R"(<robot name="j">
+  <link name="base_link"/><link name="camera_optical_frame"/>
+  <joint name="odd_joint" type="TYPE">
+    <parent link="base_link"/><child link="camera_optical_frame"/><axis xyz="AXIS"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>
+)";
+
+std::string joint_urdf(const std::string& type, const std::string& axis = "0 0 1") {
+  std::string text = kJointTemplate;
+  text.replace(text.find("TYPE"), 4, type);
+  text.replace(text.find("AXIS"), 4, axis);
+  return text;
+}
+
+TEST(RobotModel, UnsupportedJointTypesNameTheJointAndFile) {
+  const fs::path dir = test_dir();
+  for (const std::string type : {"ball", "floating", "planar"}) {
+    const fs::path path = dir / (type + ".urdf");
+    write_file(path, joint_urdf(type));
+    const std::string msg = error_of([&] { RobotModel::from_urdf_file(path.string()); });
+    EXPECT_TRUE(contains(msg, "odd_joint") && contains(msg, path.string())) << type << ": " << msg;
+  }
+  const std::string msg =
+      error_of([&] { RobotModel::from_urdf_string(joint_urdf("revolute", "0 0 0"), ""); });
+  EXPECT_TRUE(contains(msg, "odd_joint") && contains(msg, "axis")) << msg;
+  EXPECT_NO_THROW(RobotModel::from_urdf_string(joint_urdf("revolute"), ""));
+}
+
+TEST(RobotModel, MissingCameraFrameIsNamed) {
+  RobotModelOptions options;
+  options.camera_frame = "head_camera";
+  const std::string msg = error_of([&] { RobotModel::from_urdf_string(kTree, "", options); });
+  EXPECT_TRUE(contains(msg, "'head_camera'")) << msg;
+}
+
+// Meshes by package:// and relative paths, each visual with an origin and a
+// scale; two visuals merge into one link mesh.
+constexpr char kMeshes[] = R"(<robot name="m">
+  <link name="base_link">
+    <visual><origin xyz="1 0 0"/>
+      <geometry><mesh filename="package://my_models/meshes/pkg_cube.obj" scale="2 2 2"/></geometry></visual>
+    <visual><origin xyz="0 0 -1" rpy="0 0 1.5707963267948966"/>
+      <geometry><mesh filename="meshes/cube.obj"/></geometry></visual>
+  </link>
+  <link name="camera_optical_frame"/>
+  <joint name="mount" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/></joint>
+</robot>
+)";
+
+constexpr char kCubeObj[] = R"(v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+v 1 0 1
+v 1 1 1
+v 0 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+)";
+
+TEST(RobotModel, MeshesResolveScaleAndPlaceEveryVisual) {
+  const fs::path dir = test_dir();
+  // The package mesh is only under <search folder>/NAME/rest.
+  fs::create_directories(dir / "pkg" / "my_models" / "meshes");
+  fs::create_directories(dir / "urdf" / "meshes");
+  write_file(dir / "pkg" / "my_models" / "meshes" / "pkg_cube.obj", kCubeObj);
+  write_file(dir / "urdf" / "meshes" / "cube.obj", kCubeObj);
+  write_file(dir / "urdf" / "robot.urdf", kMeshes);
+  RobotModelOptions options;
+  options.mesh_search_paths = {(dir / "pkg").string()};
+  const RobotModel model =
+      RobotModel::from_urdf_file((dir / "urdf" / "robot.urdf").string(), options);
+  const TriangleMesh& mesh = model.link(0).mesh;
+  EXPECT_EQ(mesh.triangles.size(), 24u);
+  // First cube: [0,2]^3 shifted by x + 1. Second: [0,1]^3 turned 90 degrees
+  // about z ((x, y) -> (-y, x)), shifted by z - 1.
+  Eigen::Vector3f lo = mesh.vertices_m[0], hi = mesh.vertices_m[0];
+  for (const Eigen::Vector3f& v : mesh.vertices_m) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  EXPECT_TRUE(lo.isApprox(Eigen::Vector3f(-1, 0, -1), 1e-6f)) << lo.transpose();
+  EXPECT_TRUE(hi.isApprox(Eigen::Vector3f(3, 2, 2), 1e-6f)) << hi.transpose();
+}
+
+TEST(RobotModel, MissingMeshNamesMeshLinkAndFile) {
+  const fs::path dir = test_dir();
+  write_file(dir / "robot.urdf", kMeshes);
+  const std::string msg =
+      error_of([&] { RobotModel::from_urdf_file((dir / "robot.urdf").string()); });
+  EXPECT_TRUE(contains(msg, "cube.obj") && contains(msg, "'base_link'") &&
+              contains(msg, "robot.urdf"))
+      << msg;
+  // Present but unreadable as a mesh.
+  fs::create_directories(dir / "meshes");
+  write_file(dir / "meshes" / "cube.obj", "not a mesh\n");
+  fs::create_directories(dir / "my_models" / "meshes");
+  write_file(dir / "my_models" / "meshes" / "pkg_cube.obj", kCubeObj);
+  const std::string msg2 =
+      error_of([&] { RobotModel::from_urdf_file((dir / "robot.urdf").string()); });
+  EXPECT_TRUE(contains(msg2, "cube.obj") && contains(msg2, "'base_link'")) << msg2;
+}
+
+}  // namespace
+}  // namespace arttrack

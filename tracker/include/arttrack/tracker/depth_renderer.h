@@ -1,0 +1,120 @@
+// CPU depth rendering of the robot: what a depth camera at the model's camera
+// link would see of the robot alone, for one kinematic state.
+//
+// Output depth is metres along the optical axis (planar depth), 0 where no
+// link is seen, in the optical frame of model.camera_link() (z forward, x
+// right, y down) with pinhole intrinsics; pixel (u, v) samples the ray through
+// its centre (u + 0.5, v + 0.5). Link meshes are closed and wound
+// counter-clockwise seen from outside; back faces are culled, triangles
+// crossing the near plane are clipped, depth is exact for planar triangles
+// (1/z interpolated in screen space), and triangles sharing an edge leave no
+// gap between them.
+//
+// A DepthRenderer is a per-thread workspace: it refers to a shared immutable
+// RobotModel and owns buffers sized once, so rendering never allocates after
+// the first call with a given output image.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "arttrack/tracker/camera.h"
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
+
+namespace arttrack {
+
+// Rasterizer settings.
+struct RenderOptions {
+  // Near clipping plane, metres along the optical axis; nearer geometry is cut away.
+  float near_m = 0.01f;
+  // Skip triangles seen from behind (valid for closed outward-wound meshes).
+  bool cull_back_faces = true;
+};
+
+// A rectangle of pixels [u0, u1) x [v0, v1); empty when u0 >= u1 or v0 >= v1.
+struct PixelRect {
+  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+
+  bool empty() const { return u0 >= u1 || v0 >= v1; }
+  int area() const { return empty() ? 0 : (u1 - u0) * (v1 - v0); }
+  // The smallest rectangle holding both.
+  PixelRect united(const PixelRect& other) const;
+};
+
+// Renders depth images of a robot model from its camera link.
+class DepthRenderer {
+ public:
+  DepthRenderer(const RobotModel& model, const CameraIntrinsics& camera,
+                const RenderOptions& options = {});
+
+  const RobotModel& model() const { return *model_; }
+  const CameraIntrinsics& camera() const { return camera_; }
+  const RenderOptions& options() const { return options_; }
+
+  // Renders every link: `out` is sized to the camera, cleared and drawn.
+  // Returns the bounding rectangle of the robot's pixels.
+  PixelRect render(const KinematicsState& state, DepthImage& out);
+
+  // Renders only the links in `links` (a flag per link) into a cleared `out`.
+  PixelRect render_links(const KinematicsState& state, const LinkSet& links, DepthImage& out);
+
+  // Draws the links in `links` into `depth`, which must have the camera's
+  // size, keeping per pixel the nearer of what it holds and the new surface
+  // (0 = empty). Drawing onto a copy of a cached image of the other links
+  // gives the image of all. Returns the rectangle of pixels drawn.
+  PixelRect draw_links(const KinematicsState& state, const LinkSet& links, DepthImage& depth);
+
+ private:
+  struct LinkBounds {
+    Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // bounding sphere, link frame
+    float radius_m = 0;
+  };
+  PixelRect draw_link(int link, const Eigen::Isometry3d& T_camera_root, DepthImage& depth);
+  void raster_triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+                       DepthImage& depth, PixelRect& drawn) const;
+  void raster_clipped(const Eigen::Vector3f* hom[3], DepthImage& depth, PixelRect& drawn) const;
+
+  const RobotModel* model_;
+  CameraIntrinsics camera_;
+  RenderOptions options_;
+  LinkSet all_links_;
+  std::vector<LinkBounds> bounds_;
+  Eigen::Matrix<float, 4, 3> frustum_planes_;  // inward unit normals of the 4 side planes
+  // Per-vertex workspace, sized for the largest link mesh:
+  std::vector<Eigen::Vector3f> hom_;     // (fx x + cx z, fy y + cy z, z), camera frame
+  std::vector<Eigen::Vector3f> screen_;  // (u, v, 1/z) for vertices in front of the near plane
+};
+
+// Keeps per pixel the nearer of `depth` and `src` within `rect` (0 = empty).
+void merge_nearer(const DepthImage& src, const PixelRect& rect, DepthImage& depth);
+
+// The links whose rendered depth can change when the given DOFs change: the
+// subtrees they move, or every link if one of them moves the camera.
+LinkSet links_affecting_depth(const RobotModel& model, const std::vector<int>& dofs);
+
+// Renders hypotheses that differ from a reference state only in some DOFs:
+// the links those DOFs cannot move are rendered once per reference state and
+// cached; each hypothesis draws only the moving links over a copy of the cache.
+// Like DepthRenderer, one per thread.
+class CachedRenderer {
+ public:
+  CachedRenderer(DepthRenderer& renderer, const std::vector<int>& moving_dofs);
+
+  // Renders and caches the links that `moving_dofs` cannot move, at `state`.
+  void set_reference(const KinematicsState& state);
+
+  // The full image at `state`, which must equal the reference state in all
+  // DOFs but the moving ones. Returns the rectangle of the moving links' pixels.
+  PixelRect render(const KinematicsState& state, DepthImage& out);
+
+  const DepthImage& cached_depth() const { return cached_; }
+  const LinkSet& moving_links() const { return moving_; }
+
+ private:
+  DepthRenderer* renderer_;
+  LinkSet moving_, fixed_;
+  DepthImage cached_;
+};
+
+}  // namespace arttrack

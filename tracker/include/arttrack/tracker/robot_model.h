@@ -1,0 +1,129 @@
+// The robot's kinematic tree and link shapes, built once from a URDF and
+// immutable afterwards (shared read-only between threads, like mjModel).
+//
+// Links are numbered in topological order: the URDF root is link 0 and every
+// link's parent has a smaller index. Each non-root link carries the URDF
+// joint that connects it to its parent. The movable joints are the degrees of
+// freedom (DOFs) indexed 0..num_joints()-1: the URDF's revolute, continuous
+// and prismatic joints in depth-first tree order (siblings ordered by joint
+// name), then the six virtual camera joints.
+//
+// Virtual camera joints (Garcia Cifuentes et al. 2017, Sec. III): a chain of
+// six joints injected in memory after the nominal camera frame, ending in a
+// new frame "<camera_frame>_corrected":
+//   camera_offset_x, _y, _z           prismatic along x, y, z (metres), then
+//   camera_offset_roll, _pitch, _yaw  revolute about x, y, z (radians),
+// so T_nominal_corrected = Trans(x, y, z) Rx(roll) Ry(pitch) Rz(yaw); all
+// zero is no correction. They absorb camera extrinsic and head kinematic error.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "arttrack/tracker/mesh_loader.h"
+
+namespace arttrack {
+
+enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
+
+// A set of links: one flag per link index.
+using LinkSet = std::vector<bool>;
+
+// How to build a RobotModel from a URDF.
+struct RobotModelOptions {
+  // Folders that resolve relative and package://NAME/rest mesh paths (each
+  // folder is tried as <folder>/rest and <folder>/NAME/rest). The URDF's own
+  // folder is always searched, first.
+  std::vector<std::string> mesh_search_paths;
+  // Nominal camera frame: a URDF link, optical convention (z forward, x right, y down).
+  std::string camera_frame = "camera_optical_frame";
+  // Inject the six virtual camera joints after camera_frame.
+  bool add_virtual_camera_joints = true;
+  // Sides of the polygon approximating URDF cylinders.
+  int cylinder_segments = 32;
+  // Meridians of the UV sphere approximating URDF spheres (half as many bands).
+  int sphere_segments = 16;
+};
+
+// One link and the joint to its parent.
+struct Link {
+  std::string name;
+  int parent = -1;  // parent link index, smaller than this link's; -1 for the root
+  // The joint from the parent ("" for the root). Its frame is placed by
+  // T_parent_joint (URDF origin: xyz, then R = Rz(yaw) Ry(pitch) Rx(roll)) and
+  // moves the link by a rotation about / translation along `axis`.
+  std::string joint_name;
+  JointType joint_type = JointType::kFixed;
+  Eigen::Isometry3d T_parent_joint = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit vector, joint frame
+  int dof = -1;  // index of the joint's coordinate in q; -1 for a fixed joint
+  // All visual elements merged, in the link frame, metres (empty if none).
+  TriangleMesh mesh;
+};
+
+// The kinematic tree and shapes of a robot. Immutable after construction.
+class RobotModel {
+ public:
+  // Parses a URDF file. Throws InputError naming the file (missing,
+  // malformed), a joint (unsupported type, zero axis), a mesh and its link
+  // (missing, unreadable) or the camera frame (absent).
+  static RobotModel from_urdf_file(const std::string& path, const RobotModelOptions& options = {});
+  // Parses URDF text; relative mesh paths resolve against base_dir first.
+  static RobotModel from_urdf_string(const std::string& xml, const std::string& base_dir,
+                                     const RobotModelOptions& options = {});
+
+  int num_links() const { return int(links_.size()); }
+  // Number of DOFs, virtual joints included: the size of q.
+  int num_joints() const { return int(dof_names_.size()); }
+
+  const Link& link(int link) const { return links_[link]; }
+  const std::string& link_name(int link) const { return links_[link].name; }
+  // Link index by name; throws InputError naming the link and the URDF.
+  int link_index(const std::string& name) const;
+
+  // DOF names in q order.
+  const std::vector<std::string>& joint_names() const { return dof_names_; }
+  const std::string& joint_name(int dof) const { return dof_names_[dof]; }
+  // DOF index by name; throws InputError naming the joint and the URDF
+  // (saying so when the joint exists but is fixed).
+  int joint_index(const std::string& name) const;
+  JointType joint_type(int dof) const { return links_[dof_link_[dof]].joint_type; }
+  // The link the DOF moves directly (its child link).
+  int joint_child_link(int dof) const { return dof_link_[dof]; }
+  bool is_virtual_joint(int dof) const { return dof >= num_joints() - num_virtual_; }
+  // Position limits, radians or metres; +-infinity for continuous and virtual joints.
+  double joint_lower(int dof) const { return dof_lower_[dof]; }
+  double joint_upper(int dof) const { return dof_upper_[dof]; }
+
+  // The corrected camera frame "<camera_frame>_corrected" (the nominal camera
+  // frame when there are no virtual joints). The renderer's viewpoint.
+  int camera_link() const { return camera_link_; }
+  int nominal_camera_link() const { return nominal_camera_link_; }
+
+  // The links whose pose depends on DOF `dof`: its child link's subtree.
+  LinkSet links_moved_by(int dof) const;
+  // The links that have a mesh.
+  const std::vector<int>& links_with_geometry() const { return geometry_links_; }
+  // Where the model came from ("URDF file 'x'" or "URDF string"), for messages.
+  const std::string& source() const { return source_; }
+
+ private:
+  RobotModel() = default;
+  static RobotModel build(const std::string& xml, const std::string& base_dir,
+                          const std::string& source, const RobotModelOptions& options);
+
+  std::string source_;
+  std::vector<Link> links_;
+  std::vector<std::string> dof_names_;
+  std::vector<int> dof_link_;
+  std::vector<double> dof_lower_, dof_upper_;
+  std::vector<std::string> fixed_joint_names_;
+  std::vector<int> geometry_links_;
+  int num_virtual_ = 0;
+  int camera_link_ = -1;
+  int nominal_camera_link_ = -1;
+};
+
+}  // namespace arttrack

@@ -1,0 +1,221 @@
+#include "arttrack/tracker/mesh_loader.h"
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <assimp/Importer.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <numbers>
+#include <unordered_map>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+
+void TriangleMesh::append(const TriangleMesh& other, const Eigen::Affine3d& T_this_other) {
+  const int offset = int(vertices_m.size());
+  vertices_m.reserve(vertices_m.size() + other.vertices_m.size());
+  for (const Eigen::Vector3f& v : other.vertices_m) {
+    vertices_m.push_back((T_this_other * v.cast<double>()).cast<float>());
+  }
+  // A mirror turns counter-clockwise into clockwise: swap two corners back.
+  const bool mirrored = T_this_other.linear().determinant() < 0;
+  triangles.reserve(triangles.size() + other.triangles.size());
+  for (const Eigen::Vector3i& t : other.triangles) {
+    const Eigen::Vector3i s = t.array() + offset;
+    triangles.push_back(mirrored ? Eigen::Vector3i(s[0], s[2], s[1]) : s);
+  }
+}
+
+void TriangleMesh::weld_vertices() {
+  struct Key {
+    uint32_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return (size_t(k.x) * 0x9E3779B97F4A7C15ull) ^ (size_t(k.y) * 0xC2B2AE3D27D4EB4Full) ^
+             (size_t(k.z) * 0x165667B19E3779F9ull);
+    }
+  };
+  auto bits = [](float f) {
+    f += 0.f;  // -0 and +0 are the same point
+    uint32_t b;
+    std::memcpy(&b, &f, sizeof b);
+    return b;
+  };
+  std::unordered_map<Key, int, KeyHash> index_of;
+  std::vector<Eigen::Vector3f> welded;
+  std::vector<int> remap(vertices_m.size());
+  for (size_t i = 0; i < vertices_m.size(); ++i) {
+    const Eigen::Vector3f& v = vertices_m[i];
+    auto [it, inserted] =
+        index_of.try_emplace(Key{bits(v.x()), bits(v.y()), bits(v.z())}, int(welded.size()));
+    if (inserted) welded.push_back(v);
+    remap[i] = it->second;
+  }
+  std::vector<Eigen::Vector3i> kept;
+  kept.reserve(triangles.size());
+  for (const Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3i r(remap[t[0]], remap[t[1]], remap[t[2]]);
+    if (r[0] != r[1] && r[1] != r[2] && r[2] != r[0]) kept.push_back(r);
+  }
+  vertices_m = std::move(welded);
+  triangles = std::move(kept);
+}
+
+namespace {
+
+Eigen::Affine3d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3,
+      m.d4;
+  return Eigen::Affine3d(e);
+}
+
+// Appends the meshes of `node` and of its descendants, each placed by the
+// product of the node transforms from the root down.
+void collect_node(const aiScene& scene, const aiNode& node, const Eigen::Affine3d& T_parent,
+                  TriangleMesh& out) {
+  const Eigen::Affine3d T_node = T_parent * to_eigen(node.mTransformation);
+  for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[k]];
+    TriangleMesh part;
+    part.vertices_m.reserve(mesh.mNumVertices);
+    for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
+      const aiVector3D& v = mesh.mVertices[i];
+      part.vertices_m.emplace_back(v.x, v.y, v.z);
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines have no area
+      part.triangles.emplace_back(int(face.mIndices[0]), int(face.mIndices[1]),
+                                  int(face.mIndices[2]));
+    }
+    out.append(part, T_node);
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c) {
+    collect_node(scene, *node.mChildren[c], T_node, out);
+  }
+}
+
+// Turns each triangle of a convex shape centred at the origin to face away
+// from the centre, so the generators need not track winding by hand.
+void orient_outward(TriangleMesh& mesh) {
+  for (Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3f& a = mesh.vertices_m[t[0]];
+    const Eigen::Vector3f& b = mesh.vertices_m[t[1]];
+    const Eigen::Vector3f& c = mesh.vertices_m[t[2]];
+    if ((b - a).cross(c - a).dot(a + b + c) < 0) std::swap(t[1], t[2]);
+  }
+}
+
+// Circumradius of a regular n-gon with the area of the unit circle.
+double area_preserving_radius(int n) {
+  const double pi = std::numbers::pi;
+  return std::sqrt(2 * pi / (n * std::sin(2 * pi / n)));
+}
+
+}  // namespace
+
+TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError("mesh file '" + path + "' does not exist or is not a file");
+  }
+  Assimp::Importer importer;
+  // Mesh coordinates are link coordinates (ROS convention): no Y-up rotation.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
+  if (scene == nullptr || scene->mRootNode == nullptr) {
+    throw InputError("cannot read mesh file '" + path + "': " + importer.GetErrorString());
+  }
+  TriangleMesh mesh;
+  Eigen::Affine3d T_scale = Eigen::Affine3d::Identity();
+  T_scale.linear() = scale.asDiagonal();
+  collect_node(*scene, *scene->mRootNode, T_scale, mesh);
+  mesh.weld_vertices();
+  if (mesh.empty()) throw InputError("mesh file '" + path + "' holds no triangle");
+  return mesh;
+}
+
+TriangleMesh make_box(const Eigen::Vector3d& size_m) {
+  TriangleMesh mesh;
+  const Eigen::Vector3f h = (0.5 * size_m).cast<float>();
+  // Corner i has x, y, z at the positive side when bits 0, 1, 2 of i are set.
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices_m.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(),
+                                 i & 4 ? h.z() : -h.z());
+  }
+  // Each face as two triangles; orient_outward fixes their winding.
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+  for (const auto& f : faces) {
+    mesh.triangles.emplace_back(f[0], f[1], f[2]);
+    mesh.triangles.emplace_back(f[0], f[2], f[3]);
+  }
+  orient_outward(mesh);
+  return mesh;
+}
+
+TriangleMesh make_cylinder(double radius_m, double length_m, int segments) {
+  const int n = std::max(segments, 3);
+  const double r = radius_m * area_preserving_radius(n);
+  const float hz = float(0.5 * length_m);
+  TriangleMesh mesh;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n;
+    const float x = float(r * std::cos(a)), y = float(r * std::sin(a));
+    mesh.vertices_m.emplace_back(x, y, -hz);  // 2i: bottom ring
+    mesh.vertices_m.emplace_back(x, y, hz);   // 2i+1: top ring
+  }
+  const int bottom = 2 * n, top = 2 * n + 1;
+  mesh.vertices_m.emplace_back(0.f, 0.f, -hz);
+  mesh.vertices_m.emplace_back(0.f, 0.f, hz);
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    mesh.triangles.emplace_back(2 * i, 2 * j, 2 * j + 1);
+    mesh.triangles.emplace_back(2 * i, 2 * j + 1, 2 * i + 1);
+    mesh.triangles.emplace_back(bottom, 2 * i, 2 * j);
+    mesh.triangles.emplace_back(top, 2 * i + 1, 2 * j + 1);
+  }
+  orient_outward(mesh);
+  return mesh;
+}
+
+TriangleMesh make_sphere(double radius_m, int segments) {
+  const int n = std::max(segments, 4);  // meridians
+  const int bands = std::max(n / 2, 2);
+  const double r = radius_m * area_preserving_radius(n);
+  const double pi = std::numbers::pi;
+  TriangleMesh mesh;
+  mesh.vertices_m.emplace_back(0.f, 0.f, float(r));  // 0: north pole
+  for (int k = 1; k < bands; ++k) {                  // ring k at index 1 + (k-1) n
+    const double polar = pi * k / bands;
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * pi * i / n;
+      mesh.vertices_m.emplace_back(float(r * std::sin(polar) * std::cos(a)),
+                                   float(r * std::sin(polar) * std::sin(a)),
+                                   float(r * std::cos(polar)));
+    }
+  }
+  const int south = int(mesh.vertices_m.size());
+  mesh.vertices_m.emplace_back(0.f, 0.f, float(-r));
+  auto ring = [n](int k, int i) { return 1 + (k - 1) * n + (i % n); };
+  for (int i = 0; i < n; ++i) {
+    mesh.triangles.emplace_back(0, ring(1, i), ring(1, i + 1));
+    mesh.triangles.emplace_back(south, ring(bands - 1, i), ring(bands - 1, i + 1));
+    for (int k = 1; k + 1 < bands; ++k) {
+      mesh.triangles.emplace_back(ring(k, i), ring(k + 1, i), ring(k + 1, i + 1));
+      mesh.triangles.emplace_back(ring(k, i), ring(k + 1, i + 1), ring(k, i + 1));
+    }
+  }
+  orient_outward(mesh);
+  return mesh;
+}
+
+}  // namespace arttrack

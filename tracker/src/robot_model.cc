@@ -1,0 +1,327 @@
+#include "arttrack/tracker/robot_model.h"
+
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// urdfdom reports why a parse failed only through console_bridge; collect
+// those messages to put them in the exception instead of on stderr.
+class CollectErrors : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level < console_bridge::CONSOLE_BRIDGE_LOG_ERROR) return;
+    if (!errors.empty()) errors += "; ";
+    errors += text;
+  }
+  std::string errors;
+};
+
+urdf::ModelInterfaceSharedPtr parse_urdf(const std::string& xml, const std::string& source) {
+  // The handler is process-wide state: one parse at a time.
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  CollectErrors collect;
+  console_bridge::useOutputHandler(&collect);
+  urdf::ModelInterfaceSharedPtr model;
+  std::string exception;
+  try {
+    model = urdf::parseURDF(xml);
+  } catch (const std::exception& e) {
+    exception = e.what();
+  }
+  console_bridge::restorePreviousOutputHandler();
+  if (!model) {
+    std::string why = !collect.errors.empty() ? collect.errors : exception;
+    if (why.empty()) why = "not a valid URDF";
+    throw InputError("cannot parse " + source + ": " + why);
+  }
+  return model;
+}
+
+Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
+  double x, y, z, w;
+  pose.rotation.getQuaternion(x, y, z, w);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
+  return T;
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+  return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+// The file a URDF mesh reference names: package://NAME/rest tries
+// <folder>/rest and <folder>/NAME/rest, a relative path tries <folder>/path,
+// for the URDF's folder and then each search folder.
+std::string resolve_mesh_path(const std::string& uri, const std::string& base_dir,
+                              const std::vector<std::string>& search_paths, const std::string& link,
+                              const std::string& source) {
+  std::vector<std::string> folders;
+  if (!base_dir.empty()) folders.push_back(base_dir);
+  folders.insert(folders.end(), search_paths.begin(), search_paths.end());
+  std::vector<fs::path> candidates;
+  if (starts_with(uri, "package://")) {
+    const std::string rest_with_package = uri.substr(10);
+    const size_t slash = rest_with_package.find('/');
+    const std::string package = rest_with_package.substr(0, slash);
+    const std::string rest = slash == std::string::npos ? "" : rest_with_package.substr(slash + 1);
+    for (const std::string& folder : folders) {
+      candidates.push_back(fs::path(folder) / rest);
+      candidates.push_back(fs::path(folder) / package / rest);
+    }
+  } else if (starts_with(uri, "file://")) {
+    candidates.push_back(uri.substr(7));
+  } else if (fs::path(uri).is_absolute()) {
+    candidates.push_back(uri);
+  } else {
+    for (const std::string& folder : folders) candidates.push_back(fs::path(folder) / uri);
+  }
+  std::error_code ec;
+  for (const fs::path& candidate : candidates) {
+    if (fs::is_regular_file(candidate, ec)) return candidate.lexically_normal().string();
+  }
+  std::string tried;
+  for (const fs::path& candidate : candidates) {
+    tried += (tried.empty() ? "" : ", ") + candidate.string();
+  }
+  throw InputError("mesh '" + uri + "' of link '" + link + "' in " + source +
+                   " not found (tried: " + tried + ")");
+}
+
+// The triangle mesh of one URDF geometry element, in the element's frame.
+TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& link,
+                           const std::string& base_dir, const std::string& source,
+                           const RobotModelOptions& options,
+                           std::map<std::string, TriangleMesh>& file_cache,
+                           Eigen::Vector3d& scale) {
+  scale = Eigen::Vector3d::Ones();
+  switch (geometry.type) {
+    case urdf::Geometry::BOX: {
+      const auto& box = static_cast<const urdf::Box&>(geometry);
+      return make_box(Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z));
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+      return make_cylinder(cylinder.radius, cylinder.length, options.cylinder_segments);
+    }
+    case urdf::Geometry::SPHERE: {
+      const auto& sphere = static_cast<const urdf::Sphere&>(geometry);
+      return make_sphere(sphere.radius, options.sphere_segments);
+    }
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
+      scale = Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+      const std::string path =
+          resolve_mesh_path(mesh.filename, base_dir, options.mesh_search_paths, link, source);
+      auto it = file_cache.find(path);
+      if (it == file_cache.end()) {
+        try {
+          it = file_cache.emplace(path, load_mesh(path)).first;
+        } catch (const InputError& e) {
+          throw InputError(std::string(e.what()) + " (mesh '" + mesh.filename + "' of link '" +
+                           link + "' in " + source + ")");
+        }
+      }
+      return it->second;
+    }
+  }
+  throw InputError("link '" + link + "' in " + source + " has a geometry of unknown type");
+}
+
+}  // namespace
+
+RobotModel RobotModel::from_urdf_file(const std::string& path, const RobotModelOptions& options) {
+  const std::string source = "URDF file '" + path + "'";
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    throw InputError(source + " does not exist or is not a file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError("cannot read " + source);
+  return build(text.str(), fs::path(path).parent_path().string(), source, options);
+}
+
+RobotModel RobotModel::from_urdf_string(const std::string& xml, const std::string& base_dir,
+                                        const RobotModelOptions& options) {
+  return build(xml, base_dir, "URDF string", options);
+}
+
+RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir,
+                             const std::string& source, const RobotModelOptions& options) {
+  const urdf::ModelInterfaceSharedPtr urdf_model = parse_urdf(xml, source);
+  RobotModel model;
+  model.source_ = source;
+  std::map<std::string, TriangleMesh> file_cache;
+
+  // Depth-first walk from the root: link indices in preorder, so every
+  // parent precedes its children and each subtree is a contiguous range.
+  struct Pending {
+    urdf::LinkConstSharedPtr link;
+    int parent;
+  };
+  std::vector<Pending> stack{{urdf_model->getRoot(), -1}};
+  while (!stack.empty()) {
+    const Pending item = stack.back();
+    stack.pop_back();
+    const urdf::Link& ulink = *item.link;
+    Link link;
+    link.name = ulink.name;
+    link.parent = item.parent;
+    if (item.parent >= 0) {
+      const urdf::Joint& joint = *ulink.parent_joint;
+      link.joint_name = joint.name;
+      link.T_parent_joint = to_isometry(joint.parent_to_joint_origin_transform);
+      switch (joint.type) {
+        case urdf::Joint::FIXED:
+          link.joint_type = JointType::kFixed;
+          break;
+        case urdf::Joint::REVOLUTE:
+          link.joint_type = JointType::kRevolute;
+          break;
+        case urdf::Joint::CONTINUOUS:
+          link.joint_type = JointType::kContinuous;
+          break;
+        case urdf::Joint::PRISMATIC:
+          link.joint_type = JointType::kPrismatic;
+          break;
+        case urdf::Joint::FLOATING:
+        case urdf::Joint::PLANAR:
+        default:
+          throw InputError("joint '" + joint.name + "' in " + source +
+                           " has an unsupported type (floating or planar); use revolute, "
+                           "continuous, prismatic or fixed");
+      }
+      if (link.joint_type == JointType::kFixed) {
+        model.fixed_joint_names_.push_back(joint.name);
+      } else {
+        const Eigen::Vector3d axis(joint.axis.x, joint.axis.y, joint.axis.z);
+        if (!(axis.norm() > 1e-12) || !axis.allFinite()) {
+          throw InputError("joint '" + joint.name + "' in " + source + " has a zero axis");
+        }
+        link.axis = axis.normalized();
+        link.dof = int(model.dof_names_.size());
+        model.dof_names_.push_back(joint.name);
+        model.dof_link_.push_back(int(model.links_.size()));
+        const bool limited = link.joint_type != JointType::kContinuous && joint.limits;
+        model.dof_lower_.push_back(limited ? joint.limits->lower : -kInf);
+        model.dof_upper_.push_back(limited ? joint.limits->upper : kInf);
+      }
+    }
+    // All visual elements, each placed by its origin, merged into one mesh.
+    std::vector<urdf::VisualSharedPtr> visuals = ulink.visual_array;
+    if (visuals.empty() && ulink.visual) visuals.push_back(ulink.visual);
+    for (const urdf::VisualSharedPtr& visual : visuals) {
+      if (!visual || !visual->geometry) continue;
+      Eigen::Vector3d scale;
+      const TriangleMesh part = geometry_mesh(*visual->geometry, ulink.name, base_dir, source,
+                                              options, file_cache, scale);
+      Eigen::Affine3d T_link_part(to_isometry(visual->origin));
+      T_link_part.linear() = T_link_part.linear() * scale.asDiagonal();
+      link.mesh.append(part, T_link_part);
+    }
+    const int index = int(model.links_.size());
+    model.links_.push_back(std::move(link));
+
+    // Children in joint-name order, pushed reversed so the first pops first.
+    std::vector<urdf::JointSharedPtr> children = ulink.child_joints;
+    std::sort(children.begin(), children.end(),
+              [](const auto& a, const auto& b) { return a->name < b->name; });
+    for (auto it = children.rbegin(); it != children.rend(); ++it) {
+      stack.push_back({urdf_model->getLink((*it)->child_link_name), index});
+    }
+  }
+
+  if (!options.camera_frame.empty()) {
+    auto it = std::find_if(model.links_.begin(), model.links_.end(),
+                           [&](const Link& l) { return l.name == options.camera_frame; });
+    if (it == model.links_.end()) {
+      throw InputError("camera frame '" + options.camera_frame + "' is not a link of " + source);
+    }
+    model.nominal_camera_link_ = int(it - model.links_.begin());
+    model.camera_link_ = model.nominal_camera_link_;
+  }
+  if (options.add_virtual_camera_joints) {
+    if (options.camera_frame.empty()) {
+      throw InputError("virtual camera joints need a camera frame (" + source + ")");
+    }
+    // Virtual chain appended after all URDF links: parents still come first.
+    const std::string cam = options.camera_frame;
+    const char* suffixes[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+    int parent = model.nominal_camera_link_;
+    for (int k = 0; k < 6; ++k) {
+      Link link;
+      link.name = k < 5 ? cam + "_offset_" + suffixes[k] : cam + "_corrected";
+      link.joint_name = std::string("camera_offset_") + suffixes[k];
+      for (const Link& other : model.links_) {
+        if (other.name == link.name || other.joint_name == link.joint_name) {
+          throw InputError(source + " already has a link or joint named '" +
+                           (other.name == link.name ? link.name : link.joint_name) +
+                           "', reserved for the virtual camera joints");
+        }
+      }
+      link.parent = parent;
+      link.joint_type = k < 3 ? JointType::kPrismatic : JointType::kRevolute;
+      link.axis = Eigen::Vector3d::Unit(k % 3);
+      link.dof = int(model.dof_names_.size());
+      model.dof_names_.push_back(link.joint_name);
+      model.dof_link_.push_back(int(model.links_.size()));
+      model.dof_lower_.push_back(-kInf);
+      model.dof_upper_.push_back(kInf);
+      parent = int(model.links_.size());
+      model.links_.push_back(std::move(link));
+    }
+    model.num_virtual_ = 6;
+    model.camera_link_ = parent;
+  }
+  for (int l = 0; l < model.num_links(); ++l) {
+    if (!model.links_[l].mesh.empty()) model.geometry_links_.push_back(l);
+  }
+  return model;
+}
+
+int RobotModel::link_index(const std::string& name) const {
+  for (int l = 0; l < num_links(); ++l) {
+    if (links_[l].name == name) return l;
+  }
+  throw InputError("unknown link '" + name + "' in robot model from " + source_);
+}
+
+int RobotModel::joint_index(const std::string& name) const {
+  for (int j = 0; j < num_joints(); ++j) {
+    if (dof_names_[j] == name) return j;
+  }
+  if (std::find(fixed_joint_names_.begin(), fixed_joint_names_.end(), name) !=
+      fixed_joint_names_.end()) {
+    throw InputError("joint '" + name + "' in " + source_ + " is fixed, not a degree of freedom");
+  }
+  throw InputError("unknown joint '" + name + "' in robot model from " + source_);
+}
+
+LinkSet RobotModel::links_moved_by(int dof) const {
+  LinkSet moved(links_.size(), false);
+  moved[dof_link_[dof]] = true;
+  for (int l = dof_link_[dof] + 1; l < num_links(); ++l) {
+    if (moved[links_[l].parent]) moved[l] = true;
+  }
+  return moved;
+}
+
+}  // namespace arttrack
