@@ -1,0 +1,366 @@
+#include "arttrack/tracker/coordinate_particle_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+// y = H x + N(0, R) with a 6-D state in three blocks; the likelihood couples
+// coordinates across blocks.
+struct LinearGaussianProblem {
+  static constexpr int n = 6;
+  static constexpr int m = 4;
+  Eigen::VectorXd prior_mean = Eigen::VectorXd(n);
+  Eigen::VectorXd prior_std = Eigen::VectorXd(n);
+  Eigen::MatrixXd H = Eigen::MatrixXd(m, n);
+  Eigen::VectorXd noise_std = Eigen::VectorXd(m);
+  Eigen::VectorXd y = Eigen::VectorXd(m);
+
+  LinearGaussianProblem() {
+    prior_mean << 0.3, -0.2, 0.5, 0.0, -0.4, 0.1;
+    prior_std << 0.5, 0.3, 0.4, 0.6, 0.35, 0.45;
+    H << 1.0, 0.5, 0.0, 0.2, 0.0, 0.0,  //
+        0.0, 1.0, 0.8, 0.0, 0.3, 0.0,   //
+        0.3, 0.0, 0.0, 1.0, 0.0, 0.7,   //
+        0.0, 0.0, 0.5, 0.0, 1.0, 0.6;
+    noise_std << 0.25, 0.3, 0.35, 0.3;
+    y << 0.6, 0.1, 0.2, -0.5;
+  }
+
+  // Closed-form posterior with the prior std scaled by `scale`.
+  void posterior(double scale, Eigen::VectorXd& mean, Eigen::MatrixXd& cov) const {
+    const Eigen::VectorXd prior_var = (scale * prior_std).array().square();
+    const Eigen::MatrixXd R_inv = noise_std.array().square().inverse().matrix().asDiagonal();
+    const Eigen::MatrixXd info =
+        Eigen::MatrixXd(prior_var.cwiseInverse().asDiagonal()) + H.transpose() * R_inv * H;
+    cov = info.inverse();
+    mean = cov * (prior_var.cwiseInverse().cwiseProduct(prior_mean) + H.transpose() * R_inv * y);
+  }
+};
+
+class GaussianEvaluator : public PerParticleEvaluator {
+ public:
+  explicit GaussianEvaluator(const LinearGaussianProblem& p) : p_(p) {}
+  double log_likelihood(const ParticleBatch& batch, int l, int) override {
+    const std::span<const double> x = batch.particle(l);
+    const Eigen::Map<const Eigen::VectorXd> xv(x.data(), x.size());
+    const Eigen::VectorXd res = (p_.y - p_.H * xv).cwiseQuotient(p_.noise_std);
+    return -0.5 * res.squaredNorm();
+  }
+
+ private:
+  const LinearGaussianProblem& p_;
+};
+
+std::vector<SamplingBlock> three_blocks() {
+  return {{"upper", {0, 1}}, {"lower", {2, 3}}, {"head", {4, 5}}};
+}
+
+// Runs the CPF with many seeds and checks the average of the estimated
+// means and variances against the closed form with a tolerance from the
+// run-to-run spread: 4.5 standard errors of the average over the runs (one
+// of the 12 statistics exceeding it by chance: about 1e-4). The estimator's
+// bias decays as 1/L while that tolerance decays as 1/sqrt(L runs), so L is
+// large: at L = 2000 the bias of the harder case (scale 1.5, final effective
+// sample size 9% of L) is still about 5 standard errors of 40 runs; at
+// L = 20000 it is below one.
+void expect_matches_kalman_posterior(double scale) {
+  const LinearGaussianProblem problem;
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd cov;
+  problem.posterior(scale, mean, cov);
+  CoordinateParticleFilterParams params;
+  params.num_particles = 20000;
+  params.proposal_scale = scale;
+  CoordinateParticleFilter cpf(problem.n, three_blocks(), params);
+  GaussianEvaluator evaluator(problem);
+  WorkerPool pool(2);
+  const int runs = 20;
+  Eigen::MatrixXd means(runs, problem.n), vars(runs, problem.n);
+  const std::vector<double> m(problem.prior_mean.data(), problem.prior_mean.data() + problem.n);
+  const std::vector<double> s(problem.prior_std.data(), problem.prior_std.data() + problem.n);
+  for (int k = 0; k < runs; ++k) {
+    std::mt19937_64 rng(1000 + k);
+    cpf.run(m, s, evaluator, rng, pool);
+    EXPECT_EQ(cpf.num_evaluations(), 3 * params.num_particles);
+    for (int c = 0; c < problem.n; ++c) {
+      means(k, c) = cpf.mean()[c];
+      vars(k, c) = cpf.variance()[c];
+    }
+  }
+  for (int c = 0; c < problem.n; ++c) {
+    const double avg_mean = means.col(c).mean();
+    const double sd_mean = std::sqrt((means.col(c).array() - avg_mean).square().sum() / (runs - 1));
+    const double avg_var = vars.col(c).mean();
+    const double sd_var = std::sqrt((vars.col(c).array() - avg_var).square().sum() / (runs - 1));
+    EXPECT_NEAR(avg_mean, mean(c), 4.5 * sd_mean / std::sqrt(runs)) << "coordinate " << c;
+    EXPECT_NEAR(avg_var, cov(c, c), 4.5 * sd_var / std::sqrt(runs)) << "coordinate " << c;
+    // And the filter is useful: one run's mean is within a fifth of the
+    // posterior standard deviation (an effective sample size above 25).
+    EXPECT_LT(sd_mean, 0.2 * std::sqrt(cov(c, c))) << "coordinate " << c;
+    // The image did something: the posterior is narrower than the prior.
+    EXPECT_LT(cov(c, c), 0.8 * std::pow(scale * problem.prior_std(c), 2));
+  }
+}
+
+TEST(CoordinateParticleFilter, MatchesKalmanPosteriorOfLinearGaussianModel) {
+  expect_matches_kalman_posterior(1.0);
+}
+
+TEST(CoordinateParticleFilter, ProposalScaleWidensThePrior) {
+  expect_matches_kalman_posterior(1.5);
+}
+
+TEST(CoordinateParticleFilter, SameSeedSameNumbersWhateverTheThreadCount) {
+  const LinearGaussianProblem problem;
+  CoordinateParticleFilterParams params;
+  params.num_particles = 101;  // not a multiple of the worker counts
+  CoordinateParticleFilter cpf(problem.n, three_blocks(), params);
+  GaussianEvaluator evaluator(problem);
+  const std::vector<double> m(problem.prior_mean.data(), problem.prior_mean.data() + problem.n);
+  const std::vector<double> s(problem.prior_std.data(), problem.prior_std.data() + problem.n);
+  std::vector<std::vector<double>> results;
+  for (int workers : {1, 2, 3, 8, 1}) {
+    WorkerPool pool(workers);
+    std::mt19937_64 rng(42);
+    cpf.run(m, s, evaluator, rng, pool);
+    std::vector<double> r(cpf.mean().begin(), cpf.mean().end());
+    r.insert(r.end(), cpf.variance().begin(), cpf.variance().end());
+    results.push_back(r);
+  }
+  for (size_t i = 1; i < results.size(); ++i) EXPECT_EQ(results[i], results[0]);
+  WorkerPool pool(2);
+  std::mt19937_64 other(43);
+  cpf.run(m, s, evaluator, other, pool);
+  EXPECT_NE(std::vector<double>(cpf.mean().begin(), cpf.mean().end()),
+            std::vector<double>(results[0].begin(), results[0].begin() + problem.n));
+}
+
+TEST(CoordinateParticleFilter, ConstantLikelihoodReturnsThePrior) {
+  struct Flat : PerParticleEvaluator {
+    double log_likelihood(const ParticleBatch&, int, int) override { return -3.0; }
+  } flat;
+  CoordinateParticleFilterParams params;
+  params.num_particles = 20000;
+  params.max_kl_divergence = 0;  // would resample at any non-uniformity
+  // Coordinate 3 is in no block.
+  CoordinateParticleFilter cpf(4, {{"a", {0, 2}}, {"b", {1}}}, params);
+  WorkerPool pool(1);
+  std::mt19937_64 rng(5);
+  const std::vector<double> m = {1.0, -2.0, 0.5, 0.25}, s = {0.1, 0.2, 0.3, 0.4};
+  cpf.run(m, s, flat, rng, pool);
+  EXPECT_EQ(cpf.num_resamplings(), 0);  // weights stay exactly uniform
+  EXPECT_NEAR(cpf.effective_sample_size(), 20000, 1e-6);
+  for (int c = 0; c < 3; ++c) {
+    const double se_mean = s[c] / std::sqrt(20000.0);
+    const double se_var = s[c] * s[c] * std::sqrt(2.0 / 20000);
+    EXPECT_NEAR(cpf.mean()[c], m[c], 4.5 * se_mean);
+    EXPECT_NEAR(cpf.variance()[c], s[c] * s[c], 4.5 * se_var);
+  }
+  EXPECT_EQ(cpf.mean()[3], 0.25);
+  EXPECT_DOUBLE_EQ(cpf.variance()[3], 0.4 * 0.4);
+}
+
+TEST(CoordinateParticleFilter, KlDivergenceFromUniform) {
+  const std::vector<double> uniform(8, 1.0 / 8);
+  EXPECT_NEAR(kl_divergence_from_uniform(uniform), 0.0, 1e-15);
+  std::vector<double> one_hot(8, 0.0);
+  one_hot[3] = 1;
+  EXPECT_NEAR(kl_divergence_from_uniform(one_hot), std::log(8.0), 1e-15);
+  const std::vector<double> half = {0.25, 0, 0.25, 0, 0, 0.25, 0.25, 0};
+  EXPECT_NEAR(kl_divergence_from_uniform(half), std::log(2.0), 1e-15);
+  const std::vector<double> w = {0.1, 0.2, 0.3, 0.4};
+  double kl = 0;
+  for (double x : w) kl += x * std::log(x / 0.25);
+  EXPECT_NEAR(kl_divergence_from_uniform(w), kl, 1e-15);
+}
+
+// Checks the evaluator contract on every call: only the block's coordinates
+// changed since the previous call, up to the resampling given by `parents`.
+// Block 0 gives each particle a fixed weight; at block 1 the children counts
+// must be those of systematic resampling: floor or ceil of L w_l.
+class ContractChecker : public LogLikelihoodEvaluator {
+ public:
+  std::vector<double> previous;
+  std::vector<double> block0_log_lik;
+  std::vector<int> children;
+  int calls = 0;
+
+  void evaluate(const ParticleBatch& batch, std::span<double> out, WorkerPool&) override {
+    const int L = batch.num_particles, n = batch.dimension;
+    if (batch.block == 0) {
+      for (int l = 0; l < L; ++l) {
+        for (int c = 0; c < n; ++c) {
+          const bool in_block = std::count(batch.coordinates.begin(), batch.coordinates.end(), c);
+          if (!in_block) {
+            EXPECT_EQ(batch.particle(l)[c], 0.0);  // prior mean
+          }
+        }
+        out[l] = block0_log_lik[l];
+      }
+    } else {
+      children.assign(L, 0);
+      for (int l = 0; l < L; ++l) {
+        const int parent = batch.parents[l];
+        ++children[parent];
+        for (int c = 0; c < n; ++c) {
+          const bool in_block = std::count(batch.coordinates.begin(), batch.coordinates.end(), c);
+          if (!in_block) {
+            EXPECT_EQ(batch.particle(l)[c], previous[size_t(parent) * n + c]);
+          }
+        }
+        out[l] = block0_log_lik[parent];  // unchanged: no new evidence
+      }
+    }
+    previous.assign(batch.particles, batch.particles + size_t(L) * n);
+    ++calls;
+  }
+};
+
+TEST(CoordinateParticleFilter, ResamplesSystematicallyAndTellsTheEvaluatorTheParents) {
+  const int L = 50;
+  CoordinateParticleFilterParams params;
+  params.num_particles = L;
+  params.max_kl_divergence = 0.1;
+  CoordinateParticleFilter cpf(3, {{"a", {1}}, {"b", {0, 2}}}, params);
+  ContractChecker checker;
+  std::mt19937_64 weights_rng(8);
+  std::uniform_real_distribution<double> u(-3, 0);
+  for (int l = 0; l < L; ++l) checker.block0_log_lik.push_back(u(weights_rng));
+  checker.block0_log_lik[7] = -std::numeric_limits<double>::infinity();  // impossible
+  checker.block0_log_lik[9] = std::nan("");                              // counts as impossible
+  double sum = 0;
+  std::vector<double> w(L);
+  for (int l = 0; l < L; ++l) sum += w[l] = std::exp(checker.block0_log_lik[l]);
+  w[7] = w[9] = 0;
+  sum = std::accumulate(w.begin(), w.end(), 0.0);
+  for (double& x : w) x /= sum;
+  ASSERT_GT(kl_divergence_from_uniform(w), 0.1);
+
+  WorkerPool pool(1);
+  for (int seed = 0; seed < 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    const std::vector<double> m = {0, 0, 0}, s = {1, 1, 1};
+    cpf.run(m, s, checker, rng, pool);
+    EXPECT_EQ(cpf.num_resamplings(), 1);
+    EXPECT_EQ(checker.children[7], 0);
+    EXPECT_EQ(checker.children[9], 0);
+    for (int l = 0; l < L; ++l) {
+      EXPECT_GE(checker.children[l], int(std::floor(L * w[l])));
+      EXPECT_LE(checker.children[l], int(std::ceil(L * w[l])));
+    }
+    // After the resampling the weights were reset, and block 1 did not
+    // change any log-likelihood.
+    EXPECT_NEAR(cpf.effective_sample_size(), L, 1e-9);
+  }
+  EXPECT_EQ(checker.calls, 40);
+}
+
+TEST(CoordinateParticleFilter, NoResamplingWithInfiniteBound) {
+  const LinearGaussianProblem problem;
+  CoordinateParticleFilterParams params;
+  params.num_particles = 200;
+  params.max_kl_divergence = std::numeric_limits<double>::infinity();
+  CoordinateParticleFilter cpf(problem.n, three_blocks(), params);
+  GaussianEvaluator evaluator(problem);
+  WorkerPool pool(1);
+  std::mt19937_64 rng(3);
+  const std::vector<double> m(problem.prior_mean.data(), problem.prior_mean.data() + problem.n);
+  const std::vector<double> s(problem.prior_std.data(), problem.prior_std.data() + problem.n);
+  cpf.run(m, s, evaluator, rng, pool);
+  EXPECT_EQ(cpf.num_resamplings(), 0);
+  params.max_kl_divergence = 0;
+  CoordinateParticleFilter always(problem.n, three_blocks(), params);
+  always.run(m, s, evaluator, rng, pool);
+  EXPECT_EQ(always.num_resamplings(), 2);  // before blocks 2 and 3
+}
+
+TEST(CoordinateParticleFilter, AllParticlesImpossibleIgnoresTheBlock) {
+  struct Impossible : PerParticleEvaluator {
+    double log_likelihood(const ParticleBatch&, int, int) override {
+      return -std::numeric_limits<double>::infinity();
+    }
+  } impossible;
+  CoordinateParticleFilterParams params;
+  params.num_particles = 10;
+  CoordinateParticleFilter cpf(2, {{"a", {0}}, {"b", {1}}}, params);
+  WorkerPool pool(2);
+  std::mt19937_64 rng(1);
+  const std::vector<double> m = {0, 0}, s = {1, 1};
+  cpf.run(m, s, impossible, rng, pool);
+  EXPECT_EQ(cpf.num_degenerate_blocks(), 2);
+  for (double x : cpf.mean()) EXPECT_TRUE(std::isfinite(x));
+  for (double x : cpf.variance()) EXPECT_TRUE(std::isfinite(x));
+}
+
+TEST(CoordinateParticleFilter, EvaluatorExceptionsReachTheCaller) {
+  struct Throwing : PerParticleEvaluator {
+    double log_likelihood(const ParticleBatch&, int l, int) override {
+      if (l == 37) throw std::runtime_error("render failed");
+      return 0;
+    }
+  } throwing;
+  CoordinateParticleFilterParams params;
+  params.num_particles = 64;
+  CoordinateParticleFilter cpf(1, {{"a", {0}}}, params);
+  WorkerPool pool(4);
+  std::mt19937_64 rng(1);
+  const std::vector<double> m = {0}, s = {1};
+  EXPECT_THROW(cpf.run(m, s, throwing, rng, pool), std::runtime_error);
+  // The pool still works afterwards.
+  std::atomic<int> count{0};
+  pool.parallel_for(100, [&](int b, int e, int) { count += e - b; });
+  EXPECT_EQ(count.load(), 100);
+}
+
+TEST(WorkerPool, CoversEveryIndexOnceWithContiguousChunks) {
+  for (int workers : {1, 2, 3, 7}) {
+    WorkerPool pool(workers);
+    EXPECT_EQ(pool.num_workers(), workers);
+    for (int n : {0, 1, 5, 6, 100, 1001}) {
+      std::vector<std::atomic<int>> hits(n);
+      std::vector<std::atomic<int>> used(workers);
+      pool.parallel_for(n, [&](int b, int e, int w) {
+        EXPECT_EQ(b, int(std::int64_t(n) * w / workers));
+        EXPECT_EQ(e, int(std::int64_t(n) * (w + 1) / workers));
+        ++used[w];
+        for (int i = b; i < e; ++i) ++hits[i];
+      });
+      for (int i = 0; i < n; ++i) EXPECT_EQ(hits[i].load(), 1);
+      for (int w = 0; w < workers; ++w) EXPECT_LE(used[w].load(), 1);
+    }
+  }
+}
+
+TEST(CoordinateParticleFilter, RejectsBadBlocks) {
+  EXPECT_THROW(CoordinateParticleFilter(3, {}), InputError);
+  EXPECT_THROW(CoordinateParticleFilter(3, {{"empty", {}}}), InputError);
+  try {
+    CoordinateParticleFilter(3, {{"arm", {0, 1}}, {"head", {1, 2}}});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("head"), std::string::npos);
+  }
+  try {
+    CoordinateParticleFilter(3, {{"camera", {0, 3}}});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera"), std::string::npos);
+  }
+  CoordinateParticleFilterParams bad;
+  bad.num_particles = 0;
+  EXPECT_THROW(CoordinateParticleFilter(1, {{"a", {0}}}, bad), InputError);
+}
+
+}  // namespace
+}  // namespace arttrack

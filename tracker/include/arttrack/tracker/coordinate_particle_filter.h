@@ -1,0 +1,214 @@
+// The Coordinate Particle Filter (Wüthrich, Bohg, Kappler, Pfreundt, Schaal,
+// "The Coordinate Particle Filter", ICRA 2015) for the image update of the
+// joint angles (paper Eq. (13) and Sec. "Posterior in the angle"; method.md,
+// Inference steps 2.2-2.3).
+//
+// Target: the posterior p(x | image) ∝ p(image | x) prod_j N(x_j; m_j, s_j^2)
+// over n coordinates (joint angles, virtual joints) with a factorised
+// Gaussian prior. One run:
+//   1. L particles start at the prior mean m, with uniform weights.
+//   2. For each sampling block k in order (a named group of coordinates):
+//      - if the weights have degenerated, KL(w || uniform) > max_kl_divergence,
+//        resample them (systematic resampling) to uniform weights;
+//      - perturb the block: x_j <- m_j + scale s_j eps, eps ~ N(0, 1), for
+//        every particle and every coordinate j of the block, i.e. draw the
+//        block from its prior marginal (the paper's proposal is the process
+//        model, here the Gaussian prior);
+//      - multiply each particle's weight by its likelihood ratio
+//        p(image | x after) / p(image | x before), i.e. add the change in its
+//        log-likelihood to its log-weight.
+//   3. Moment-match: weighted mean and variance of every coordinate (Eqs.
+//      (15)-(16), with weights instead of a final resampling).
+// Why this is exact in the limit: after block k the particles target
+// p(x_1..k) p(image | x_1..k, m_k+1..n); proposing block k+1 from its prior
+// and weighting by the likelihood ratio is the importance weight between two
+// consecutive targets, so after the last block the target is the posterior.
+// With proposal_scale != 1 the prior standard deviations are scaled in the
+// target as well (a less confident prior), not importance-corrected.
+//
+// Cost: (number of blocks) x L likelihood evaluations per run; the mean
+// itself is never evaluated, since a likelihood common to all particles
+// cancels in the weights. Deterministic: all random numbers come from the
+// caller's generator in the calling thread, the evaluator's results do not
+// depend on how particles are split across threads.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <random>
+#include <span>
+#include <string>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace arttrack {
+
+// Worker threads kept alive between calls, to split particles across cores.
+// One parallel_for at a time (not re-entrant); the calling thread works too.
+class WorkerPool {
+ public:
+  // num_workers <= 0: one per hardware thread. 1: everything in the caller.
+  explicit WorkerPool(int num_workers = 0);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  int num_workers() const { return num_workers_; }
+
+  // Calls fn(begin, end, worker) for the contiguous chunks of [0, n),
+  // chunk w = [n w / W, n (w+1) / W) on worker w in [0, W) (the caller is
+  // worker 0), and returns when all are done. An exception thrown by fn is
+  // rethrown here. Does not allocate.
+  template <class F>
+  void parallel_for(int n, F&& fn) {
+    using Fn = std::remove_reference_t<F>;
+    auto* p = const_cast<std::remove_const_t<Fn>*>(&fn);
+    run(
+        n, [](void* c, int b, int e, int w) { (*static_cast<Fn*>(c))(b, e, w); }, p);
+  }
+
+ private:
+  using Call = void (*)(void*, int, int, int);
+  void run(int n, Call call, void* context);
+  void worker_loop(int worker);
+
+  int num_workers_ = 1;
+  std::vector<std::thread> threads_;
+  std::mutex mutex_;
+  std::condition_variable start_, done_;
+  std::uint64_t generation_ = 0;
+  int remaining_ = 0;
+  bool stop_ = false;
+  int job_n_ = 0;
+  Call job_call_ = nullptr;
+  void* job_context_ = nullptr;
+  std::exception_ptr error_;
+};
+
+// A named group of coordinates perturbed together (e.g. "upper_arm",
+// "camera_offset", or one joint).
+struct SamplingBlock {
+  std::string name;
+  std::vector<int> coordinates;
+};
+
+// What the evaluator is asked for: the log-likelihoods of all particles right
+// after one block was perturbed.
+struct ParticleBatch {
+  int block = 0;                      // index into the filter's blocks, visited 0, 1, ... per run
+  std::span<const int> coordinates;   // the coordinates that just changed
+  const double* particles = nullptr;  // row-major L x n: particle l at particles + l n
+  int num_particles = 0;              // L
+  int dimension = 0;                  // n
+  // Particle l was copied from particle parents[l] of the previous call by
+  // resampling (identity when there was none; at block 0 every particle
+  // comes from the prior mean). Lets an evaluator keep per-particle caches, e.g.
+  // renders of the links that the current block does not move.
+  std::span<const int> parents;
+
+  std::span<const double> particle(int l) const {
+    return {particles + std::size_t(l) * dimension, std::size_t(dimension)};
+  }
+};
+
+// The image log-likelihood of many particles at once (up to an additive
+// constant common to all particles and all calls of a run).
+class LogLikelihoodEvaluator {
+ public:
+  virtual ~LogLikelihoodEvaluator() = default;
+  // Fills log_likelihood[l] for every particle l; may use `pool` to spread
+  // the work. A non-finite value (NaN, +-inf) counts as impossible (-inf).
+  virtual void evaluate(const ParticleBatch& batch, std::span<double> log_likelihood,
+                        WorkerPool& pool) = 0;
+};
+
+// An evaluator written one particle at a time; particles are spread over the
+// pool in contiguous chunks.
+class PerParticleEvaluator : public LogLikelihoodEvaluator {
+ public:
+  // Log-likelihood of particle l of the batch. Called concurrently for
+  // different particles, with worker in [0, pool.num_workers()) unique among
+  // concurrent calls (an index into per-thread workspaces).
+  virtual double log_likelihood(const ParticleBatch& batch, int particle, int worker) = 0;
+
+  void evaluate(const ParticleBatch& batch, std::span<double> log_likelihood,
+                WorkerPool& pool) final;
+};
+
+// KL divergence of normalised weights from the uniform distribution, nats:
+// sum_l w_l log(L w_l) = log L - entropy(w) (0 log 0 = 0). 0 for uniform
+// weights, log L when one particle has all the weight; for weights uniform
+// over k of the L particles it is log(L / k).
+double kl_divergence_from_uniform(std::span<const double> weights);
+
+struct CoordinateParticleFilterParams {
+  // Number of particles L.
+  int num_particles = 20;
+  // Resample before perturbing the next block when the KL divergence of the
+  // weights from uniform exceeds this, nats. log 2: weights concentrated
+  // uniformly on half of the particles. 0: resample after every block (as the
+  // CPF paper's algorithm); infinity: never.
+  double max_kl_divergence = 0.69314718055994531;
+  // Factor on the prior standard deviations when perturbing (see top).
+  double proposal_scale = 1.0;
+};
+
+// One CPF over a fixed dimension and block layout; keeps its particles and
+// scratch buffers between runs, so a run allocates nothing.
+class CoordinateParticleFilter {
+ public:
+  // Throws InputError (naming the block) for an empty block, a coordinate out
+  // of [0, dimension) or in two blocks, or for bad parameters. Coordinates in
+  // no block are not sampled: they keep their prior mean and variance.
+  CoordinateParticleFilter(int dimension, std::vector<SamplingBlock> blocks,
+                           const CoordinateParticleFilterParams& params = {});
+
+  // One update (see top) from the prior N(prior_mean, prior_std^2), factorised
+  // over coordinates.
+  void run(std::span<const double> prior_mean, std::span<const double> prior_std,
+           LogLikelihoodEvaluator& evaluator, std::mt19937_64& rng, WorkerPool& pool);
+
+  int dimension() const { return dimension_; }
+  int num_particles() const { return num_particles_; }
+  const std::vector<SamplingBlock>& blocks() const { return blocks_; }
+  const CoordinateParticleFilterParams& params() const { return params_; }
+
+  // Results of the last run: weighted mean and variance per coordinate.
+  std::span<const double> mean() const { return mean_; }
+  std::span<const double> variance() const { return variance_; }
+  // Likelihood evaluations (particles x blocks), resamplings, and blocks
+  // after which every particle was impossible (weights were then reset to
+  // uniform, i.e. that block's image evidence ignored).
+  int num_evaluations() const { return num_evaluations_; }
+  int num_resamplings() const { return num_resamplings_; }
+  int num_degenerate_blocks() const { return num_degenerate_; }
+  // Final particles (row-major L x n), normalised weights, and effective
+  // sample size 1 / sum w^2.
+  std::span<const double> particles() const { return particles_; }
+  std::span<const double> weights() const { return weights_; }
+  double effective_sample_size() const;
+
+ private:
+  void normalise_weights();  // log_weights_ -> weights_
+  void resample(std::mt19937_64& rng);
+
+  int dimension_ = 0;
+  int num_particles_ = 0;
+  std::vector<SamplingBlock> blocks_;
+  CoordinateParticleFilterParams params_;
+  std::vector<bool> sampled_;  // coordinate is in some block
+
+  std::vector<double> particles_, scratch_particles_;
+  std::vector<double> log_weights_, weights_;
+  std::vector<double> log_likelihood_, new_log_likelihood_, scratch_log_likelihood_;
+  std::vector<int> parents_;
+  std::vector<double> mean_, variance_;
+  int num_evaluations_ = 0;
+  int num_resamplings_ = 0;
+  int num_degenerate_ = 0;
+};
+
+}  // namespace arttrack

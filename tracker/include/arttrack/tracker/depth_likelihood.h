@@ -1,0 +1,125 @@
+// Depth image likelihood of rendered robot hypotheses (paper Eqs. (1)-(2),
+// the pixel model of Wüthrich et al., IROS 2013; method.md "Depth image").
+//
+// Per pixel, with observed depth z and the hypothesis' rendered depth r
+// (r = infinity where the ray misses the robot), noise sigma = s0 + s1 z^2,
+// outlier weight w, maximum range Z, occluder decay lambda, occlusion prior p_o:
+//   p_vis(z|r) = w/Z + (1-w) N(z; r, sigma^2)
+//   p_occ(z|r) = w/Z + (1-w) lambda exp(lambda (r-z) + lambda^2 sigma^2 / 2)
+//                  (1 + erf((r - z + lambda sigma^2) / (sqrt(2) sigma))) / (2 (exp(lambda r) - 1))
+//   p_occ(z|inf) = w/Z + (1-w) lambda exp(-lambda z + lambda^2 sigma^2 / 2)
+//   p(z|r) = (1 - p_o) p_vis(z|r) + p_o p_occ(z|r).
+// p_occ is the truncated exponential occluder density on (0, r) blurred by the
+// noise, without the erf term of its lower end at depth 0 (as method.md and
+// the original implementation). A hypothesis scores
+//   sum over valid pixels of log p(z|r) - log p(z|inf),
+// so pixels it does not cover add exactly 0 and only covered pixels cost work.
+//
+// Depths are metres along the optical axis. An observed pixel is valid when
+// it is finite and in (0, Z]; others (0 = no return, NaN, beyond range) are
+// skipped. A rendered pixel covers the robot when it is finite and > 0.
+// Rendered depths below 1 micrometre are taken as 1 micrometre (the model
+// diverges like 1/r as r -> 0; no camera sees that close).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <string_view>
+#include <vector>
+
+#include "arttrack/tracker/camera.h"
+
+namespace arttrack {
+
+// Parameters of the pixel model (reference values of the original
+// implementation as defaults).
+struct DepthModelParams {
+  // Weight w of the uniform outlier density w / Z over the sensor range; in
+  // [1e-9, 1]. Its floor under every pixel density keeps scores finite.
+  double outlier_weight = 0.01;
+  // Depth noise sigma = noise_std_m + noise_quadratic_per_m * z^2, metres;
+  // noise_std_m >= 1e-6.
+  double noise_std_m = 0.003;
+  double noise_quadratic_per_m = 0;
+  // Sensor maximum range Z, metres.
+  double max_range_m = 6;
+  // Decay rate lambda of the occluder density with distance from the camera,
+  // per metre (ln 2: an occluder is half as likely one metre further).
+  double occluder_decay_per_m = 0.69314718055994531;
+  // Prior probability p_o that an external object occludes a pixel.
+  double occlusion_prior = 0.25;
+  // Resolution the likelihood is evaluated at (the tracker renders at it;
+  // observed images are subsampled to it).
+  int width = 80;
+  int height = 60;
+
+  // Throws InputError naming `context` and the field for an out-of-range value.
+  void validate(std::string_view context) const;
+};
+
+// A rectangle of pixels: columns [u0, u0 + width), rows [v0, v0 + height).
+struct PixelRect {
+  int u0 = 0;
+  int v0 = 0;
+  int width = 0;
+  int height = 0;
+};
+
+// The likelihood of one observed image. set_observation() once per image;
+// the scoring functions are const, allocation-free and safe to call from
+// several threads at once.
+class DepthLikelihood {
+ public:
+  // Throws InputError for invalid parameters.
+  explicit DepthLikelihood(const DepthModelParams& params);
+
+  const DepthModelParams& params() const { return params_; }
+  int width() const { return params_.width; }
+  int height() const { return params_.height; }
+
+  // Prepares per-pixel constants for an observed image; an image of another
+  // size is subsampled to width() x height() first (subsample_depth).
+  void set_observation(const DepthImage& observed);
+
+  // Score of a rendered hypothesis of size width() x height() (0 = robot not
+  // there): sum of log p(z|r) - log p(z|inf) over covered valid pixels.
+  double log_ratio(const DepthImage& rendered) const;
+
+  // The same over a rectangle only (pixels outside it count as uncovered).
+  // `rendered_m` points at the rendered depth of pixel (rect.u0, rect.v0);
+  // consecutive rows are `row_stride` floats apart (width() for a full-size
+  // buffer, rect.width for a compact one).
+  double log_ratio(const float* rendered_m, std::ptrdiff_t row_stride, const PixelRect& rect) const;
+
+  // Reference evaluation of one pixel, entirely in log space (log-sum-exp of
+  // the three mixture components, asymptotic log erfc in the far tails):
+  // finite for every z in (0, Z] and r in (0, Z] or +infinity.
+  double log_likelihood_pixel(double z_m, double r_m) const;  // log p(z|r)
+  double log_ratio_pixel(double z_m, double r_m) const;       // log p(z|r) - log p(z|inf)
+
+  // Number of valid pixels in the current observation.
+  int num_valid_pixels() const { return num_valid_; }
+
+ private:
+  // Per observed pixel, so that a covered pixel costs one exp, at most one
+  // erfc, one expm1 and a few multiplications (see log_ratio()).
+  struct PixelTerms {
+    double z = 0;          // observed depth, m
+    double inv_s = 0;      // 1 / (sqrt(2) sigma)
+    double shift = 0;      // lambda sigma / sqrt(2)
+    double k_vis = 0;      // (1-w)(1-p_o) / (sqrt(2 pi) sigma)
+    double k_occ = 0;      // (1-w) p_o lambda exp(-lambda z + lambda^2 sigma^2 / 2) / 2
+    double inv_p_inf = 0;  // 1 / p(z|inf); 0 marks an invalid pixel
+  };
+
+  double sigma_m(double z_m) const {
+    return params_.noise_std_m + params_.noise_quadratic_per_m * z_m * z_m;
+  }
+
+  DepthModelParams params_;
+  double outlier_density_ = 0;  // w / Z
+  std::vector<PixelTerms> pixels_;
+  int num_valid_ = 0;
+};
+
+}  // namespace arttrack

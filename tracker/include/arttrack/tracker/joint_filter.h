@@ -1,0 +1,160 @@
+// Joint encoder filtering: one 2-state Kalman filter per joint over (angle a,
+// encoder bias b), all joints of the robot in one structure-of-arrays bank
+// (paper Sec. "Filtering joint measurements", Eq. (9); method.md, Inference
+// step 1). Virtual (camera) joints live in the same bank as 1-D random walks
+// without encoder and bias.
+//
+// Models, every noise in continuous time so parameters keep their meaning at
+// any joint rate and with variable time steps dt (seconds):
+//   encoder  q = a + b + N(0, sigma_q^2)                         (Eq. (3))
+//   angle    a(t+dt) = a(t) + N(0, sigma_a^2 dt)                 (Eq. (4))
+//   bias     Ornstein-Uhlenbeck  db = -k b dt + sigma_b dW,  k = ln(1/c):
+//            b(t+dt) = c^dt b(t) + N(0, sigma_b^2 (1 - c^(2 dt)) / (2k))
+// The bias step is the EXACT discretisation of that process. It generalises
+// the paper's Eq. (5), b(t+dt) = c^dt b(t) + N(0, dt sigma_b^2) (also
+// method.md's formula), which is its first-order form for small k dt. The
+// difference shows in the stationary variance: here sigma_b^2 / (2 ln(1/c))
+// whatever the rate, against dt sigma_b^2 / (1 - c^(2 dt)) in the paper's
+// Eq. (8), which tends to the same value as dt -> 0 but drifts with dt.
+// Choose c and sigma_b so that the stationary standard deviation covers the
+// largest bias expected (stationary_bias_std_rad()).
+//
+// Model/data split: JointFilterModel (names, noises; immutable, shareable)
+// and JointBelief (means and covariances; what the filter changes). Encoder
+// joints come first in the bank (indices [0, num_encoder_joints())), virtual
+// joints after them. Angles in radians (metres for prismatic virtual joints).
+#pragma once
+
+#include <map>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "arttrack/tracker/gaussian_fold.h"
+
+namespace arttrack {
+
+// Noise parameters of one physical (encoder) joint. Continuous time.
+struct JointFilterParams {
+  // Encoder noise standard deviation sigma_q, rad (paper Eq. (3)).
+  double encoder_noise_rad = 1e-3;
+  // Angle random-walk diffusion sigma_a, rad/sqrt(s): the angle's standard
+  // deviation grows by sigma_a sqrt(dt) over dt (Eq. (4)). Large enough to
+  // follow fast motion between encoder readings.
+  double angle_diffusion_rad_per_sqrt_s = 1.0;
+  // Bias diffusion sigma_b, rad/sqrt(s) (Eq. (5) in continuous time).
+  double bias_diffusion_rad_per_sqrt_s = 0.056;
+  // Bias decay c per second, 0 < c < 1: over dt the bias mean is multiplied
+  // by c^dt. With sigma_b above, the stationary bias std is 10 degrees and
+  // its time constant 1 / ln(1/c) = 19.5 s.
+  double bias_decay_per_s = 0.95;
+  // False: this joint's bias is not estimated (fixed at 0, variance 0); the
+  // filter is then a 1-D filter on the angle. The original implementation's
+  // "bias factor 0".
+  bool estimate_bias = true;
+
+  // Stationary bias standard deviation sigma_b / sqrt(2 ln(1/c)), rad (0 when
+  // the bias is not estimated).
+  double stationary_bias_std_rad() const;
+};
+
+// Noise of one virtual (camera offset) joint: a random walk around the
+// nominal camera pose, no encoder, no bias. Metres for the three prismatic
+// joints, radians for the three revolute ones.
+struct VirtualJointParams {
+  // Random-walk diffusion, m/sqrt(s) or rad/sqrt(s).
+  double diffusion_per_sqrt_s = 0.005;
+  // Standard deviation of the initial belief around 0, m or rad: how far the
+  // true camera may be from the kinematic model's camera.
+  double initial_std = 0.03;
+};
+
+// Per-joint parameters in bank order from defaults plus per-name overrides
+// (complete structs, e.g. the defaults with some fields changed by a config
+// file). Throws InputError naming `context` and the joint if an override
+// names a joint not in `joint_names`.
+std::vector<JointFilterParams> per_joint_params(
+    std::span<const std::string> joint_names, const JointFilterParams& defaults,
+    const std::map<std::string, JointFilterParams>& overrides, std::string_view context);
+std::vector<VirtualJointParams> per_joint_params(
+    std::span<const std::string> joint_names, const VirtualJointParams& defaults,
+    const std::map<std::string, VirtualJointParams>& overrides, std::string_view context);
+
+// The immutable part of the bank: joint names and their noises, stored as
+// flat per-joint arrays for the filter loops.
+class JointFilterModel {
+ public:
+  // Encoder joints (with their parameters, same order) then virtual joints.
+  // Throws InputError naming the joint for a bad value (negative noise, c
+  // outside (0, 1) for a joint whose bias is estimated, duplicate name).
+  JointFilterModel(std::vector<std::string> encoder_joints,
+                   std::vector<JointFilterParams> encoder_params,
+                   std::vector<std::string> virtual_joints = {},
+                   std::vector<VirtualJointParams> virtual_params = {});
+
+  int num_joints() const { return int(names_.size()); }
+  int num_encoder_joints() const { return num_encoder_; }
+  int num_virtual_joints() const { return num_joints() - num_encoder_; }
+  // All names, encoder joints first.
+  const std::vector<std::string>& joint_names() const { return names_; }
+  // Bank index of a joint, or -1.
+  int index_of(std::string_view name) const;
+  bool is_virtual(int j) const { return j >= num_encoder_; }
+
+  // Flat per-joint constants (bank order), continuous time.
+  std::span<const double> encoder_var_rad2() const { return var_q_; }    // sigma_q^2
+  std::span<const double> angle_rate_var() const { return rate_a_; }     // sigma_a^2, per s
+  std::span<const double> bias_rate_var() const { return rate_b_; }      // sigma_b^2, per s
+  std::span<const double> bias_decay_rate_per_s() const { return k_; }   // k = ln(1/c)
+  std::span<const double> initial_var_a() const { return init_var_a_; }  // virtual joints
+  std::span<const double> initial_var_b() const { return init_var_b_; }  // stationary
+
+ private:
+  std::vector<std::string> names_;
+  int num_encoder_ = 0;
+  std::vector<double> var_q_, rate_a_, rate_b_, k_, init_var_a_, init_var_b_;
+};
+
+// The belief: one Gaussian over (a, b) per joint, structure of arrays in
+// bank order. Virtual joints and joints without bias keep b = 0 with zero
+// variance and covariance.
+struct JointBelief {
+  std::vector<double> mean_a, mean_b, var_a, cov_ab, var_b;
+
+  int size() const { return int(mean_a.size()); }
+  AngleBiasGaussian joint(int j) const {
+    return {mean_a[j], mean_b[j], var_a[j], cov_ab[j], var_b[j]};
+  }
+  void set_joint(int j, const AngleBiasGaussian& g);
+};
+
+// The belief after the first encoder reading: for encoder joints the exact
+// posterior given q with bias prior N(0, stationary variance) and a flat
+// angle prior (a = q, var_a = sigma_q^2 + var_b, cov_ab = -var_b); virtual
+// joints at 0 with their initial variance. Throws InputError for a size
+// mismatch or a non-finite reading (naming the joint).
+JointBelief initial_joint_belief(const JointFilterModel& model,
+                                 std::span<const double> encoder_rad);
+
+// Prediction over dt_s >= 0 seconds, all joints. Throws InputError for a
+// negative or non-finite dt_s. Allocation-free.
+void predict_joints(const JointFilterModel& model, double dt_s, JointBelief& belief);
+
+// Measurement update with one reading per encoder joint (bank order, size
+// num_encoder_joints()), Joseph form. Throws InputError (naming the joint)
+// for a non-finite reading, before changing anything. Allocation-free.
+void update_encoders(const JointFilterModel& model, std::span<const double> encoder_rad,
+                     JointBelief& belief);
+
+// predict_joints then update_encoders in one pass over the bank: the 1 kHz
+// step, and the re-filtering loop after a delayed image.
+void filter_joints(const JointFilterModel& model, double dt_s, std::span<const double> encoder_rad,
+                   JointBelief& belief);
+
+// Folds image-based angle posteriors N(mean_a[j], var_a[j]) (one per bank
+// joint) into the belief, keeping each joint's p(b | a) (gaussian_fold.h).
+void fold_angle_posteriors(std::span<const double> mean_a, std::span<const double> var_a,
+                           JointBelief& belief);
+
+}  // namespace arttrack

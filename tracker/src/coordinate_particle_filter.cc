@@ -1,0 +1,285 @@
+#include "arttrack/tracker/coordinate_particle_filter.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+
+// ---------------------------------------------------------------- WorkerPool
+
+WorkerPool::WorkerPool(int num_workers) {
+  if (num_workers <= 0) num_workers = int(std::max(1u, std::thread::hardware_concurrency()));
+  num_workers_ = num_workers;
+  threads_.reserve(num_workers_ - 1);
+  for (int w = 1; w < num_workers_; ++w) threads_.emplace_back([this, w] { worker_loop(w); });
+}
+
+WorkerPool::~WorkerPool() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  start_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+void WorkerPool::worker_loop(int worker) {
+  std::uint64_t seen = 0;
+  for (;;) {
+    int n;
+    Call call;
+    void* context;
+    {
+      std::unique_lock lock(mutex_);
+      start_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+      n = job_n_;
+      call = job_call_;
+      context = job_context_;
+    }
+    const int begin = int(std::int64_t(n) * worker / num_workers_);
+    const int end = int(std::int64_t(n) * (worker + 1) / num_workers_);
+    std::exception_ptr error;
+    if (begin < end) {
+      try {
+        call(context, begin, end, worker);
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    std::lock_guard lock(mutex_);
+    if (error && !error_) error_ = error;
+    if (--remaining_ == 0) done_.notify_one();
+  }
+}
+
+void WorkerPool::run(int n, Call call, void* context) {
+  if (n <= 0) return;
+  if (num_workers_ == 1) {
+    call(context, 0, n, 0);
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    job_n_ = n;
+    job_call_ = call;
+    job_context_ = context;
+    error_ = nullptr;
+    remaining_ = num_workers_ - 1;
+    ++generation_;
+  }
+  start_.notify_all();
+  std::exception_ptr error;
+  const int end = int(std::int64_t(n) / num_workers_);
+  if (end > 0) {
+    try {
+      call(context, 0, end, 0);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  std::unique_lock lock(mutex_);
+  done_.wait(lock, [&] { return remaining_ == 0; });
+  if (!error) error = error_;
+  error_ = nullptr;
+  if (error) std::rethrow_exception(error);
+}
+
+// ------------------------------------------------------------- evaluators
+
+void PerParticleEvaluator::evaluate(const ParticleBatch& batch, std::span<double> log_likelihood,
+                                    WorkerPool& pool) {
+  pool.parallel_for(batch.num_particles, [&](int begin, int end, int worker) {
+    for (int l = begin; l < end; ++l) log_likelihood[l] = this->log_likelihood(batch, l, worker);
+  });
+}
+
+double kl_divergence_from_uniform(std::span<const double> weights) {
+  const double n = double(weights.size());
+  double kl = 0;
+  for (double w : weights) {
+    if (w > 0) kl += w * std::log(n * w);
+  }
+  return std::max(0.0, kl);  // >= 0 exactly; rounding may dip below
+}
+
+// ------------------------------------------------------------------- filter
+
+CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<SamplingBlock> blocks,
+                                                   const CoordinateParticleFilterParams& params)
+    : dimension_(dimension), blocks_(std::move(blocks)), params_(params) {
+  if (dimension_ <= 0) throw InputError("particle filter: dimension must be positive");
+  if (params_.num_particles < 1) {
+    throw InputError("particle filter: num_particles = " + std::to_string(params_.num_particles) +
+                     " must be at least 1");
+  }
+  if (!(params_.max_kl_divergence >= 0)) {
+    throw InputError("particle filter: max_kl_divergence = " +
+                     std::to_string(params_.max_kl_divergence) + " must be >= 0");
+  }
+  if (!(params_.proposal_scale > 0) || !std::isfinite(params_.proposal_scale)) {
+    throw InputError("particle filter: proposal_scale = " + std::to_string(params_.proposal_scale) +
+                     " must be positive");
+  }
+  if (blocks_.empty()) throw InputError("particle filter: no sampling blocks");
+  sampled_.assign(dimension_, false);
+  for (const SamplingBlock& b : blocks_) {
+    if (b.coordinates.empty()) {
+      throw InputError("particle filter: sampling block '" + b.name + "' is empty");
+    }
+    for (int c : b.coordinates) {
+      if (c < 0 || c >= dimension_) {
+        throw InputError("particle filter: sampling block '" + b.name + "': coordinate " +
+                         std::to_string(c) + " outside [0, " + std::to_string(dimension_) + ")");
+      }
+      if (sampled_[c]) {
+        throw InputError("particle filter: sampling block '" + b.name + "': coordinate " +
+                         std::to_string(c) + " is already in another block");
+      }
+      sampled_[c] = true;
+    }
+  }
+  num_particles_ = params_.num_particles;
+  const std::size_t ln = std::size_t(num_particles_) * dimension_;
+  particles_.resize(ln);
+  scratch_particles_.resize(ln);
+  log_weights_.resize(num_particles_);
+  weights_.resize(num_particles_);
+  log_likelihood_.resize(num_particles_);
+  new_log_likelihood_.resize(num_particles_);
+  scratch_log_likelihood_.resize(num_particles_);
+  parents_.resize(num_particles_);
+  mean_.resize(dimension_);
+  variance_.resize(dimension_);
+}
+
+void CoordinateParticleFilter::normalise_weights() {
+  const double max_log_w = *std::max_element(log_weights_.begin(), log_weights_.end());
+  double sum = 0;
+  for (int l = 0; l < num_particles_; ++l) {
+    weights_[l] = std::exp(log_weights_[l] - max_log_w);
+    sum += weights_[l];
+  }
+  for (double& w : weights_) w /= sum;
+}
+
+// Systematic resampling: one uniform offset u in [0, 1/L), then particle l
+// copies the particle whose cumulative-weight interval contains u + l / L.
+void CoordinateParticleFilter::resample(std::mt19937_64& rng) {
+  const int L = num_particles_;
+  const double u0 = std::uniform_real_distribution<double>(0.0, 1.0)(rng) / L;
+  double cumulative = weights_[0];
+  int source = 0;
+  for (int l = 0; l < L; ++l) {
+    const double u = u0 + double(l) / L;
+    while (u > cumulative && source < L - 1) cumulative += weights_[++source];
+    parents_[l] = source;
+  }
+  for (int l = 0; l < L; ++l) {
+    const double* from = particles_.data() + std::size_t(parents_[l]) * dimension_;
+    std::copy(from, from + dimension_, scratch_particles_.data() + std::size_t(l) * dimension_);
+    scratch_log_likelihood_[l] = log_likelihood_[parents_[l]];
+  }
+  particles_.swap(scratch_particles_);
+  log_likelihood_.swap(scratch_log_likelihood_);
+  std::fill(log_weights_.begin(), log_weights_.end(), 0.0);
+  std::fill(weights_.begin(), weights_.end(), 1.0 / L);
+  ++num_resamplings_;
+}
+
+void CoordinateParticleFilter::run(std::span<const double> prior_mean,
+                                   std::span<const double> prior_std,
+                                   LogLikelihoodEvaluator& evaluator, std::mt19937_64& rng,
+                                   WorkerPool& pool) {
+  assert(int(prior_mean.size()) == dimension_ && int(prior_std.size()) == dimension_);
+  const int L = num_particles_;
+  const int n = dimension_;
+  for (int l = 0; l < L; ++l) {
+    std::copy(prior_mean.begin(), prior_mean.end(), particles_.begin() + std::size_t(l) * n);
+  }
+  std::fill(log_weights_.begin(), log_weights_.end(), 0.0);
+  std::fill(weights_.begin(), weights_.end(), 1.0 / L);
+  // Every particle starts at the mean: a common log-likelihood, taken as 0.
+  std::fill(log_likelihood_.begin(), log_likelihood_.end(), 0.0);
+  std::iota(parents_.begin(), parents_.end(), 0);
+  num_evaluations_ = num_resamplings_ = num_degenerate_ = 0;
+  std::normal_distribution<double> normal(0.0, 1.0);  // fresh: no cached draw from a past run
+
+  for (int step = 0; step < int(blocks_.size()); ++step) {
+    const SamplingBlock& block = blocks_[step];
+    if (step > 0 && kl_divergence_from_uniform(weights_) > params_.max_kl_divergence) {
+      resample(rng);
+    }
+    // Draw the block from its (scaled) prior marginal, particle by particle
+    // in a fixed order so the numbers depend on the seed only.
+    for (int l = 0; l < L; ++l) {
+      double* x = particles_.data() + std::size_t(l) * n;
+      for (int c : block.coordinates) {
+        x[c] = prior_mean[c] + params_.proposal_scale * prior_std[c] * normal(rng);
+      }
+    }
+    ParticleBatch batch;
+    batch.block = step;
+    batch.coordinates = block.coordinates;
+    batch.particles = particles_.data();
+    batch.num_particles = L;
+    batch.dimension = n;
+    batch.parents = parents_;
+    evaluator.evaluate(batch, new_log_likelihood_, pool);
+    num_evaluations_ += L;
+
+    // Weight by the likelihood ratio: log w += log p(I | x new) - log p(I | x old).
+    // An impossible particle stays impossible.
+    for (int l = 0; l < L; ++l) {
+      double ll = new_log_likelihood_[l];
+      if (!std::isfinite(ll)) ll = -std::numeric_limits<double>::infinity();
+      if (std::isfinite(log_likelihood_[l])) {
+        log_weights_[l] += ll - log_likelihood_[l];
+      } else {
+        log_weights_[l] = -std::numeric_limits<double>::infinity();
+      }
+      log_likelihood_[l] = ll;
+    }
+    if (!std::isfinite(*std::max_element(log_weights_.begin(), log_weights_.end()))) {
+      // No particle explains the image at all: keep the particles, ignore
+      // this block's evidence. Log-likelihoods restart at a common 0.
+      std::fill(log_weights_.begin(), log_weights_.end(), 0.0);
+      std::fill(log_likelihood_.begin(), log_likelihood_.end(), 0.0);
+      ++num_degenerate_;
+    }
+    normalise_weights();
+    std::iota(parents_.begin(), parents_.end(), 0);
+  }
+
+  // Moment matching with the final weights.
+  std::fill(mean_.begin(), mean_.end(), 0.0);
+  std::fill(variance_.begin(), variance_.end(), 0.0);
+  for (int l = 0; l < L; ++l) {
+    const double* x = particles_.data() + std::size_t(l) * n;
+    for (int c = 0; c < n; ++c) mean_[c] += weights_[l] * x[c];
+  }
+  for (int l = 0; l < L; ++l) {
+    const double* x = particles_.data() + std::size_t(l) * n;
+    for (int c = 0; c < n; ++c) variance_[c] += weights_[l] * (x[c] - mean_[c]) * (x[c] - mean_[c]);
+  }
+  for (int c = 0; c < n; ++c) {
+    if (!sampled_[c]) {
+      mean_[c] = prior_mean[c];
+      variance_[c] = prior_std[c] * prior_std[c];
+    }
+  }
+}
+
+double CoordinateParticleFilter::effective_sample_size() const {
+  double sum_sq = 0;
+  for (double w : weights_) sum_sq += w * w;
+  return 1 / sum_sq;
+}
+
+}  // namespace arttrack

@@ -1,0 +1,195 @@
+#include "arttrack/tracker/depth_likelihood.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+constexpr double kSqrt2 = 1.41421356237309505;
+constexpr double kLogSqrt2Pi = 0.91893853320467274;  // log sqrt(2 pi)
+constexpr double kLogSqrtPi = 0.57236494292470008;   // log sqrt(pi)
+constexpr double kLog2 = 0.69314718055994531;
+constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+constexpr double kMinRenderedDepthM = 1e-6;
+
+// log(erfc(y)) for any finite y. std::erfc is accurate (relative) while its
+// result is a normal double, i.e. up to y ~ 26.5; from y = 25 on the
+// asymptotic expansion
+//   erfc(y) = exp(-y^2) / (y sqrt(pi)) (1 + sum_k (-1)^k (2k-1)!! / (2y^2)^k)
+// is used in log form; its 7th term is below 3e-17 there.
+double log_erfc(double y) {
+  if (y < 25) return std::log(std::erfc(y));
+  const double t = 1 / (2 * y * y);
+  double term = 1, sum = 0;
+  for (int k = 1; k <= 7; ++k) {
+    term *= -(2 * k - 1) * t;
+    sum += term;
+  }
+  return -y * y - std::log(y) - kLogSqrtPi + std::log1p(sum);
+}
+
+// log(exp(a) + exp(b) + exp(c)), any of them may be -inf (not all three).
+double log_sum_exp(double a, double b, double c) {
+  const double m = std::max({a, b, c});
+  return m + std::log(std::exp(a - m) + std::exp(b - m) + std::exp(c - m));
+}
+
+// log x, or -inf for x == 0 (a mixture weight of zero).
+double log_weight(double x) { return x > 0 ? std::log(x) : kNegInf; }
+
+}  // namespace
+
+void DepthModelParams::validate(std::string_view context) const {
+  auto fail = [&](const char* field, double value, const char* range) {
+    throw InputError(std::string(context) + ": " + field + " = " + std::to_string(value) +
+                     " must be " + range);
+  };
+  if (!(outlier_weight >= 1e-9 && outlier_weight <= 1))
+    fail("outlier_weight", outlier_weight, "in [1e-9, 1]");
+  if (!(noise_std_m >= 1e-6 && noise_std_m <= 1)) fail("noise_std_m", noise_std_m, "in [1e-6, 1]");
+  if (!(noise_quadratic_per_m >= 0 && noise_quadratic_per_m <= 1))
+    fail("noise_quadratic_per_m", noise_quadratic_per_m, "in [0, 1]");
+  if (!(max_range_m > 0 && max_range_m <= 1000)) fail("max_range_m", max_range_m, "in (0, 1000]");
+  if (!(occluder_decay_per_m >= 1e-3 && occluder_decay_per_m <= 100))
+    fail("occluder_decay_per_m", occluder_decay_per_m, "in [1e-3, 100]");
+  if (!(occlusion_prior >= 0 && occlusion_prior <= 1))
+    fail("occlusion_prior", occlusion_prior, "in [0, 1]");
+  if (width <= 0 || height <= 0 || width > 10000 || height > 10000)
+    fail("width/height", width, "positive (and at most 10000)");
+  // The noise at the maximum range must stay small against the occluder
+  // decay length (lambda sigma <= 1): it bounds the per-pixel ratios that
+  // log_ratio() multiplies (see there), and a noise of a decay length would
+  // make the occluder model meaningless anyway.
+  const double sigma_max = noise_std_m + noise_quadratic_per_m * max_range_m * max_range_m;
+  if (occluder_decay_per_m * sigma_max > 1)
+    fail("occluder_decay_per_m x noise at max range", occluder_decay_per_m * sigma_max,
+         "at most 1");
+}
+
+DepthLikelihood::DepthLikelihood(const DepthModelParams& params) : params_(params) {
+  params_.validate("depth likelihood");
+  outlier_density_ = params_.outlier_weight / params_.max_range_m;
+  pixels_.resize(size_t(params_.width) * params_.height);
+}
+
+double DepthLikelihood::log_likelihood_pixel(double z_m, double r_m) const {
+  const double w = params_.outlier_weight;
+  const double po = params_.occlusion_prior;
+  const double lambda = params_.occluder_decay_per_m;
+  const double sigma = sigma_m(z_m);
+  const double log_out = std::log(outlier_density_);
+  // Occluded, common part: log((1-w) p_o lambda) - lambda z + lambda^2 sigma^2 / 2.
+  const double log_occ_base = log_weight((1 - w) * po) + std::log(lambda) - lambda * z_m +
+                              0.5 * lambda * lambda * sigma * sigma;
+  if (std::isinf(r_m)) return log_sum_exp(log_out, kNegInf, log_occ_base);
+  const double r = std::max(r_m, kMinRenderedDepthM);
+  const double d = (z_m - r) / sigma;
+  const double log_vis =
+      log_weight((1 - w) * (1 - po)) - 0.5 * d * d - std::log(sigma) - kLogSqrt2Pi;
+  // exp(lambda (r - z)) / (exp(lambda r) - 1) = exp(-lambda z) / (1 - exp(-lambda r)),
+  // with expm1 for small lambda r; (1 + erf(x)) / 2 = erfc(-x) / 2.
+  const double x = (r - z_m + lambda * sigma * sigma) / (kSqrt2 * sigma);
+  const double log_occ = log_occ_base + log_erfc(-x) - kLog2 - std::log(-std::expm1(-lambda * r));
+  return log_sum_exp(log_out, log_vis, log_occ);
+}
+
+double DepthLikelihood::log_ratio_pixel(double z_m, double r_m) const {
+  if (std::isinf(r_m)) return 0;
+  return log_likelihood_pixel(z_m, r_m) -
+         log_likelihood_pixel(z_m, std::numeric_limits<double>::infinity());
+}
+
+void DepthLikelihood::set_observation(const DepthImage& observed) {
+  const DepthImage* image = &observed;
+  DepthImage resized;
+  if (observed.width != params_.width || observed.height != params_.height) {
+    resized = subsample_depth(observed, params_.width, params_.height);
+    image = &resized;
+  }
+  const double w = params_.outlier_weight;
+  const double po = params_.occlusion_prior;
+  const double lambda = params_.occluder_decay_per_m;
+  const double k_vis = (1 - w) * (1 - po) / std::sqrt(2 * M_PI);
+  const double k_occ = (1 - w) * po * lambda * 0.5;
+  num_valid_ = 0;
+  for (size_t i = 0; i < pixels_.size(); ++i) {
+    const double z = image->depth_m[i];
+    PixelTerms& t = pixels_[i];
+    if (!(z > 0 && z <= params_.max_range_m)) {  // also rejects NaN
+      t = PixelTerms{};
+      continue;
+    }
+    const double sigma = sigma_m(z);
+    t.z = z;
+    t.inv_s = 1 / (kSqrt2 * sigma);
+    t.shift = lambda * sigma / kSqrt2;
+    t.k_vis = k_vis / sigma;
+    t.k_occ = k_occ * std::exp(-lambda * z + 0.5 * lambda * lambda * sigma * sigma);
+    // p(z|inf) = w/Z + (1-w) p_o lambda exp(-lambda z + lambda^2 sigma^2 / 2) >= w/Z > 0.
+    t.inv_p_inf = 1 / (outlier_density_ + 2 * t.k_occ);
+    ++num_valid_;
+  }
+}
+
+double DepthLikelihood::log_ratio(const DepthImage& rendered) const {
+  assert(rendered.width == params_.width && rendered.height == params_.height);
+  return log_ratio(rendered.depth_m.data(), rendered.width,
+                   PixelRect{0, 0, rendered.width, rendered.height});
+}
+
+// The hot loop. Each covered pixel multiplies p(z|r) / p(z|inf) into a
+// running product instead of adding its logarithm: every density is at least
+// w/Z > 0 (a floor that cannot underflow), and with the validated parameters
+// (w/Z >= 1e-12, sigma >= 1e-6, lambda in [1e-3, 100], lambda sigma <= 1,
+// r >= 1e-6) one ratio lies within about 1e-15..1e18, so eight of them cannot
+// leave the double range; every eight pixels the product is renormalised by frexp into
+// mantissa and binary exponent. One log per image instead of one per pixel,
+// and no cancellation: the result equals the sum of log_ratio_pixel() to
+// rounding (checked by the tests).
+double DepthLikelihood::log_ratio(const float* rendered_m, std::ptrdiff_t row_stride,
+                                  const PixelRect& rect) const {
+  assert(rect.u0 >= 0 && rect.v0 >= 0 && rect.u0 + rect.width <= params_.width &&
+         rect.v0 + rect.height <= params_.height);
+  const double lambda = params_.occluder_decay_per_m;
+  const double floor = outlier_density_;
+  double product = 1;
+  long exponent = 0;
+  int pending = 0;
+  for (int v = 0; v < rect.height; ++v) {
+    const float* row = rendered_m + v * row_stride;
+    const PixelTerms* terms = pixels_.data() + size_t(rect.v0 + v) * params_.width + rect.u0;
+    for (int u = 0; u < rect.width; ++u) {
+      const float rf = row[u];
+      // Uncovered (0), and also NaN or +inf: add exactly 0.
+      if (!(rf > 0.f) || rf == std::numeric_limits<float>::infinity()) continue;
+      const PixelTerms& t = terms[u];
+      if (t.inv_p_inf == 0) continue;  // invalid observed pixel
+      const double r = std::max(double(rf), kMinRenderedDepthM);
+      const double e = (r - t.z) * t.inv_s;
+      double p = floor + t.k_vis * std::exp(-e * e);
+      // Occluded part: k_occ erfc(-x) / (1 - exp(-lambda r)). erfc(-x) is 2
+      // to double precision for x > 6 and below 1e-320 for x < -27.
+      const double x = e + t.shift;
+      if (x > -27) {
+        const double erfc_term = x > 6 ? 2.0 : std::erfc(-x);
+        p += t.k_occ * erfc_term / -std::expm1(-lambda * r);
+      }
+      product *= p * t.inv_p_inf;
+      if (++pending == 8) {
+        int e2;
+        product = std::frexp(product, &e2);
+        exponent += e2;
+        pending = 0;
+      }
+    }
+  }
+  return std::log(product) + double(exponent) * kLog2;
+}
+
+}  // namespace arttrack

@@ -1,0 +1,283 @@
+#include "arttrack/tracker/joint_filter.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <string>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+template <class P>
+std::vector<P> expand_params(std::span<const std::string> names, const P& defaults,
+                             const std::map<std::string, P>& overrides, std::string_view context) {
+  for (const auto& [name, p] : overrides) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      throw InputError(std::string(context) + ": unknown joint '" + name + "'");
+    }
+  }
+  std::vector<P> out;
+  out.reserve(names.size());
+  for (const std::string& name : names) {
+    const auto it = overrides.find(name);
+    out.push_back(it == overrides.end() ? defaults : it->second);
+  }
+  return out;
+}
+
+// Variance an Ornstein-Uhlenbeck process with diffusion variance rate `rate`
+// and decay rate k gains over dt: rate (1 - exp(-2 k dt)) / (2 k), which is
+// rate dt for k -> 0 (a plain random walk).
+double ou_added_variance(double rate, double k, double dt) {
+  const double x = 2 * k * dt;
+  // (1 - e^-x) / x = 1 - x/2 + x^2/6 - ...; below 1e-8 the x^2 term is under
+  // the rounding of the result.
+  if (x < 1e-8) return rate * dt * (1 - 0.5 * x);
+  return rate * -std::expm1(-x) / (2 * k);
+}
+
+void check_finite_readings(const JointFilterModel& model, std::span<const double> q) {
+  if (int(q.size()) != model.num_encoder_joints()) {
+    throw InputError("joint filter: got " + std::to_string(q.size()) +
+                     " encoder readings, expected " + std::to_string(model.num_encoder_joints()));
+  }
+  for (size_t j = 0; j < q.size(); ++j) {
+    if (!std::isfinite(q[j])) {
+      throw InputError("joint filter: non-finite encoder reading for joint '" +
+                       model.joint_names()[j] + "'");
+    }
+  }
+}
+
+void check_dt(double dt_s) {
+  if (!(dt_s >= 0) || !std::isfinite(dt_s)) {
+    throw InputError("joint filter: time step " + std::to_string(dt_s) +
+                     " s is negative or not finite (time stamps out of order?)");
+  }
+}
+
+// One Kalman measurement update of joint j with reading q, H = [1 1],
+// Joseph form P' = (I - K H) P (I - K H)^T + R K K^T: a sum of two positive
+// semi-definite terms, so the covariance stays PSD under rounding.
+inline void update_one(double q, double r, double& a, double& b, double& paa, double& pab,
+                       double& pbb) {
+  const double ga = paa + pab;  // P H^T
+  const double gb = pab + pbb;
+  const double s = ga + gb + r;  // H P H^T + R
+  const double ka = ga / s;
+  const double kb = gb / s;
+  const double innovation = q - a - b;
+  a += ka * innovation;
+  b += kb * innovation;
+  // M = (I - K H) P, then P' = M (I - K H)^T + R K K^T.
+  const double m00 = (1 - ka) * paa - ka * pab;
+  const double m01 = (1 - ka) * pab - ka * pbb;
+  const double m10 = -kb * paa + (1 - kb) * pab;
+  const double m11 = -kb * pab + (1 - kb) * pbb;
+  const double n00 = m00 * (1 - ka) - m01 * ka + r * ka * ka;
+  const double n01 = -m00 * kb + m01 * (1 - kb) + r * ka * kb;
+  const double n11 = -m10 * kb + m11 * (1 - kb) + r * kb * kb;
+  paa = n00;
+  pab = n01;
+  pbb = n11;
+}
+
+}  // namespace
+
+double JointFilterParams::stationary_bias_std_rad() const {
+  if (!estimate_bias) return 0;
+  return bias_diffusion_rad_per_sqrt_s / std::sqrt(2 * std::log(1 / bias_decay_per_s));
+}
+
+std::vector<JointFilterParams> per_joint_params(
+    std::span<const std::string> joint_names, const JointFilterParams& defaults,
+    const std::map<std::string, JointFilterParams>& overrides, std::string_view context) {
+  return expand_params(joint_names, defaults, overrides, context);
+}
+
+std::vector<VirtualJointParams> per_joint_params(
+    std::span<const std::string> joint_names, const VirtualJointParams& defaults,
+    const std::map<std::string, VirtualJointParams>& overrides, std::string_view context) {
+  return expand_params(joint_names, defaults, overrides, context);
+}
+
+JointFilterModel::JointFilterModel(std::vector<std::string> encoder_joints,
+                                   std::vector<JointFilterParams> encoder_params,
+                                   std::vector<std::string> virtual_joints,
+                                   std::vector<VirtualJointParams> virtual_params) {
+  if (encoder_joints.size() != encoder_params.size() ||
+      virtual_joints.size() != virtual_params.size()) {
+    throw InputError("joint filter: " + std::to_string(encoder_joints.size()) + " joints but " +
+                     std::to_string(encoder_params.size()) +
+                     " parameter sets (virtual: " + std::to_string(virtual_joints.size()) + " vs " +
+                     std::to_string(virtual_params.size()) + ")");
+  }
+  num_encoder_ = int(encoder_joints.size());
+  names_ = std::move(encoder_joints);
+  names_.insert(names_.end(), virtual_joints.begin(), virtual_joints.end());
+  for (size_t i = 0; i < names_.size(); ++i) {
+    if (std::find(names_.begin(), names_.begin() + i, names_[i]) != names_.begin() + i) {
+      throw InputError("joint filter: joint '" + names_[i] + "' listed twice");
+    }
+  }
+  auto bad = [&](const std::string& joint, const char* field, double value) {
+    return InputError("joint filter: joint '" + joint + "': " + field + " = " +
+                      std::to_string(value) + " is out of range");
+  };
+  for (int j = 0; j < num_encoder_; ++j) {
+    const JointFilterParams& p = encoder_params[j];
+    const std::string& n = names_[j];
+    if (!(p.encoder_noise_rad > 0) || !std::isfinite(p.encoder_noise_rad))
+      throw bad(n, "encoder_noise_rad (must be > 0)", p.encoder_noise_rad);
+    if (!(p.angle_diffusion_rad_per_sqrt_s >= 0) ||
+        !std::isfinite(p.angle_diffusion_rad_per_sqrt_s))
+      throw bad(n, "angle_diffusion_rad_per_sqrt_s (must be >= 0)",
+                p.angle_diffusion_rad_per_sqrt_s);
+    if (p.estimate_bias) {
+      if (!(p.bias_diffusion_rad_per_sqrt_s > 0) || !std::isfinite(p.bias_diffusion_rad_per_sqrt_s))
+        throw bad(n, "bias_diffusion_rad_per_sqrt_s (must be > 0)",
+                  p.bias_diffusion_rad_per_sqrt_s);
+      if (!(p.bias_decay_per_s > 0 && p.bias_decay_per_s < 1))
+        throw bad(n, "bias_decay_per_s (must be in (0, 1))", p.bias_decay_per_s);
+    }
+    var_q_.push_back(p.encoder_noise_rad * p.encoder_noise_rad);
+    rate_a_.push_back(p.angle_diffusion_rad_per_sqrt_s * p.angle_diffusion_rad_per_sqrt_s);
+    if (p.estimate_bias) {
+      const double k = std::log(1 / p.bias_decay_per_s);
+      const double rate_b = p.bias_diffusion_rad_per_sqrt_s * p.bias_diffusion_rad_per_sqrt_s;
+      rate_b_.push_back(rate_b);
+      k_.push_back(k);
+      init_var_b_.push_back(rate_b / (2 * k));
+    } else {
+      rate_b_.push_back(0);
+      k_.push_back(0);
+      init_var_b_.push_back(0);
+    }
+    init_var_a_.push_back(0);  // set from the first reading
+  }
+  for (size_t v = 0; v < virtual_params.size(); ++v) {
+    const VirtualJointParams& p = virtual_params[v];
+    const std::string& n = names_[num_encoder_ + v];
+    if (!(p.diffusion_per_sqrt_s >= 0) || !std::isfinite(p.diffusion_per_sqrt_s))
+      throw bad(n, "diffusion_per_sqrt_s (must be >= 0)", p.diffusion_per_sqrt_s);
+    if (!(p.initial_std > 0) || !std::isfinite(p.initial_std))
+      throw bad(n, "initial_std (must be > 0)", p.initial_std);
+    var_q_.push_back(0);  // no encoder
+    rate_a_.push_back(p.diffusion_per_sqrt_s * p.diffusion_per_sqrt_s);
+    rate_b_.push_back(0);
+    k_.push_back(0);
+    init_var_a_.push_back(p.initial_std * p.initial_std);
+    init_var_b_.push_back(0);
+  }
+}
+
+int JointFilterModel::index_of(std::string_view name) const {
+  for (size_t j = 0; j < names_.size(); ++j) {
+    if (names_[j] == name) return int(j);
+  }
+  return -1;
+}
+
+void JointBelief::set_joint(int j, const AngleBiasGaussian& g) {
+  mean_a[j] = g.mean_a;
+  mean_b[j] = g.mean_b;
+  var_a[j] = g.var_a;
+  cov_ab[j] = g.cov_ab;
+  var_b[j] = g.var_b;
+}
+
+JointBelief initial_joint_belief(const JointFilterModel& model,
+                                 std::span<const double> encoder_rad) {
+  check_finite_readings(model, encoder_rad);
+  const int n = model.num_joints();
+  JointBelief b;
+  b.mean_a.assign(n, 0);
+  b.mean_b.assign(n, 0);
+  b.var_a.assign(n, 0);
+  b.cov_ab.assign(n, 0);
+  b.var_b.assign(n, 0);
+  for (int j = 0; j < n; ++j) {
+    const double vb = model.initial_var_b()[j];
+    if (j < model.num_encoder_joints()) {
+      // a = q - b - e with b ~ N(0, vb), e ~ N(0, sigma_q^2) and a flat prior.
+      b.mean_a[j] = encoder_rad[j];
+      b.var_a[j] = model.encoder_var_rad2()[j] + vb;
+      b.cov_ab[j] = -vb;
+      b.var_b[j] = vb;
+    } else {
+      b.var_a[j] = model.initial_var_a()[j];
+    }
+  }
+  return b;
+}
+
+void predict_joints(const JointFilterModel& model, double dt_s, JointBelief& belief) {
+  check_dt(dt_s);
+  assert(belief.size() == model.num_joints());
+  const int n = model.num_joints();
+  const double* rate_a = model.angle_rate_var().data();
+  const double* rate_b = model.bias_rate_var().data();
+  const double* k = model.bias_decay_rate_per_s().data();
+  double* mb = belief.mean_b.data();
+  double* paa = belief.var_a.data();
+  double* pab = belief.cov_ab.data();
+  double* pbb = belief.var_b.data();
+  for (int j = 0; j < n; ++j) {
+    const double phi = std::exp(-k[j] * dt_s);  // c^dt
+    mb[j] *= phi;
+    paa[j] += rate_a[j] * dt_s;
+    pab[j] *= phi;
+    pbb[j] = phi * phi * pbb[j] + ou_added_variance(rate_b[j], k[j], dt_s);
+  }
+}
+
+void update_encoders(const JointFilterModel& model, std::span<const double> encoder_rad,
+                     JointBelief& belief) {
+  check_finite_readings(model, encoder_rad);
+  assert(belief.size() == model.num_joints());
+  const double* r = model.encoder_var_rad2().data();
+  for (int j = 0; j < model.num_encoder_joints(); ++j) {
+    update_one(encoder_rad[j], r[j], belief.mean_a[j], belief.mean_b[j], belief.var_a[j],
+               belief.cov_ab[j], belief.var_b[j]);
+  }
+}
+
+void filter_joints(const JointFilterModel& model, double dt_s, std::span<const double> encoder_rad,
+                   JointBelief& belief) {
+  check_dt(dt_s);
+  check_finite_readings(model, encoder_rad);
+  assert(belief.size() == model.num_joints());
+  const int n = model.num_joints();
+  const int ne = model.num_encoder_joints();
+  const double* rate_a = model.angle_rate_var().data();
+  const double* rate_b = model.bias_rate_var().data();
+  const double* k = model.bias_decay_rate_per_s().data();
+  const double* r = model.encoder_var_rad2().data();
+  double* ma = belief.mean_a.data();
+  double* mb = belief.mean_b.data();
+  double* paa = belief.var_a.data();
+  double* pab = belief.cov_ab.data();
+  double* pbb = belief.var_b.data();
+  for (int j = 0; j < ne; ++j) {
+    const double phi = std::exp(-k[j] * dt_s);
+    mb[j] *= phi;
+    paa[j] += rate_a[j] * dt_s;
+    pab[j] *= phi;
+    pbb[j] = phi * phi * pbb[j] + ou_added_variance(rate_b[j], k[j], dt_s);
+    update_one(encoder_rad[j], r[j], ma[j], mb[j], paa[j], pab[j], pbb[j]);
+  }
+  // Virtual joints: random walk only (no bias, no encoder).
+  for (int j = ne; j < n; ++j) paa[j] += rate_a[j] * dt_s;
+}
+
+void fold_angle_posteriors(std::span<const double> mean_a, std::span<const double> var_a,
+                           JointBelief& belief) {
+  assert(int(mean_a.size()) == belief.size() && int(var_a.size()) == belief.size());
+  for (int j = 0; j < belief.size(); ++j) {
+    belief.set_joint(j, fold_angle_marginal(belief.joint(j), mean_a[j], var_a[j]));
+  }
+}
+
+}  // namespace arttrack
