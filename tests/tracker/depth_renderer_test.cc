@@ -2,9 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <new>
 #include <numbers>
@@ -242,7 +247,7 @@ TEST(DepthRenderer, AgreesWithBruteForceRayCasting) {
         }
       }
     }
-    EXPECT_GT(covered, w * h / 2) << "the arm should fill much of the view";
+    EXPECT_GT(covered, w * h * 6 / 20) << "the arm should cover some 5 % of the view or more";
     // Only a pixel centre within rounding of a silhouette edge may differ.
     EXPECT_LE(coverage_mismatches, 2) << w << "x" << h << " of " << covered;
     EXPECT_LE(depth_mismatches, 2) << w << "x" << h << " of " << covered;
@@ -317,6 +322,79 @@ TEST(DepthRenderer, SubsetsCachesAndRectangles) {
   // The head pan moves the camera too.
   const LinkSet pan_links = links_affecting_depth(model, {model.joint_index("head_pan")});
   for (bool b : pan_links) EXPECT_TRUE(b);
+}
+
+// A tilted sheet of ~29k jittered triangles: every pixel inside it must be
+// drawn (no crack along shared edges, no pixel lost by the per-row spans).
+TEST(DepthRenderer, SharedEdgesLeaveNoCracks) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("arttrack_render_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const int n = 120;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  {
+    std::ofstream obj(dir / "sheet.obj");
+    char line[128];
+    for (int j = 0; j <= n; ++j) {
+      for (int i = 0; i <= n; ++i) {
+        const bool border = i == 0 || j == 0 || i == n || j == n;
+        const double x = -1 + 2.0 * (i + (border ? 0 : jitter(rng))) / n;
+        const double y = -1 + 2.0 * (j + (border ? 0 : jitter(rng))) / n;
+        std::snprintf(line, sizeof line, "v %.9g %.9g 0\n", x, y);
+        obj << line;
+      }
+    }
+    // Wound to face -z, towards the camera.
+    auto id = [n](int i, int j) { return j * (n + 1) + i + 1; };
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        obj << "f " << id(i, j) << " " << id(i, j + 1) << " " << id(i + 1, j) << "\n";
+        obj << "f " << id(i + 1, j) << " " << id(i, j + 1) << " " << id(i + 1, j + 1) << "\n";
+      }
+    }
+  }
+  const std::string urdf = R"(<robot name="sheet">
+  <link name="camera_optical_frame"/>
+  <link name="sheet"><visual><origin rpy="0.5 0.2 0.1"/>
+    <geometry><mesh filename="sheet.obj"/></geometry></visual></link>
+  <joint name="turn" type="continuous"><parent link="camera_optical_frame"/><child link="sheet"/>
+    <origin xyz="0.01 -0.02 1"/><axis xyz="0 0 1"/></joint>
+</robot>)";
+  const RobotModel model = RobotModel::from_urdf_string(urdf, dir.string());
+  ASSERT_EQ(model.link(model.link_index("sheet")).mesh.triangles.size(), size_t(2 * n * n));
+  KinematicsState state(model);
+  DepthImage depth;
+  int holes = 0;
+  for (const auto& [w, h] : {std::pair{640, 480}, {80, 60}}) {
+    DepthRenderer renderer(model, CameraIntrinsics::from_vertical_fov(w, h, 45 * kPi / 180));
+    for (int step = 0; step < 20; ++step) {
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+      q[model.joint_index("turn")] = 0.05 * step;
+      forward_kinematics(model, q, state);
+      renderer.render(state, depth);
+      // Pixels whose ray meets the sheet inside its border must be drawn.
+      const Eigen::Isometry3d T_cam_sheet =
+          T_camera_link(model, state, model.link_index("sheet")) *
+          Eigen::Isometry3d(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()) *
+                            Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()));
+      const Eigen::Vector3d normal = T_cam_sheet.linear().col(2);
+      const CameraIntrinsics& k = renderer.camera();
+      for (int v = 0; v < h; ++v) {
+        for (int u = 0; u < w; ++u) {
+          const Eigen::Vector3d ray((u + 0.5 - k.cx) / k.fx, (v + 0.5 - k.cy) / k.fy, 1);
+          const double z = normal.dot(T_cam_sheet.translation()) / normal.dot(ray);
+          const Eigen::Vector3d local = T_cam_sheet.inverse() * (z * ray);
+          if (std::abs(local.x()) < 0.98 && std::abs(local.y()) < 0.98) {
+            holes += depth.at(u, v) == 0.f;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(holes, 0);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(DepthRenderer, RenderingAllocatesNothingOnceSized) {
