@@ -1,0 +1,119 @@
+// Depth PNG files: millimetre round trip, the preview's colours, and errors
+// that name the file.
+#include "arttrack/sim/depth_png.h"
+
+#include <gtest/gtest.h>
+
+#include <png.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path test_path(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "arttrack_depth_png_test";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+TEST(DepthPng, MillimetreRoundTrip) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> depth(0.05f, 65.0f);
+  DepthImage image(37, 23);
+  for (float& z : image.depth_m) z = depth(rng);
+  image.at(0, 0) = 0;
+  image.at(1, 0) = -1;       // invalid: no return
+  image.at(2, 0) = NAN;      // invalid: no return
+  image.at(3, 0) = 70.f;     // beyond 16 bits of millimetres: clamped
+  image.at(4, 0) = 1.2344f;  // rounds to 1234 mm
+  image.at(5, 0) = 1.2346f;  // rounds to 1235 mm
+  const fs::path path = test_path("roundtrip.png");
+  write_depth_png_mm(path, image);
+  const DepthImage back = read_depth_png_mm(path);
+  ASSERT_EQ(back.width, 37);
+  ASSERT_EQ(back.height, 23);
+  EXPECT_EQ(back.at(0, 0), 0.f);
+  EXPECT_EQ(back.at(1, 0), 0.f);
+  EXPECT_EQ(back.at(2, 0), 0.f);
+  EXPECT_FLOAT_EQ(back.at(3, 0), 65.535f);
+  EXPECT_FLOAT_EQ(back.at(4, 0), 1.234f);
+  EXPECT_FLOAT_EQ(back.at(5, 0), 1.235f);
+  for (int v = 1; v < image.height; ++v)
+    for (int u = 0; u < image.width; ++u)
+      ASSERT_NEAR(back.at(u, v), image.at(u, v), 0.5e-3 + 1e-6) << u << ", " << v;
+}
+
+// Reads an 8-bit RGB PNG with libpng's simplified API (independent of the
+// code under test).
+std::vector<unsigned char> read_rgb(const fs::path& path, int& w, int& h) {
+  png_image img{};
+  img.version = PNG_IMAGE_VERSION;
+  EXPECT_TRUE(png_image_begin_read_from_file(&img, path.c_str()));
+  img.format = PNG_FORMAT_RGB;
+  std::vector<unsigned char> rgb(PNG_IMAGE_SIZE(img));
+  EXPECT_TRUE(png_image_finish_read(&img, nullptr, rgb.data(), 0, nullptr));
+  w = int(img.width);
+  h = int(img.height);
+  return rgb;
+}
+
+TEST(DepthPng, PreviewColours) {
+  DepthImage image(3, 1);
+  image.at(0, 0) = 1.0f;  // nearest: red
+  image.at(1, 0) = 0.0f;  // no return: black
+  image.at(2, 0) = 3.0f;  // farthest: blue
+  const fs::path path = test_path("preview.png");
+  write_depth_preview_png(path, image);
+  int w, h;
+  const auto rgb = read_rgb(path, w, h);
+  ASSERT_EQ(w, 3);
+  ASSERT_EQ(h, 1);
+  EXPECT_GT(rgb[0], 100);
+  EXPECT_EQ(rgb[2], 0);
+  EXPECT_EQ(rgb[3] + rgb[4] + rgb[5], 0);
+  EXPECT_EQ(rgb[6], 0);
+  EXPECT_GT(rgb[8], 100);
+}
+
+TEST(DepthPng, ErrorsNameTheFile) {
+  const fs::path missing = test_path("missing.png");
+  try {
+    read_depth_png_mm(missing);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.png"), std::string::npos);
+  }
+  const fs::path text = test_path("not_a_png.png");
+  std::ofstream(text) << "hello";
+  try {
+    read_depth_png_mm(text);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not_a_png.png"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("not a PNG"), std::string::npos);
+  }
+  const fs::path colour = test_path("colour.png");
+  write_depth_preview_png(colour, DepthImage(4, 4, 1.f));
+  try {
+    read_depth_png_mm(colour);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("colour.png"), std::string::npos);
+  }
+  try {
+    write_depth_png_mm(test_path("no_such_dir") / "x.png", DepthImage(2, 2));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.png"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace arttrack::sim

@@ -1,0 +1,371 @@
+// The model builder: meshes of every format MuJoCo 2.2 cannot read arrive
+// with the right geometry (checked on MuJoCo's compiled vertices), body
+// frames are the URDF's at full precision, the scene is assembled as
+// documented, and bad input is an InputError naming the item.
+#include "arttrack/sim/sim_model.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "arttrack/sim/simulator.h"
+#include "arttrack/tracker/error.h"
+
+namespace arttrack::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path test_dir() {
+  const fs::path dir = fs::temp_directory_path() / "arttrack_sim_model_test";
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path write_file(const fs::path& rel, const std::string& text) {
+  const fs::path p = test_dir() / rel;
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+// Corners of an axis-aligned box [0, sx] x [0, sy] x [0, sz]: index x + 2y + 4z.
+std::vector<Eigen::Vector3d> box_corners(const Eigen::Vector3d& s) {
+  std::vector<Eigen::Vector3d> v;
+  for (int i = 0; i < 8; ++i)
+    v.emplace_back(i & 1 ? s.x() : 0, i & 2 ? s.y() : 0, i & 4 ? s.z() : 0);
+  return v;
+}
+// Outward counter-clockwise triangles of that box.
+constexpr int kBoxFaces[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                  {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+
+std::string ascii_stl_box(const Eigen::Vector3d& s) {
+  const auto v = box_corners(s);
+  std::ostringstream out;
+  out << "solid box\n";
+  for (const auto& f : kBoxFaces) {
+    out << " facet normal 0 0 0\n  outer loop\n";
+    for (int k : f) out << "   vertex " << v[k].x() << " " << v[k].y() << " " << v[k].z() << "\n";
+    out << "  endloop\n endfacet\n";
+  }
+  out << "endsolid box\n";
+  return out.str();
+}
+
+// A binary STL whose 80-byte header begins with "solid", the pitfall that
+// makes text-sniffing readers take it for ASCII.
+std::string binary_stl_box_solid_header(const Eigen::Vector3d& s) {
+  const auto v = box_corners(s);
+  std::string out(84 + 50 * 12, '\0');
+  std::memcpy(out.data(), "solid exported by a CAD tool", 28);
+  const uint32_t n = 12;
+  std::memcpy(out.data() + 80, &n, 4);
+  for (int i = 0; i < 12; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float xyz[3] = {float(v[kBoxFaces[i][k]].x()), float(v[kBoxFaces[i][k]].y()),
+                            float(v[kBoxFaces[i][k]].z())};
+      std::memcpy(out.data() + 84 + 50 * i + 12 + 12 * k, xyz, 12);
+    }
+  return out;
+}
+
+// COLLADA in centimetres, Z_UP, with a node translation: the box 10 x 20 x
+// 30 cm moved 5 cm along x. Expected in metres: [0.05, 0.15] x [0, 0.2] x [0, 0.3].
+std::string collada_box() {
+  const auto v = box_corners({10, 20, 30});
+  std::ostringstream pos, idx;
+  for (const auto& p : v) pos << p.x() << " " << p.y() << " " << p.z() << " ";
+  for (const auto& f : kBoxFaces) idx << f[0] << " " << f[1] << " " << f[2] << " ";
+  return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="box-mesh" name="box"><mesh>
+      <source id="box-pos">
+        <float_array id="box-pos-array" count="24">)" +
+         pos.str() + R"(</float_array>
+        <technique_common><accessor source="#box-pos-array" count="8" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common>
+      </source>
+      <vertices id="box-vtx"><input semantic="POSITION" source="#box-pos"/></vertices>
+      <triangles count="12"><input semantic="VERTEX" source="#box-vtx" offset="0"/><p>)" +
+         idx.str() + R"(</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="Scene"><node id="n" name="n"><translate>5 0 0</translate>
+      <instance_geometry url="#box-mesh"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+)";
+}
+
+// A hexagonal prism (circumradius 0.1, height 0.2) as an OBJ with hexagon
+// faces and two objects: MuJoCo 2.2 would reject the hexagons and keep only
+// the first object.
+std::string obj_hex_prism() {
+  std::ostringstream out;
+  for (int z = 0; z < 2; ++z)
+    for (int i = 0; i < 6; ++i)
+      out << "v " << 0.1 * std::cos(i * M_PI / 3) << " " << 0.1 * std::sin(i * M_PI / 3) << " "
+          << 0.2 * z << "\n";
+  out << "o caps\nf 6 5 4 3 2 1\nf 7 8 9 10 11 12\no sides\n";
+  for (int i = 0; i < 6; ++i) {
+    const int a = i + 1, b = (i + 1) % 6 + 1;
+    out << "f " << a << " " << b << " " << b + 6 << " " << a + 6 << "\n";
+  }
+  return out.str();
+}
+
+// World-frame bounding box of one compiled geom's mesh vertices.
+Eigen::AlignedBox3d geom_world_box(const mjModel* m, const mjData* d, int geom) {
+  Eigen::AlignedBox3d box;
+  const int mesh = m->geom_dataid[geom];
+  const Eigen::Map<const Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>> R(d->geom_xmat + 9 * geom);
+  const Eigen::Map<const Eigen::Vector3d> p(d->geom_xpos + 3 * geom);
+  for (int i = 0; i < m->mesh_vertnum[mesh]; ++i) {
+    const float* v = m->mesh_vert + 3 * (m->mesh_vertadr[mesh] + i);
+    box.extend(R * Eigen::Vector3d(v[0], v[1], v[2]) + p);
+  }
+  return box;
+}
+
+// The visual (group 1) mesh geom of a body.
+int visual_geom(const mjModel* m, const std::string& body) {
+  const int b = mj_name2id(m, mjOBJ_BODY, body.c_str());
+  for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g)
+    if (m->geom_group[g] == kGroupRobotVisual) return g;
+  return -1;
+}
+
+std::string mesh_link(const std::string& name, double x, const std::string& file,
+                      const std::string& scale = "") {
+  const std::string s = scale.empty() ? "" : " scale=\"" + scale + "\"";
+  return "<link name=\"" + name + "\"><visual><geometry><mesh filename=\"" + file + "\"" + s +
+         "/></geometry></visual></link><joint name=\"" + name +
+         "_joint\" type=\"fixed\"><parent link=\"base_link\"/><child link=\"" + name +
+         "\"/><origin xyz=\"" + std::to_string(x) + " 0 0\"/></joint>";
+}
+
+SceneDescription robot_scene(const fs::path& urdf) {
+  SceneDescription s;
+  s.urdf_path = urdf;
+  s.camera_link = "base_link";
+  s.end_effector_links = {};
+  s.width = 64;
+  s.height = 48;
+  return s;
+}
+
+void expect_box(const Eigen::AlignedBox3d& got, const Eigen::Vector3d& lo,
+                const Eigen::Vector3d& hi, const std::string& what) {
+  EXPECT_LT((got.min() - lo).cwiseAbs().maxCoeff(), 1e-6)
+      << what << " min " << got.min().transpose();
+  EXPECT_LT((got.max() - hi).cwiseAbs().maxCoeff(), 1e-6)
+      << what << " max " << got.max().transpose();
+}
+
+TEST(SimModel, ConvertsEveryMeshFormatWithScaleAndUniqueNames) {
+  write_file("meshes/box.dae", collada_box());
+  write_file("meshes/hex.obj", obj_hex_prism());
+  write_file("meshes/ascii.stl", ascii_stl_box({0.1, 0.2, 0.3}));
+  write_file("meshes/a/part.stl", binary_stl_box_solid_header({0.1, 0.1, 0.1}));
+  write_file("meshes/b/part.stl", binary_stl_box_solid_header({0.3, 0.2, 0.1}));
+  write_file("my_pkg/box.stl", ascii_stl_box({0.1, 0.1, 0.1}));     // found by folder name
+  write_file("elsewhere/box.stl", ascii_stl_box({0.2, 0.1, 0.1}));  // given in the scene
+  const fs::path urdf = write_file(
+      "meshes.urdf",
+      "<robot name=\"m\"><link name=\"base_link\"/>" + mesh_link("dae", 1, "meshes/box.dae") +
+          mesh_link("dae_scaled", 2, "meshes/box.dae", "2 2 2") +
+          mesh_link("obj", 3, "meshes/hex.obj") + mesh_link("ascii", 4, "meshes/ascii.stl") +
+          mesh_link("part_a", 5, "meshes/a/part.stl") +
+          mesh_link("part_b", 6, "meshes/b/part.stl") +
+          mesh_link("mirrored", 7, "meshes/ascii.stl", "-1 1 1") +
+          mesh_link("pkg", 8, "package://my_pkg/box.stl") +
+          mesh_link("pkg2", 9, "package://other_pkg/box.stl") + "</robot>");
+  SceneDescription scene = robot_scene(urdf);
+  scene.package_paths["other_pkg"] = test_dir() / "elsewhere";
+  const auto model = build_sim_model(scene);
+  Simulator sim(model);
+  const mjModel* m = model->mj.get();
+  const mjData* d = sim.data();
+  const auto box = [&](const std::string& link) {
+    const int g = visual_geom(m, link);
+    EXPECT_GE(g, 0) << link;
+    return g < 0 ? Eigen::AlignedBox3d() : geom_world_box(m, d, g);
+  };
+  const Eigen::Vector3d x(1, 0, 0);
+  expect_box(box("dae"), x + Eigen::Vector3d(0.05, 0, 0), x + Eigen::Vector3d(0.15, 0.2, 0.3),
+             "dae");
+  expect_box(box("dae_scaled"), 2 * x + Eigen::Vector3d(0.1, 0, 0),
+             2 * x + Eigen::Vector3d(0.3, 0.4, 0.6), "dae scaled");
+  const double r = 0.1, ry = 0.1 * std::sin(M_PI / 3);
+  expect_box(box("obj"), 3 * x + Eigen::Vector3d(-r, -ry, 0), 3 * x + Eigen::Vector3d(r, ry, 0.2),
+             "obj");
+  expect_box(box("ascii"), 4 * x, 4 * x + Eigen::Vector3d(0.1, 0.2, 0.3), "ascii stl");
+  expect_box(box("part_a"), 5 * x, 5 * x + Eigen::Vector3d(0.1, 0.1, 0.1), "a/part.stl");
+  expect_box(box("part_b"), 6 * x, 6 * x + Eigen::Vector3d(0.3, 0.2, 0.1), "b/part.stl");
+  expect_box(box("mirrored"), 7 * x + Eigen::Vector3d(-0.1, 0, 0),
+             7 * x + Eigen::Vector3d(0, 0.2, 0.3), "mirrored");
+  expect_box(box("pkg"), 8 * x, 8 * x + Eigen::Vector3d(0.1, 0.1, 0.1), "package:// by folder");
+  expect_box(box("pkg2"), 9 * x, 9 * x + Eigen::Vector3d(0.2, 0.1, 0.1), "package:// from scene");
+  // The hexagonal prism keeps all its faces: 2 hexagons (4 triangles each)
+  // and 6 quads (2 each).
+  EXPECT_EQ(m->mesh_facenum[m->geom_dataid[visual_geom(m, "obj")]], 20);
+  // A mirrored mesh keeps its outward winding: every face normal points away
+  // from the mesh centre (MuJoCo centres mesh vertices on their centroid).
+  const int g = visual_geom(m, "mirrored");
+  const int mesh = m->geom_dataid[g];
+  for (int f = 0; f < m->mesh_facenum[mesh]; ++f) {
+    const int* tri = m->mesh_face + 3 * (m->mesh_faceadr[mesh] + f);
+    Eigen::Vector3f v[3];
+    for (int k = 0; k < 3; ++k) {
+      const float* p = m->mesh_vert + 3 * (m->mesh_vertadr[mesh] + tri[k]);
+      v[k] = Eigen::Vector3f(p[0], p[1], p[2]);
+    }
+    const Eigen::Vector3f n = (v[1] - v[0]).cross(v[2] - v[0]);
+    EXPECT_GT(n.dot((v[0] + v[1] + v[2]) / 3), 0) << "face " << f;
+  }
+}
+
+constexpr char kArmUrdf[] = R"(<robot name="arm">
+  <link name="base_link"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="base_link"/><child link="upper"/>
+    <origin xyz="0.1234567890123 -0.2 0.5" rpy="0.1234567890123 0.3 -0.7"/>
+    <axis xyz="0 0.6 0.8"/><limit lower="-2" upper="2" effort="50" velocity="1"/>
+  </joint>
+  <link name="upper">
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.03" length="0.3"/></geometry></visual>
+    <collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.03" length="0.3"/></geometry></collision>
+  </link>
+  <joint name="tool" type="fixed">
+    <parent link="upper"/><child link="camera_optical_frame"/>
+    <origin xyz="0 0 0.3333333333333" rpy="0 1.1 0"/>
+  </joint>
+  <link name="camera_optical_frame"/>
+</robot>)";
+
+TEST(SimModel, BodyFramesAreUrdfFramesAtFullPrecision) {
+  const auto model = build_sim_model(robot_scene(write_file("arm.urdf", kArmUrdf)));
+  const mjModel* m = model->mj.get();
+  const int upper = mj_name2id(m, mjOBJ_BODY, "upper");
+  EXPECT_EQ(m->body_pos[3 * upper], 0.1234567890123);
+  const Eigen::Quaterniond q = Eigen::AngleAxisd(-0.7, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(0.1234567890123, Eigen::Vector3d::UnitX());
+  EXPECT_NEAR(
+      std::abs(q.dot(Eigen::Quaterniond(m->body_quat[4 * upper], m->body_quat[4 * upper + 1],
+                                        m->body_quat[4 * upper + 2], m->body_quat[4 * upper + 3]))),
+      1.0, 1e-15);
+  const int j = mj_name2id(m, mjOBJ_JOINT, "shoulder");
+  EXPECT_NEAR(m->jnt_axis[3 * j + 1], 0.6, 1e-15);
+  const int cam = mj_name2id(m, mjOBJ_BODY, "camera_optical_frame");
+  EXPECT_EQ(m->body_pos[3 * cam + 2], 0.3333333333333);
+}
+
+TEST(SimModel, SceneAssembly) {
+  SceneDescription s = robot_scene(write_file("arm2.urdf", kArmUrdf));
+  s.camera_link = "camera_optical_frame";
+  s.shapes.push_back({});
+  s.shapes.back().name = "crate";
+  s.shapes.back().size_m << 0.2, 0.2, 0.2;
+  OccluderSpec person;
+  person.name = "visitor";
+  person.type = OccluderSpec::Type::kPerson;
+  person.size_m << 1.8, 0, 0;
+  s.occluders.push_back(person);
+  s.joint_gains["shoulder"] = {123, 4.5};
+  s.extent_m = 3.5;
+  s.near_m = 0.07;
+  const auto model = build_sim_model(s);
+  const mjModel* m = model->mj.get();
+  EXPECT_DOUBLE_EQ(m->stat.extent, 3.5);
+  EXPECT_NEAR(m->vis.map.znear * m->stat.extent, 0.07, 1e-8);  // znear is a float
+  EXPECT_EQ(m->vis.quality.offsamples, 0);
+  ASSERT_EQ(model->joint_names, std::vector<std::string>{"shoulder"});
+  const int a = model->joint_actuator[0];
+  EXPECT_EQ(m->actuator_gainprm[a * mjNGAIN], 123);
+  EXPECT_EQ(m->actuator_biasprm[a * mjNBIAS + 1], -123);
+  EXPECT_EQ(m->actuator_biasprm[a * mjNBIAS + 2], -4.5);
+  EXPECT_EQ(m->actuator_forcerange[2 * a + 1], 50);  // URDF effort
+  EXPECT_EQ(model->occluder_names, std::vector<std::string>{"visitor"});
+  EXPECT_GE(model->occluder_mocap[0], 0);
+  // Robot geoms touch the scene, never each other; occluders touch nothing.
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int group = m->geom_group[g];
+    if (group == kGroupRobotCollision) {
+      EXPECT_EQ(m->geom_contype[g] & m->geom_conaffinity[g], 0);
+    } else if (group == kGroupOccluder || group == kGroupRobotVisual) {
+      EXPECT_EQ(m->geom_contype[g] | m->geom_conaffinity[g], 0);
+    } else {
+      EXPECT_EQ(group, kGroupScene);
+    }
+  }
+}
+
+// Builds a scene and returns the InputError's message ("" if none).
+std::string build_error(const SceneDescription& s) {
+  try {
+    build_sim_model(s);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SimModel, BadInputNamesTheItem) {
+  const fs::path arm = write_file("arm3.urdf", kArmUrdf);
+  SceneDescription s = robot_scene(test_dir() / "no_such_robot.urdf");
+  EXPECT_NE(build_error(s).find("no_such_robot.urdf"), std::string::npos) << build_error(s);
+
+  s = robot_scene(arm);
+  s.camera_link = "eye";
+  EXPECT_NE(build_error(s).find("camera link 'eye'"), std::string::npos) << build_error(s);
+
+  s = robot_scene(arm);
+  s.end_effector_links = {"gripper"};
+  EXPECT_NE(build_error(s).find("'gripper'"), std::string::npos) << build_error(s);
+
+  s = robot_scene(arm);
+  s.initial_joints_rad["elbow"] = 1;
+  EXPECT_NE(build_error(s).find("'elbow'"), std::string::npos) << build_error(s);
+
+  s = robot_scene(write_file("missing_mesh.urdf", "<robot name=\"r\"><link name=\"base_link\"/>" +
+                                                      mesh_link("hand", 0, "meshes/hand.dae") +
+                                                      "</robot>"));
+  std::string e = build_error(s);
+  EXPECT_NE(e.find("hand.dae"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing_mesh.urdf"), std::string::npos) << e;
+
+  s = robot_scene(write_file("bad_package.urdf", "<robot name=\"r\"><link name=\"base_link\"/>" +
+                                                     mesh_link("hand", 0, "package://nope/x.stl") +
+                                                     "</robot>"));
+  e = build_error(s);
+  EXPECT_NE(e.find("package://nope/x.stl"), std::string::npos) << e;
+
+  s = robot_scene(write_file("malformed.urdf", "<robot name=\"r\"><link name=\"base_link\">"));
+  e = build_error(s);
+  EXPECT_NE(e.find("malformed.urdf"), std::string::npos) << e;
+
+  // MuJoCo's own compile error (a moving link without mass) comes through
+  // with its text and the file.
+  s = robot_scene(write_file("massless.urdf", R"(<robot name="r"><link name="base_link"/>
+    <joint name="j" type="revolute"><parent link="base_link"/><child link="l"/>
+      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    <link name="l"/></robot>)"));
+  e = build_error(s);
+  EXPECT_NE(e.find("massless.urdf"), std::string::npos) << e;
+  EXPECT_NE(e.find("mass"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace arttrack::sim
