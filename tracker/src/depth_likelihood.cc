@@ -17,6 +17,7 @@ constexpr double kLogSqrtPi = 0.57236494292470008;   // log sqrt(pi)
 constexpr double kLog2 = 0.69314718055994531;
 constexpr double kNegInf = -std::numeric_limits<double>::infinity();
 constexpr double kMinRenderedDepthM = 1e-6;
+constexpr double kErfc6_5 = 3.85e-20;  // >= erfc(6.5) = 3.8421e-20
 
 // log(erfc(y)) for any finite y. std::erfc is accurate (relative) while its
 // result is a normal double, i.e. up to y ~ 26.5; from y = 25 on the
@@ -133,6 +134,8 @@ void DepthLikelihood::set_observation(const DepthImage& observed) {
     t.k_occ = k_occ * std::exp(-lambda * z + 0.5 * lambda * lambda * sigma * sigma);
     // p(z|inf) = w/Z + (1-w) p_o lambda exp(-lambda z + lambda^2 sigma^2 / 2) >= w/Z > 0.
     t.inv_p_inf = 1 / (outlier_density_ + 2 * t.k_occ);
+    // k_vis exp(-e^2) < 2^-60 w/Z  <=>  e^2 > log(k_vis Z / w) + 60 log 2.
+    t.e2_max = t.k_vis > 0 ? std::log(t.k_vis / outlier_density_) + 60 * kLog2 : -1;
     ++num_valid_;
   }
 }
@@ -172,13 +175,25 @@ double DepthLikelihood::log_ratio(const float* rendered_m, std::ptrdiff_t row_st
       if (t.inv_p_inf == 0) continue;  // invalid observed pixel
       const double r = std::max(double(rf), kMinRenderedDepthM);
       const double e = (r - t.z) * t.inv_s;
-      double p = floor + t.k_vis * std::exp(-e * e);
+      double p = floor;
+      // Beyond e2_max the Gaussian is under half an ulp of p: skipping its
+      // exp changes nothing (and avoids libm's slow underflow path).
+      if (e * e < t.e2_max) p += t.k_vis * std::exp(-e * e);
       // Occluded part: k_occ erfc(-x) / (1 - exp(-lambda r)). erfc(-x) is 2
       // to double precision for x > 6 and below 1e-320 for x < -27.
       const double x = e + t.shift;
       if (x > -27) {
-        const double erfc_term = x > 6 ? 2.0 : std::erfc(-x);
-        p += t.k_occ * erfc_term / -std::expm1(-lambda * r);
+        // exp is cheaper than expm1 and as accurate once 1 - exp(-lambda r) >= 0.39.
+        const double lr = lambda * r;
+        const double scale = t.k_occ / (lr >= 0.5 ? 1 - std::exp(-lr) : -std::expm1(-lr));
+        if (x > 6) {
+          p += 2 * scale;
+        } else if (x > -6.5 || scale * kErfc6_5 > 0x1p-60 * p) {
+          // Below x = -6.5 (observed well behind the robot) the term is at
+          // most scale erfc(6.5); when that is under half an ulp of p, adding
+          // it would not change p, so erfc is skipped without any effect.
+          p += scale * std::erfc(-x);
+        }
       }
       product *= p * t.inv_p_inf;
       if (++pending == 8) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "arttrack/tracker/error.h"
@@ -27,16 +28,28 @@ std::vector<P> expand_params(std::span<const std::string> names, const P& defaul
   return out;
 }
 
-// Variance an Ornstein-Uhlenbeck process with diffusion variance rate `rate`
-// and decay rate k gains over dt: rate (1 - exp(-2 k dt)) / (2 k), which is
-// rate dt for k -> 0 (a plain random walk).
-double ou_added_variance(double rate, double k, double dt) {
-  const double x = 2 * k * dt;
-  // (1 - e^-x) / x = 1 - x/2 + x^2/6 - ...; below 1e-8 the x^2 term is under
-  // the rounding of the result.
-  if (x < 1e-8) return rate * dt * (1 - 0.5 * x);
-  return rate * -std::expm1(-x) / (2 * k);
-}
+// The bias transition over dt for decay rate k: the mean factor
+// phi = exp(-k dt) = c^dt, and the variance an Ornstein-Uhlenbeck process of
+// unit diffusion rate gains, (1 - exp(-2 k dt)) / (2 k) (dt for k -> 0, a
+// plain random walk). Recomputed only when k changes from one joint to the
+// next: joints usually share their parameters, and the exps dominate a step.
+struct BiasTransition {
+  double dt = 0;
+  double k = std::numeric_limits<double>::quiet_NaN();
+  double phi = 1;
+  double var_per_rate = 0;
+
+  explicit BiasTransition(double dt_s) : dt(dt_s) {}
+  void set(double k_j) {
+    if (k_j == k) return;
+    k = k_j;
+    phi = std::exp(-k * dt);
+    const double x = 2 * k * dt;
+    // (1 - e^-x) / x = 1 - x/2 + x^2/6 - ...; below 1e-8 the x^2 term is
+    // under the rounding of the result.
+    var_per_rate = x < 1e-8 ? dt * (1 - 0.5 * x) : -std::expm1(-x) / (2 * k);
+  }
+};
 
 void check_finite_readings(const JointFilterModel& model, std::span<const double> q) {
   if (int(q.size()) != model.num_encoder_joints()) {
@@ -66,8 +79,9 @@ inline void update_one(double q, double r, double& a, double& b, double& paa, do
   const double ga = paa + pab;  // P H^T
   const double gb = pab + pbb;
   const double s = ga + gb + r;  // H P H^T + R
-  const double ka = ga / s;
-  const double kb = gb / s;
+  const double inv_s = 1 / s;
+  const double ka = ga * inv_s;
+  const double kb = gb * inv_s;
   const double innovation = q - a - b;
   a += ka * innovation;
   b += kb * innovation;
@@ -224,12 +238,13 @@ void predict_joints(const JointFilterModel& model, double dt_s, JointBelief& bel
   double* paa = belief.var_a.data();
   double* pab = belief.cov_ab.data();
   double* pbb = belief.var_b.data();
+  BiasTransition bias(dt_s);
   for (int j = 0; j < n; ++j) {
-    const double phi = std::exp(-k[j] * dt_s);  // c^dt
-    mb[j] *= phi;
+    bias.set(k[j]);
+    mb[j] *= bias.phi;
     paa[j] += rate_a[j] * dt_s;
-    pab[j] *= phi;
-    pbb[j] = phi * phi * pbb[j] + ou_added_variance(rate_b[j], k[j], dt_s);
+    pab[j] *= bias.phi;
+    pbb[j] = bias.phi * bias.phi * pbb[j] + rate_b[j] * bias.var_per_rate;
   }
 }
 
@@ -260,12 +275,13 @@ void filter_joints(const JointFilterModel& model, double dt_s, std::span<const d
   double* paa = belief.var_a.data();
   double* pab = belief.cov_ab.data();
   double* pbb = belief.var_b.data();
+  BiasTransition bias(dt_s);
   for (int j = 0; j < ne; ++j) {
-    const double phi = std::exp(-k[j] * dt_s);
-    mb[j] *= phi;
+    bias.set(k[j]);
+    mb[j] *= bias.phi;
     paa[j] += rate_a[j] * dt_s;
-    pab[j] *= phi;
-    pbb[j] = phi * phi * pbb[j] + ou_added_variance(rate_b[j], k[j], dt_s);
+    pab[j] *= bias.phi;
+    pbb[j] = bias.phi * bias.phi * pbb[j] + rate_b[j] * bias.var_per_rate;
     update_one(encoder_rad[j], r[j], ma[j], mb[j], paa[j], pab[j], pbb[j]);
   }
   // Virtual joints: random walk only (no bias, no encoder).

@@ -110,6 +110,7 @@ class DepthLikelihood {
     double k_vis = 0;      // (1-w)(1-p_o) / (sqrt(2 pi) sigma)
     double k_occ = 0;      // (1-w) p_o lambda exp(-lambda z + lambda^2 sigma^2 / 2) / 2
     double inv_p_inf = 0;  // 1 / p(z|inf); 0 marks an invalid pixel
+    double e2_max = 0;     // ((r - z) / (sqrt(2) sigma))^2 beyond which the Gaussian is negligible
   };
 
   double sigma_m(double z_m) const {
