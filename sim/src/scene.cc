@@ -241,6 +241,17 @@ SceneDescription load_scene(const fs::path& yaml_path) {
   return s;
 }
 
+fs::path resolve_scene_file(const fs::path& scene_or_scenario) {
+  const YamlDocument doc = load_yaml_file(scene_or_scenario.string());
+  const ConfigNode root = ConfigNode::root(doc);
+  if (!root.has("scene")) return scene_or_scenario;
+  const fs::path scene = root.required<std::string>("scene");
+  if (scene.is_absolute()) return scene;
+  const fs::path next_to = fs::absolute(scene_or_scenario).parent_path() / scene;
+  if (fs::exists(next_to) || !fs::exists(fs::path(ARTTRACK_SOURCE_DIR) / scene)) return next_to;
+  return fs::path(ARTTRACK_SOURCE_DIR) / scene;
+}
+
 fs::path default_scene_path() {
   return fs::path(ARTTRACK_SOURCE_DIR) / "models/scene_default.yaml";
 }

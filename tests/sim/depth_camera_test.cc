@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "arttrack/sim/depth_compare.h"
 #include "arttrack/sim/simulator.h"
 
 namespace arttrack::sim {
@@ -138,6 +139,58 @@ TEST(DepthCamera, ObliqueOffAxisBox) {
   // Turned 35 degrees and off the optical axis: depth varies across the face,
   // which checks focal length and principal point as well as the depth map.
   check_box({0.05, 0.5, 0.4}, at(1.8, 0.3, 0.9, 35.0 * M_PI / 180.0));
+}
+
+// A head camera looking down at an arm of a box, a cylinder and a sphere.
+constexpr char kArmUrdf[] = R"(<robot name="arm">
+  <link name="base_link"><visual><origin xyz="0.3 0 0.1"/><geometry><box size="0.3 0.3 0.2"/></geometry></visual></link>
+  <joint name="shoulder" type="continuous"><parent link="base_link"/><child link="upper"/>
+    <origin xyz="0.6 0 0.3"/><axis xyz="0 0 1"/></joint>
+  <link name="upper"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.05" length="0.3"/></geometry></visual></link>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+  <link name="fore"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><origin xyz="0.15 0 0" rpy="0.4 0 0"/><geometry><box size="0.3 0.08 0.06"/></geometry></visual>
+    <visual><origin xyz="0.33 0 0"/><geometry><sphere radius="0.06"/></geometry></visual></link>
+  <joint name="camera_joint" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
+    <origin xyz="0 0 1.2" rpy="-2.3 0 -1.5707963267948966"/></joint>
+  <link name="camera_optical_frame"/>
+</robot>)";
+
+// MuJoCo's rasterised depth against its own exact ray caster (analytic
+// boxes, cylinders, spheres): checks the depth mapping, the camera pose and
+// intrinsics, the row order and the tessellation, pixel by pixel.
+TEST(DepthCamera, AgreesWithExactRayCasting) {
+  SceneDescription scene = camera_scene();
+  scene.urdf_path = write_file("arm.urdf", kArmUrdf);
+  const auto model = build_sim_model(scene);
+  Simulator sim(model);
+  DepthCamera camera(model, 320, 240);
+  const CameraIntrinsics& K = camera.intrinsics();
+  DepthImage gl, ray(K.width, K.height);
+  const mjtByte visual_only[mjNGROUP] = {0, 1, 0, 0, 0, 0};
+  for (const auto& [shoulder, elbow] : {std::pair{0.0, 0.5}, {0.8, -0.4}, {-1.2, 1.3}}) {
+    sim.set_joint_positions(Eigen::Vector2d(shoulder, elbow));
+    camera.render(sim.data(), DepthContent::kRobot, gl);
+    const Eigen::Isometry3d T_world_camera = sim.ground_truth().T_world_camera;
+    for (int v = 0; v < K.height; ++v)
+      for (int u = 0; u < K.width; ++u) {
+        // Ray with unit optical z: MuJoCo's distance is then the planar depth.
+        const Eigen::Vector3d d =
+            T_world_camera.linear() *
+            Eigen::Vector3d((u + 0.5 - K.cx) / K.fx, (v + 0.5 - K.cy) / K.fy, 1);
+        int geom = -1;
+        const double t = mj_ray(model->mj.get(), sim.data(), T_world_camera.translation().data(),
+                                d.data(), visual_only, 1, -1, &geom);
+        ray.at(u, v) = t > scene.near_m && t < scene.far_m ? float(t) : 0.f;
+      }
+    const DepthAgreement a = compare_depth(gl, ray, 1e-3);
+    SCOPED_TRACE(a.summary());
+    EXPECT_GT(a.pixels_both, 1500);  // the arm is in view
+    EXPECT_GE(a.fraction_within(), 0.995);
+    EXPECT_GE(a.silhouette_iou(), 0.995);
+  }
 }
 
 TEST(DepthCamera, RobotOnlyLeavesSceneOut) {

@@ -109,6 +109,12 @@ struct SceneDescription {
 // wrong types, out-of-range values: InputError naming the file and the key.
 SceneDescription load_scene(const std::filesystem::path& yaml_path);
 
+// The scene file a YAML file stands for: the file itself if it is a scene,
+// or, for a scenario (a top-level `scene:` key naming a scene file, relative
+// to the scenario), the scene it names. Missing or malformed file, `scene`
+// not a string: InputError naming the file.
+std::filesystem::path resolve_scene_file(const std::filesystem::path& scene_or_scenario);
+
 // The default scene: models/scene_default.yaml in the source tree.
 std::filesystem::path default_scene_path();
 
