@@ -42,6 +42,8 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
       <geometry><cylinder radius="0.03" length="0.5"/></geometry></visual>
   </link>
   <link name="fore">
+    <collision><origin xyz="0.25 0 0" rpy="0 1.5707963267948966 0"/>
+      <geometry><cylinder radius="0.03" length="0.5"/></geometry></collision>
     <inertial><origin xyz="0.25 0 0"/><mass value="2"/>
       <inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
     <visual><origin xyz="0.25 0 0" rpy="0 1.5707963267948966 0"/>
@@ -135,6 +137,34 @@ TEST(Simulator, TracksMovingTarget) {
   sim.reset();
   EXPECT_EQ(sim.time_s(), 0);
   EXPECT_EQ(sim.ground_truth().q.norm(), 0);
+}
+
+TEST(Simulator, ArmStopsOnTableAndObjectsRestOnIt) {
+  SceneDescription s = arm_scene(400, 40);
+  SceneShape top;  // upper face at z = 0.7, under the forearm's sweep
+  top.name = "table_top";
+  top.size_m << 0.6, 0.6, 0.04;
+  top.T_world_shape.translation() << 0.8, 0, 0.68;
+  s.shapes.push_back(top);
+  SceneShape crate;  // dropped from 5 cm above the table
+  crate.name = "crate";
+  crate.free = true;
+  crate.size_m << 0.1, 0.1, 0.1;
+  crate.T_world_shape.translation() << 0.9, 0.2, 0.8;
+  s.shapes.push_back(crate);
+  const auto model = build_sim_model(s);
+  Simulator sim(model);
+  // Shoulder level, elbow commanded far down, through the table.
+  sim.run_until(2.0, [](double, Eigen::VectorXd& q) { q << -1.5, 0.0; });
+  const GroundTruth truth = sim.ground_truth();
+  const double tip_z = truth.T_world_link[model->link_index("tool")].translation().z();
+  // At the targets the tip would be at z = 0.5, inside the table; it rests on
+  // the table instead (the forearm's radius is 3 cm).
+  EXPECT_GT(tip_z, 0.7 - 0.01);
+  EXPECT_LT(tip_z, 0.7 + 0.06);
+  EXPECT_GT(std::abs(truth.constraint_torque[0]), 1.0);
+  const int body = mj_name2id(model->mj.get(), mjOBJ_BODY, "crate");
+  EXPECT_NEAR(sim.T_world_body(body).translation().z(), 0.75, 0.005);
 }
 
 TEST(Simulator, OccluderMoves) {
