@@ -38,13 +38,14 @@ struct DepthModelParams {
   // [1e-9, 1]. Its floor under every pixel density keeps scores finite.
   double outlier_weight = 0.01;
   // Depth noise sigma = noise_std_m + noise_quadratic_per_m * z^2, metres;
-  // noise_std_m >= 1e-6.
+  // noise_std_m in [1e-6, 1], noise_quadratic_per_m in [0, 1] per metre.
   double noise_std_m = 0.003;
   double noise_quadratic_per_m = 0;
   // Sensor maximum range Z, metres.
   double max_range_m = 6;
   // Decay rate lambda of the occluder density with distance from the camera,
-  // per metre (ln 2: an occluder is half as likely one metre further).
+  // per metre, in [1e-3, 100] (ln 2: an occluder is half as likely one metre
+  // further). lambda times the noise at the maximum range must be <= 1.
   double occluder_decay_per_m = 0.69314718055994531;
   // Prior probability p_o that an external object occludes a pixel.
   double occlusion_prior = 0.25;
@@ -101,8 +102,8 @@ class DepthLikelihood {
   int num_valid_pixels() const { return num_valid_; }
 
  private:
-  // Per observed pixel, so that a covered pixel costs one exp, at most one
-  // erfc, one expm1 and a few multiplications (see log_ratio()).
+  // Per observed pixel, computed once per image, so that a covered pixel
+  // costs at most two exps, one erfc and a few multiplications (log_ratio()).
   struct PixelTerms {
     double z = 0;          // observed depth, m
     double inv_s = 0;      // 1 / (sqrt(2) sigma)
