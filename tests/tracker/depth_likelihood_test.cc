@@ -206,20 +206,20 @@ TEST(DepthLikelihood, ImageScoreEqualsSumOfReferencePixels) {
     EXPECT_NEAR(lik.log_ratio(rendered), expected, 1e-9 * scale) << "trial " << trial;
 
     // Rectangle over a full-size buffer and over a compact copy.
-    const PixelRect rect{7, 5, 33, 21};
+    const PixelRect rect{7, 5, 7 + 33, 5 + 21};
     double expected_rect = 0;
-    std::vector<float> compact(size_t(rect.width) * rect.height);
-    for (int v = 0; v < rect.height; ++v) {
-      for (int u = 0; u < rect.width; ++u) {
+    std::vector<float> compact(size_t(rect.width()) * rect.height());
+    for (int v = 0; v < rect.height(); ++v) {
+      for (int u = 0; u < rect.width(); ++u) {
         const float z = observed.at(rect.u0 + u, rect.v0 + v);
         const float r = rendered.at(rect.u0 + u, rect.v0 + v);
-        compact[size_t(v) * rect.width + u] = r;
+        compact[size_t(v) * rect.width() + u] = r;
         if (z > 0 && r > 0) expected_rect += lik.log_ratio_pixel(z, r);
       }
     }
     const float* start = rendered.depth_m.data() + size_t(rect.v0) * p.width + rect.u0;
     EXPECT_NEAR(lik.log_ratio(start, p.width, rect), expected_rect, 1e-9 * scale);
-    EXPECT_NEAR(lik.log_ratio(compact.data(), rect.width, rect), expected_rect, 1e-9 * scale);
+    EXPECT_NEAR(lik.log_ratio(compact.data(), rect.width(), rect), expected_rect, 1e-9 * scale);
   }
 }
 

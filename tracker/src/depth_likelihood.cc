@@ -157,17 +157,16 @@ double DepthLikelihood::log_ratio(const DepthImage& rendered) const {
 // rounding (checked by the tests).
 double DepthLikelihood::log_ratio(const float* rendered_m, std::ptrdiff_t row_stride,
                                   const PixelRect& rect) const {
-  assert(rect.u0 >= 0 && rect.v0 >= 0 && rect.u0 + rect.width <= params_.width &&
-         rect.v0 + rect.height <= params_.height);
+  assert(rect.u0 >= 0 && rect.v0 >= 0 && rect.u1 <= params_.width && rect.v1 <= params_.height);
   const double lambda = params_.occluder_decay_per_m;
   const double floor = outlier_density_;
   double product = 1;
   long exponent = 0;
   int pending = 0;
-  for (int v = 0; v < rect.height; ++v) {
+  for (int v = 0; v < rect.height(); ++v) {
     const float* row = rendered_m + v * row_stride;
     const PixelTerms* terms = pixels_.data() + size_t(rect.v0 + v) * params_.width + rect.u0;
-    for (int u = 0; u < rect.width; ++u) {
+    for (int u = 0; u < rect.width(); ++u) {
       const float rf = row[u];
       // Uncovered (0), and also NaN or +inf: add exactly 0.
       if (!(rf > 0.f) || rf == std::numeric_limits<float>::infinity()) continue;

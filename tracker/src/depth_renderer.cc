@@ -15,32 +15,40 @@ inline Eigen::Vector3f project(const Eigen::Vector3f& hom) {
   return Eigen::Vector3f(hom.x() * inv_z, hom.y() * inv_z, inv_z);
 }
 
-// Lexicographic order of screen points: each edge is evaluated from its
-// smaller end, so two triangles sharing it get exactly opposite values.
-inline bool screen_less(const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
-  return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
+// The first pixel index u in [0, n] whose centre u + 0.5 is at or after x:
+// ceil(x - 0.5) clamped, branch-free (x86-64 without SSE4.1 has no ceil
+// instruction). Every triangle that meets a boundary at x computes the same
+// index from the same x, so spans on both sides of a shared edge tile a row.
+inline int first_centre_from(float x, int n) {
+  const float t = std::min(std::max(x - 0.5f, -0.5f), float(n));
+  const int i = int(t);  // truncates towards zero: i <= ceil(t) <= i + 1 for t >= -0.5
+  return i + int(float(i) < t);
 }
 
-// First pixel index whose centre is at or after x (clamped into [lo, hi + 1]),
-// computed in float before the integer conversion so huge values cannot overflow.
-inline int first_centre_at_or_after(float x, int lo, int hi) {
-  const float u = std::ceil(x - 0.5f);
-  return u <= float(lo) ? lo : u >= float(hi + 1) ? hi + 1 : int(u);
+// Whether a triangle of screen points can cover a pixel centre of a W x H
+// image (its bounding box holds one) and faces the camera (or, without
+// culling, is not degenerate). Most triangles at 80x60 fail here, so it runs
+// inline in the triangle loop.
+inline bool may_cover(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+                      int W, int H, bool cull_back_faces) {
+  // Twice the signed screen area. With v pointing down, a triangle wound
+  // counter-clockwise seen from outside has negative area when it faces the
+  // camera: area = fx fy (n . p_a) / (z_a z_b z_c), n its outward normal.
+  const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  if (cull_back_faces ? !(area < 0.f) : area == 0.f) return false;
+  return first_centre_from(std::min({a.y(), b.y(), c.y()}), H) <
+             first_centre_from(std::max({a.y(), b.y(), c.y()}), H) &&
+         first_centre_from(std::min({a.x(), b.x(), c.x()}), W) <
+             first_centre_from(std::max({a.x(), b.x(), c.x()}), W);
 }
-// Last pixel index whose centre is at or before x (clamped into [lo - 1, hi]).
-inline int last_centre_at_or_before(float x, int lo, int hi) {
-  const float u = std::floor(x - 0.5f);
-  return u >= float(hi) ? hi : u <= float(lo - 1) ? lo - 1 : int(u);
+
+// Strict order of screen points by v, then u: the two ends of an edge are
+// told apart the same way by every triangle that has the edge.
+inline bool above(const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
+  return p.y() < q.y() || (p.y() == q.y() && p.x() < q.x());
 }
 
 }  // namespace
-
-PixelRect PixelRect::united(const PixelRect& other) const {
-  if (empty()) return other;
-  if (other.empty()) return *this;
-  return {std::min(u0, other.u0), std::min(v0, other.v0), std::max(u1, other.u1),
-          std::max(v1, other.v1)};
-}
 
 DepthRenderer::DepthRenderer(const RobotModel& model, const CameraIntrinsics& camera,
                              const RenderOptions& options)
@@ -151,7 +159,10 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
         continue;
       }
     }
-    raster_triangle(screen[t[0]], screen[t[1]], screen[t[2]], depth, drawn);
+    const Eigen::Vector3f &a = screen[t[0]], &b = screen[t[1]], &c = screen[t[2]];
+    if (may_cover(a, b, c, depth.width, depth.height, options_.cull_back_faces)) {
+      raster_triangle(a, b, c, depth, drawn);
+    }
   }
   return drawn.empty() ? PixelRect{} : drawn;
 }
@@ -181,56 +192,28 @@ void DepthRenderer::raster_clipped(const Eigen::Vector3f* hom[3], DepthImage& de
   }
   Eigen::Vector3f screen[4];
   for (int k = 0; k < n; ++k) screen[k] = project(poly[k]);
-  for (int k = 1; k + 1 < n; ++k)
-    raster_triangle(screen[0], screen[k], screen[k + 1], depth, drawn);
+  for (int k = 1; k + 1 < n; ++k) {
+    if (may_cover(screen[0], screen[k], screen[k + 1], depth.width, depth.height,
+                  options_.cull_back_faces)) {
+      raster_triangle(screen[0], screen[k], screen[k + 1], depth, drawn);
+    }
+  }
 }
 
-// Draws one triangle given as screen points (u, v, 1/z): every pixel whose
-// centre is inside or on an edge, depth-tested against what `depth` holds.
-void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b0,
-                                    const Eigen::Vector3f& c0, DepthImage& depth,
+// Draws one triangle given as screen points (u, v, 1/z), scanline by
+// scanline: pixel (u, v) is covered when its centre lies in [left, right) of
+// the triangle's boundary on row v + 0.5, for rows in [top, bottom). Every
+// boundary x is interpolated along an edge from its upper end, so triangles
+// sharing the edge compute the same bits and the half-open spans tile the
+// row: no crack, no pixel drawn twice. Only covered pixels are visited.
+// The caller has checked may_cover().
+void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                                    const Eigen::Vector3f& c, DepthImage& depth,
                                     PixelRect& drawn) const {
   const int W = depth.width, H = depth.height;
-  // Pixel centres inside the bounding box; most triangles of a low-resolution
-  // image hold none and end here.
-  const float x_min = std::min({a.x(), b0.x(), c0.x()}), x_max = std::max({a.x(), b0.x(), c0.x()});
-  const int u_lo = first_centre_at_or_after(x_min, 0, W - 1);
-  const int u_hi = last_centre_at_or_before(x_max, 0, W - 1);
-  if (u_lo > u_hi) return;
-  const float y_min = std::min({a.y(), b0.y(), c0.y()}), y_max = std::max({a.y(), b0.y(), c0.y()});
-  const int v_lo = first_centre_at_or_after(y_min, 0, H - 1);
-  const int v_hi = last_centre_at_or_before(y_max, 0, H - 1);
-  if (v_lo > v_hi) return;
-
-  // Twice the signed screen area. With v pointing down, a triangle wound
-  // counter-clockwise seen from outside has negative area when it faces the
-  // camera: area = fx fy (n . p_a) / (z_a z_b z_c), n its outward normal.
-  float area = (b0.x() - a.x()) * (c0.y() - a.y()) - (b0.y() - a.y()) * (c0.x() - a.x());
-  if (options_.cull_back_faces ? !(area < 0.f) : area == 0.f) return;
-  // Orient so the area is positive and "inside" is where all edge functions are >= 0.
-  const bool flip = area < 0.f;
-  const Eigen::Vector3f& b = flip ? c0 : b0;
-  const Eigen::Vector3f& c = flip ? b0 : c0;
-  area = std::abs(area);
-
-  // Edge k from p to q: E(x, y) = ex (y - my) - ey (x - mx) >= 0 inside,
-  // evaluated from the edge's lexicographically smaller end m with signs
-  // folded into (ex, ey); a neighbour sharing the edge gets exactly -E, so a
-  // pixel centre is never missed by both (on the edge, both draw it).
-  float mx[3], my[3], ex[3], ey[3];
-  const Eigen::Vector3f* corners[3] = {&a, &b, &c};
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3f& p = *corners[k];
-    const Eigen::Vector3f& q = *corners[(k + 1) % 3];
-    const bool swap = screen_less(q, p);
-    const Eigen::Vector3f& m = swap ? q : p;
-    const Eigen::Vector3f& M = swap ? p : q;
-    const float sign = swap ? -1.f : 1.f;
-    mx[k] = m.x();
-    my[k] = m.y();
-    ex[k] = sign * (M.x() - m.x());
-    ey[k] = sign * (M.y() - m.y());
-  }
+  const int v_top = first_centre_from(std::min({a.y(), b.y(), c.y()}), H);
+  const int v_bottom = first_centre_from(std::max({a.y(), b.y(), c.y()}), H);
+  const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 
   // 1/z is affine in screen coordinates on a planar triangle:
   // 1/z = o.z + gx (x - o.x) + gy (y - o.y), taken from the farthest corner o
@@ -241,52 +224,55 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
   const float inv_area = 1.f / area;
   const float gx = (dzb * dyc - dzc * dyb) * inv_area;
   const float gy = (dzc * dxb - dzb * dxc) * inv_area;
-  const Eigen::Vector3f& o = a.z() <= b.z() ? (a.z() <= c.z() ? a : c) : (b.z() <= c.z() ? b : c);
+  const Eigen::Vector3f& ab = a.z() <= b.z() ? a : b;
+  const Eigen::Vector3f& o = ab.z() <= c.z() ? ab : c;
   // Rounding must not take a depth outside the triangle's own range.
   const float iz_min = o.z(), iz_max = std::max({a.z(), b.z(), c.z()});
 
-  const bool wide = u_hi - u_lo > 4;
+  // Corners from top to bottom: the long edge p0-p2 bounds one side of every
+  // row, the short edges p0-p1 then p1-p2 the other.
+  const Eigen::Vector3f *p0 = &a, *p1 = &b, *p2 = &c;
+  if (above(*p1, *p0)) std::swap(p0, p1);
+  if (above(*p2, *p1)) std::swap(p1, p2);
+  if (above(*p1, *p0)) std::swap(p0, p1);
+  auto slope = [](const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
+    const float dy = q.y() - p.y();
+    return dy > 0.f ? (q.x() - p.x()) / dy : 0.f;
+  };
+  const float s02 = slope(*p0, *p2), s01 = slope(*p0, *p1), s12 = slope(*p1, *p2);
+  // p1 right of the long edge (negative cross product): the long edge is the left side.
+  const bool long_left = (p2->x() - p0->x()) * (p1->y() - p0->y()) -
+                             (p2->y() - p0->y()) * (p1->x() - p0->x()) <
+                         0.f;
+
   float* rows = depth.depth_m.data();
-  for (int v = v_lo; v <= v_hi; ++v) {
+  int u_min = W, u_max = 0, v_min = H, v_max = 0;
+  for (int v = v_top; v < v_bottom; ++v) {
     const float py = float(v) + 0.5f;
-    float r[3];
-    int span_lo = u_lo, span_hi = u_hi;
-    for (int k = 0; k < 3; ++k) r[k] = ex[k] * (py - my[k]);
-    if (wide) {
-      // Where each edge function crosses zero on this row; one pixel of slack
-      // either way, the exact test below decides.
-      for (int k = 0; k < 3; ++k) {
-        if (ey[k] == 0.f) {
-          if (r[k] < 0.f) span_hi = span_lo - 1;
-          continue;
-        }
-        const float x_cross = mx[k] + r[k] / ey[k];
-        if (ey[k] > 0.f) {
-          span_hi = std::min(span_hi, last_centre_at_or_before(x_cross, u_lo, u_hi) + 1);
-        } else {
-          span_lo = std::max(span_lo, first_centre_at_or_after(x_cross, u_lo, u_hi) - 1);
-        }
-      }
-    }
+    const float x_long = p0->x() + (py - p0->y()) * s02;
+    const float x_short =
+        py < p1->y() ? p0->x() + (py - p0->y()) * s01 : p1->x() + (py - p1->y()) * s12;
+    const int u_begin = first_centre_from(long_left ? x_long : x_short, W);
+    const int u_end = first_centre_from(long_left ? x_short : x_long, W);
+    if (u_begin >= u_end) continue;
+    u_min = std::min(u_min, u_begin);
+    u_max = std::max(u_max, u_end);
+    v_min = std::min(v_min, v);
+    v_max = v + 1;
     float* row = rows + size_t(v) * W;
     const float iz_row = o.z() + gy * (py - o.y());
-    for (int u = span_lo; u <= span_hi; ++u) {
-      const float px = float(u) + 0.5f;
-      const float e0 = r[0] - ey[0] * (px - mx[0]);
-      const float e1 = r[1] - ey[1] * (px - mx[1]);
-      const float e2 = r[2] - ey[2] * (px - mx[2]);
-      if (e0 < 0.f || e1 < 0.f || e2 < 0.f) continue;
-      const float iz = std::clamp(iz_row + gx * (px - o.x()), iz_min, iz_max);
+    for (int u = u_begin; u < u_end; ++u) {
+      const float iz = std::clamp(iz_row + gx * (float(u) + 0.5f - o.x()), iz_min, iz_max);
       const float z = 1.f / iz;
-      float& d = row[u];
-      if (d == 0.f || z < d) {
-        d = z;
-        drawn.u0 = std::min(drawn.u0, u);
-        drawn.u1 = std::max(drawn.u1, u + 1);
-        drawn.v0 = std::min(drawn.v0, v);
-        drawn.v1 = std::max(drawn.v1, v + 1);
-      }
+      const float d = row[u];
+      row[u] = (d == 0.f) | (z < d) ? z : d;
     }
+  }
+  if (u_min < u_max) {
+    drawn.u0 = std::min(drawn.u0, u_min);
+    drawn.u1 = std::max(drawn.u1, u_max);
+    drawn.v0 = std::min(drawn.v0, v_min);
+    drawn.v1 = std::max(drawn.v1, v_max);
   }
 }
 

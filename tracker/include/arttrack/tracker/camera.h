@@ -33,6 +33,24 @@ struct CameraIntrinsics {
   bool operator==(const CameraIntrinsics&) const = default;
 };
 
+// A rectangle of pixels [u0, u1) x [v0, v1); empty when u0 >= u1 or v0 >= v1.
+// The renderer returns the rectangle it drew; the likelihood scores only it.
+struct PixelRect {
+  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+
+  bool empty() const { return u0 >= u1 || v0 >= v1; }
+  int width() const { return empty() ? 0 : u1 - u0; }
+  int height() const { return empty() ? 0 : v1 - v0; }
+  int area() const { return width() * height(); }
+  // The smallest rectangle holding both.
+  PixelRect united(const PixelRect& other) const {
+    if (empty()) return other;
+    if (other.empty()) return *this;
+    return {u0 < other.u0 ? u0 : other.u0, v0 < other.v0 ? v0 : other.v0,
+            u1 > other.u1 ? u1 : other.u1, v1 > other.v1 ? v1 : other.v1};
+  }
+};
+
 // A depth image, row-major, metres along the optical axis, 0 for no return.
 struct DepthImage {
   int width = 0;

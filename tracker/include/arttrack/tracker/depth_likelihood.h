@@ -58,14 +58,6 @@ struct DepthModelParams {
   void validate(std::string_view context) const;
 };
 
-// A rectangle of pixels: columns [u0, u0 + width), rows [v0, v0 + height).
-struct PixelRect {
-  int u0 = 0;
-  int v0 = 0;
-  int width = 0;
-  int height = 0;
-};
-
 // The likelihood of one observed image. set_observation() once per image;
 // the scoring functions are const, allocation-free and safe to call from
 // several threads at once.

@@ -8,7 +8,8 @@
 // counter-clockwise seen from outside; back faces are culled, triangles
 // crossing the near plane are clipped, depth is exact for planar triangles
 // (1/z interpolated in screen space), and triangles sharing an edge leave no
-// gap between them.
+// gap between them (a pixel centre belongs to the triangle whose half-open
+// span [left, right) holds it). Vertices are transformed in float.
 //
 // A DepthRenderer is a per-thread workspace: it refers to a shared immutable
 // RobotModel and owns buffers sized once, so rendering never allocates after
@@ -32,16 +33,6 @@ struct RenderOptions {
   bool cull_back_faces = true;
 };
 
-// A rectangle of pixels [u0, u1) x [v0, v1); empty when u0 >= u1 or v0 >= v1.
-struct PixelRect {
-  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
-
-  bool empty() const { return u0 >= u1 || v0 >= v1; }
-  int area() const { return empty() ? 0 : (u1 - u0) * (v1 - v0); }
-  // The smallest rectangle holding both.
-  PixelRect united(const PixelRect& other) const;
-};
-
 // Renders depth images of a robot model from its camera link.
 class DepthRenderer {
  public:
@@ -53,7 +44,8 @@ class DepthRenderer {
   const RenderOptions& options() const { return options_; }
 
   // Renders every link: `out` is sized to the camera, cleared and drawn.
-  // Returns the bounding rectangle of the robot's pixels.
+  // Returns the bounding rectangle of the robot's pixels (exactly that of
+  // the nonzero pixels of `out`).
   PixelRect render(const KinematicsState& state, DepthImage& out);
 
   // Renders only the links in `links` (a flag per link) into a cleared `out`.
@@ -62,7 +54,8 @@ class DepthRenderer {
   // Draws the links in `links` into `depth`, which must have the camera's
   // size, keeping per pixel the nearer of what it holds and the new surface
   // (0 = empty). Drawing onto a copy of a cached image of the other links
-  // gives the image of all. Returns the rectangle of pixels drawn.
+  // gives the image of all. Returns the bounding rectangle of the pixels
+  // these links cover, nearer or not: every pixel changed lies in it.
   PixelRect draw_links(const KinematicsState& state, const LinkSet& links, DepthImage& depth);
 
  private:
