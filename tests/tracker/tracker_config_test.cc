@@ -1,0 +1,77 @@
+#include "arttrack/tracker/tracker_config.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+std::string error_of(const std::string& yaml) {
+  try {
+    tracker_config_from_yaml(load_yaml_string(yaml, "t.yaml"));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The shipped file documents every key with the in-code defaults.
+TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
+  const TrackerConfig file =
+      load_tracker_config(std::string(ARTTRACK_SOURCE_DIR) + "/tracker/config/default.yaml");
+  const TrackerConfig code;
+  EXPECT_EQ(file.method, code.method);
+  EXPECT_EQ(file.end_effectors, code.end_effectors);
+  EXPECT_NEAR(file.joint_defaults.encoder_noise_rad, code.joint_defaults.encoder_noise_rad, 1e-5);
+  EXPECT_NEAR(file.joint_defaults.angle_diffusion_rad_per_sqrt_s,
+              code.joint_defaults.angle_diffusion_rad_per_sqrt_s, 1e-3);
+  EXPECT_NEAR(file.joint_defaults.bias_diffusion_rad_per_sqrt_s,
+              code.joint_defaults.bias_diffusion_rad_per_sqrt_s, 1e-3);
+  EXPECT_EQ(file.joint_defaults.bias_decay_per_s, code.joint_defaults.bias_decay_per_s);
+  EXPECT_NEAR(file.camera_rotation.initial_std, code.camera_rotation.initial_std, 1e-3);
+  EXPECT_NEAR(file.camera_rotation.diffusion_per_sqrt_s, code.camera_rotation.diffusion_per_sqrt_s,
+              1e-4);
+  EXPECT_EQ(file.camera_translation.initial_std, code.camera_translation.initial_std);
+  EXPECT_EQ(file.depth_model.width, code.depth_model.width);
+  EXPECT_EQ(file.depth_model.occlusion_prior, code.depth_model.occlusion_prior);
+  EXPECT_EQ(file.particle_filter.num_particles, code.particle_filter.num_particles);
+  EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
+  EXPECT_EQ(file.asynchronous, code.asynchronous);
+}
+
+TEST(TrackerConfigTest, ReadsDegreesAndPerJointOverrides) {
+  const TrackerConfig c = tracker_config_from_yaml(load_yaml_string(
+      "method: camera_offset_only\n"
+      "joints: {defaults: {encoder_noise_deg: 0.1}, per_joint: {elbow: {estimate_bias: false}}}\n"
+      "particle_filter: {particles: 50, blocks: [{name: arm, joints: [shoulder, elbow]}]}\n",
+      "t.yaml"));
+  EXPECT_EQ(c.method, TrackingMethod::kCameraOffsetOnly);
+  EXPECT_NEAR(c.joint_defaults.encoder_noise_rad, 0.1 * M_PI / 180, 1e-12);
+  ASSERT_EQ(c.joint_overrides.count("elbow"), 1u);
+  EXPECT_FALSE(c.joint_overrides.at("elbow").estimate_bias);
+  // An override starts from the (file's) defaults.
+  EXPECT_NEAR(c.joint_overrides.at("elbow").encoder_noise_rad, 0.1 * M_PI / 180, 1e-12);
+  EXPECT_EQ(c.particle_filter.num_particles, 50);
+  ASSERT_EQ(c.blocks.size(), 1u);
+  EXPECT_EQ(c.blocks[0].joints.size(), 2u);
+}
+
+TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
+  EXPECT_NE(error_of("methd: full_fusion\n").find("'methd'"), std::string::npos);
+  EXPECT_NE(error_of("method: fusion\n").find("not one of"), std::string::npos);
+  EXPECT_NE(error_of("depth_model: {occlusion_prior: 1.5}\n").find("depth_model.occlusion_prior"),
+            std::string::npos);
+  EXPECT_NE(error_of("joints: {defaults: {bias_decay_per_s: 1.0}}\n").find("bias_decay_per_s"),
+            std::string::npos);
+  EXPECT_NE(error_of("particle_filter: {particles: many}\n").find("particle_filter.particles"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("joints: {per_joint: {elbow: {noise: 1}}}\n").find("joints.per_joint.elbow.noise"),
+      std::string::npos);
+}
+
+}  // namespace
+}  // namespace arttrack

@@ -1,0 +1,266 @@
+#include "arttrack/tracker/tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/error.h"
+#include "arttrack/tracker/kinematics.h"
+
+namespace arttrack {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// A two-joint planar arm of boxes in front of a camera that looks at it
+// along the base's x axis, with an end-effector frame at the tip.
+constexpr char kArm[] = R"(<robot name="arm">
+  <link name="base_link"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+  <link name="upper"><visual><origin xyz="0 0 0.15"/><geometry><box size="0.05 0.06 0.3"/></geometry></visual></link>
+  <link name="lower"><visual><origin xyz="0 0 0.125"/><geometry><box size="0.04 0.08 0.25"/></geometry></visual></link>
+  <link name="tool"/>
+  <link name="camera_optical_frame"/>
+  <joint name="shoulder" type="revolute"><parent link="base_link"/><child link="upper"/>
+    <origin xyz="0 0 0.05"/><axis xyz="1 0 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="lower"/>
+    <origin xyz="0 0 0.3"/><axis xyz="1 0 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="tool_joint" type="fixed"><parent link="lower"/><child link="tool"/><origin xyz="0 0 0.25"/></joint>
+  <joint name="camera_joint" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
+    <origin xyz="1.0 0 0.3" rpy="-1.5707963267948966 0 1.5707963267948966"/></joint>
+</robot>)";
+
+std::shared_ptr<const RobotModel> arm_model() {
+  return std::make_shared<const RobotModel>(RobotModel::from_urdf_string(kArm, "."));
+}
+
+TrackerConfig small_config(TrackingMethod method) {
+  TrackerConfig c;
+  c.method = method;
+  c.end_effectors = {"tool"};
+  c.particle_filter.num_particles = 40;
+  c.threads = 1;
+  c.depth_model.width = 64;
+  c.depth_model.height = 48;
+  // A planar arm cannot tell a shoulder rotation from a camera roll about a
+  // nearby axis: the camera is known here, so that joint angles are observable.
+  c.camera_translation = {1e-9, 1e-9};
+  c.camera_rotation = {1e-9, 1e-9};
+  return c;
+}
+
+const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(64, 48, 60 * kDeg);
+
+// The depth a perfect camera sees of the arm at angles q.
+DepthImage render_truth(const RobotModel& model, double q0, double q1) {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+  q[model.joint_index("shoulder")] = q0;
+  q[model.joint_index("elbow")] = q1;
+  KinematicsState state(model);
+  forward_kinematics(model, q, state);
+  DepthRenderer renderer(model, kCamera);
+  DepthImage image;
+  renderer.render(state, image);
+  return image;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrackerTest, EncodersOnlyReportsTheRawReadings) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kEncodersOnly), {"elbow", "shoulder"});
+  const std::vector<double> q{0.3, -0.2};  // elbow, shoulder
+  tracker.add_joint_measurement(0.0, q);
+  tracker.add_joint_measurement(0.001, q);
+  const TrackerEstimate e = tracker.estimate();
+  EXPECT_DOUBLE_EQ(e.angle_rad[model->joint_index("elbow")], 0.3);
+  EXPECT_DOUBLE_EQ(e.angle_rad[model->joint_index("shoulder")], -0.2);
+  ASSERT_EQ(e.T_camera_ee.size(), 1u);
+}
+
+TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const double true_q0 = 0.4, true_q1 = -0.6, bias = 6 * kDeg;
+  const DepthImage truth = render_truth(*model, true_q0, true_q1);
+  for (int k = 0; k <= 3000; ++k) {
+    const double t = 0.001 * k;
+    const std::vector<double> reading{true_q0 + bias, true_q1 + bias};
+    tracker.add_joint_measurement(t, reading);
+    if (k % 33 == 0) tracker.add_depth_image(t, truth, kCamera);
+  }
+  const TrackerEstimate e = tracker.estimate();
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], true_q0, 1 * kDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], true_q1, 1 * kDeg);
+  EXPECT_NEAR(e.bias_rad[model->joint_index("shoulder")], bias, 1 * kDeg);
+  EXPECT_GT(tracker.stats().images_applied, 80);
+}
+
+// The same input, with the image delivered on time or late: the buffer
+// re-filters, so the estimates agree.
+TEST(TrackerTest, LateImageGivesTheSameEstimateAsOnTime) {
+  auto model = arm_model();
+  const DepthImage truth = render_truth(*model, 0.2, 0.1);
+  auto reading = [](int k) {
+    return std::vector<double>{0.2 + 0.05 + 0.01 * std::sin(0.01 * k), 0.1 + 0.05};
+  };
+  Tracker on_time(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  Tracker late(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  for (int k = 0; k <= 200; ++k) {
+    on_time.add_joint_measurement(0.001 * k, reading(k));
+    if (k == 100) on_time.add_depth_image(0.1, truth, kCamera);
+  }
+  for (int k = 0; k <= 200; ++k) late.add_joint_measurement(0.001 * k, reading(k));
+  late.add_depth_image(0.1, truth, kCamera);
+  const TrackerEstimate a = on_time.estimate(), b = late.estimate();
+  ASSERT_EQ(on_time.stats().images_applied, 1);
+  ASSERT_EQ(late.stats().images_applied, 1);
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_NEAR(a.angle_rad[j], b.angle_rad[j], 1e-9);
+    EXPECT_NEAR(a.bias_rad[j], b.bias_rad[j], 1e-9);
+    EXPECT_NEAR(a.angle_std_rad[j], b.angle_std_rad[j], 1e-9);
+  }
+  // And the image did something: without it the estimate differs.
+  Tracker none(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  for (int k = 0; k <= 200; ++k) none.add_joint_measurement(0.001 * k, reading(k));
+  EXPECT_GT(std::abs(none.estimate().bias_rad[0] - a.bias_rad[0]), 1e-4);
+}
+
+TEST(TrackerTest, ImageFromTheFutureWaitsForTheJoints) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const DepthImage truth = render_truth(*model, 0.0, 0.0);
+  const std::vector<double> q{0.0, 0.0};
+  tracker.add_joint_measurement(0.0, q);
+  tracker.add_depth_image(0.05, truth, kCamera);
+  EXPECT_EQ(tracker.stats().images_applied, 0);
+  tracker.add_joint_measurement(0.049, q);
+  EXPECT_EQ(tracker.stats().images_applied, 0);
+  tracker.add_joint_measurement(0.051, q);
+  EXPECT_EQ(tracker.stats().images_applied, 1);
+}
+
+TEST(TrackerTest, ImageOlderThanTheBufferIsDroppedAndCounted) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  config.buffer_capacity = 10;
+  Tracker tracker(model, config, {"shoulder", "elbow"});
+  const std::vector<double> q{0.0, 0.0};
+  for (int k = 0; k < 50; ++k) tracker.add_joint_measurement(0.001 * k, q);
+  tracker.add_depth_image(0.01, render_truth(*model, 0, 0), kCamera);
+  EXPECT_EQ(tracker.stats().images_applied, 0);
+  EXPECT_EQ(tracker.stats().images_dropped_too_old, 1);
+}
+
+TEST(TrackerTest, BadInputIsAnErrorNamingTheItem) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const std::vector<double> q{0.0, 0.0};
+  tracker.add_joint_measurement(1.0, q);
+  EXPECT_NE(error_of([&] { tracker.add_joint_measurement(0.5, q); }).find("backwards"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              tracker.add_joint_measurement(2.0, std::vector<double>{0.0});
+            }).find("expected 2"),
+            std::string::npos);
+  DepthImage bad = render_truth(*model, 0, 0);
+  bad.at(3, 4) = std::nanf("");
+  EXPECT_NE(error_of([&] { tracker.add_depth_image(0.9, bad, kCamera); }).find("pixel (3, 4)"),
+            std::string::npos);
+  bad.at(3, 4) = -1.0f;
+  EXPECT_NE(error_of([&] { tracker.add_depth_image(0.9, bad, kCamera); }).find("pixel (3, 4)"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              tracker.add_depth_image(0.9, render_truth(*model, 0, 0), kCamera.scaled_to(32, 24));
+            }).find("intrinsics"),
+            std::string::npos);
+  tracker.add_depth_image(0.9, render_truth(*model, 0, 0), kCamera);
+  EXPECT_NE(error_of([&] {
+              tracker.add_depth_image(0.8, render_truth(*model, 0, 0), kCamera);
+            }).find("backwards"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              Tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder"});
+            }).find("elbow"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of([&] {
+        Tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow", "wrist"});
+      }).find("wrist"),
+      std::string::npos);
+}
+
+TEST(TrackerTest, CameraOffsetOnlyRecoversAMiscalibratedCamera) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kCameraOffsetOnly);
+  config.camera_translation = {0.002, 0.03};
+  config.camera_rotation = {0.002, 0.05};
+  Tracker tracker(model, config, {"shoulder", "elbow"});
+  // The true camera sits 2 cm to the side and 1 cm closer than the model's.
+  Eigen::VectorXd q_true = Eigen::VectorXd::Zero(model->num_joints());
+  q_true[model->joint_index("shoulder")] = 0.3;
+  q_true[model->joint_index("elbow")] = 0.3;
+  q_true[model->joint_index("camera_offset_x")] = 0.02;
+  q_true[model->joint_index("camera_offset_z")] = 0.01;
+  KinematicsState state(*model);
+  forward_kinematics(*model, q_true, state);
+  DepthRenderer renderer(*model, kCamera);
+  DepthImage truth;
+  renderer.render(state, truth);
+  const Eigen::Isometry3d truth_pose = T_camera_link(*model, state, model->link_index("tool"));
+  for (int k = 0; k <= 3000; ++k) {
+    tracker.add_joint_measurement(0.001 * k, std::vector<double>{0.3, 0.3});
+    if (k % 33 == 0) tracker.add_depth_image(0.001 * k, truth, kCamera);
+  }
+  const TrackerEstimate e = tracker.estimate();
+  EXPECT_EQ(e.bias_rad.norm(), 0.0);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.3, 1e-3);  // encoders trusted
+  EXPECT_NEAR(e.camera_offset[0], 0.02, 0.004);
+  EXPECT_NEAR(e.camera_offset[2], 0.01, 0.004);
+  const double error = (e.T_camera_ee[0].translation() - truth_pose.translation()).norm();
+  EXPECT_LT(error, 0.005);  // against 2.2 cm uncorrected
+}
+
+TEST(TrackerTest, VisionOnlyFollowsImagesFromTheInitialConfiguration) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kVisionOnly);
+  Tracker tracker(model, config, {});
+  tracker.set_initial_configuration({"shoulder", "elbow"}, std::vector<double>{0.3, -0.3});
+  const DepthImage truth = render_truth(*model, 0.33, -0.33);
+  for (int k = 0; k < 30; ++k) tracker.add_depth_image(k / 30.0, truth, kCamera);
+  const TrackerEstimate e = tracker.estimate();
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.33, 1.5 * kDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], -0.33, 1.5 * kDeg);
+}
+
+TEST(TrackerTest, AsynchronousModeAppliesImagesOnAWorkerThread) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  config.asynchronous = true;
+  Tracker tracker(model, config, {"shoulder", "elbow"});
+  const DepthImage truth = render_truth(*model, 0.4, -0.6);
+  const double bias = 6 * kDeg;
+  for (int k = 0; k <= 3000; ++k) {
+    tracker.add_joint_measurement(0.001 * k, std::vector<double>{0.4 + bias, -0.6 + bias});
+    if (k % 33 == 0) {
+      tracker.add_depth_image(0.001 * k, truth, kCamera);
+      tracker.wait_until_idle();
+    }
+  }
+  tracker.wait_until_idle();
+  const TrackerEstimate e = tracker.estimate();
+  EXPECT_GT(tracker.stats().images_applied, 80);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.4, 1 * kDeg);
+}
+
+}  // namespace
+}  // namespace arttrack

@@ -1,0 +1,109 @@
+// The tracker: the public API of the method (method.md; Garcia Cifuentes et
+// al. 2017). Feed it joint encoder readings and depth images with their time
+// stamps; read the estimate at any time: joint angles and biases with
+// standard deviations, the camera correction, and each end effector's pose in
+// the estimated camera frame.
+//
+// Inside: one 2-state Kalman filter per joint (joint_filter.h) updated at the
+// encoder rate; each depth image is applied at its own time stamp (minus the
+// configured camera delay) to the buffered belief of that time by a
+// Coordinate Particle Filter over the angle marginals, scored by the depth
+// likelihood of the robot rendered for each particle; the particles'
+// moments are folded back into the joint filters and the later joint
+// readings are re-filtered (belief_buffer.h).
+//
+// Threads: in synchronous mode everything happens in the caller's thread and
+// the numbers are a deterministic function of the input. In asynchronous
+// mode an image update runs on a worker thread while joint updates go on;
+// estimate() and the add_* calls may be called from different threads.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "arttrack/tracker/camera.h"
+#include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/tracker_config.h"
+
+namespace arttrack {
+
+// What the tracker believes at one time.
+struct TrackerEstimate {
+  double time_s = 0;
+  // Physical joints in the model's DOF order (virtual joints excluded).
+  std::vector<std::string> joint_names;
+  Eigen::VectorXd angle_rad, angle_std_rad;
+  Eigen::VectorXd bias_rad, bias_std_rad;  // 0 where biases are not estimated
+  // Virtual camera joints: x, y, z (m), roll, pitch, yaw (rad); see robot_model.h.
+  Eigen::Matrix<double, 6, 1> camera_offset = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> camera_offset_std = Eigen::Matrix<double, 6, 1>::Zero();
+  // Pose of each configured end effector in the estimated (corrected) camera
+  // frame, in TrackerConfig::end_effectors order.
+  std::vector<Eigen::Isometry3d> T_camera_ee;
+};
+
+// Counters and timings, for reports and benchmarks.
+struct TrackerStats {
+  int joint_measurements = 0;
+  int images_received = 0;
+  int images_applied = 0;
+  int images_dropped_too_old = 0;  // older than the belief buffer reaches
+  int images_dropped_backlog = 0;  // too many waiting for the joints to catch up
+  int images_dropped_busy = 0;     // asynchronous: arrived while an update ran and a newer one came
+  long long likelihood_evaluations = 0;
+  int last_evaluations_per_image = 0;
+  std::vector<double> image_update_ms;  // wall time of each applied image update
+  std::vector<double> refilter_ms;      // of which: re-filtering the buffered joints
+};
+
+class Tracker {
+ public:
+  // `encoder_joints`: the order of the readings given to add_joint_measurement
+  // (every physical joint of the model exactly once, unless the method is
+  // vision_only, which takes none). Throws InputError naming an unknown,
+  // missing or repeated joint, an unknown end effector or block joint, or a
+  // bad configuration value.
+  Tracker(std::shared_ptr<const RobotModel> model, const TrackerConfig& config,
+          const std::vector<std::string>& encoder_joints);
+  ~Tracker();
+  Tracker(const Tracker&) = delete;
+  Tracker& operator=(const Tracker&) = delete;
+
+  // Vision only needs a starting configuration (physical joint name -> rad);
+  // the other methods start from the first encoder reading. Joints not named
+  // start at 0 (or at the nearest limit).
+  void set_initial_configuration(const std::vector<std::string>& joints,
+                                 std::span<const double> angles_rad);
+
+  // One encoder reading per encoder joint, radians, taken at time_s. Throws
+  // InputError for a time going backwards, a wrong count or a non-finite value.
+  void add_joint_measurement(double time_s, std::span<const double> angles_rad);
+
+  // A depth image (metres, 0 = no return) stamped at capture time, with the
+  // camera's intrinsics. Throws InputError for a size that does not match the
+  // intrinsics, a negative or non-finite depth (naming the pixel), or a time
+  // stamp earlier than the previous image's. An image stamped after the newest
+  // joint reading waits until the joints catch up.
+  void add_depth_image(double stamp_s, const DepthImage& image, const CameraIntrinsics& camera);
+
+  // Asynchronous mode: blocks until no image update is running or waiting to
+  // run (that can run). Synchronous mode: returns at once.
+  void wait_until_idle();
+
+  // The current belief (after the newest joint reading or image).
+  TrackerEstimate estimate() const;
+  TrackerStats stats() const;
+
+  const RobotModel& model() const;
+  const TrackerConfig& config() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace arttrack

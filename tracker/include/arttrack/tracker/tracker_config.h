@@ -1,0 +1,98 @@
+// Configuration of a Tracker: which of the paper's four methods, the noise of
+// every joint, the depth model, the particle filter, the delay buffer.
+//
+// Plain structs with in-class defaults (the values of tracker/config/
+// default.yaml), filled from YAML by load_tracker_config() and checked there.
+// YAML uses degrees where it says `_deg`; the structs hold radians.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "arttrack/tracker/coordinate_particle_filter.h"
+#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/yaml_config.h"
+
+namespace arttrack {
+
+// The four methods the paper compares (Sec. V-C), as configurations of one tracker.
+enum class TrackingMethod {
+  kEncodersOnly,      // forward kinematics of the raw encoder readings
+  kCameraOffsetOnly,  // encoders taken as unbiased; images estimate the virtual camera joints
+  kFullFusion,        // angles, biases and virtual camera joints from encoders and images
+  kVisionOnly,        // no encoders: angles and camera joints from images alone
+};
+
+const char* method_name(TrackingMethod method);
+// Parses "encoders_only", "camera_offset_only", "full_fusion", "vision_only";
+// throws InputError naming `context` otherwise.
+TrackingMethod parse_method(const std::string& name, const std::string& context);
+const std::vector<std::string>& all_method_names();
+
+struct TrackerConfig {
+  // Where this configuration came from, for messages (the YAML file's path).
+  std::string source = "tracker configuration";
+
+  TrackingMethod method = TrackingMethod::kFullFusion;
+
+  // Nominal camera frame in the URDF (optical convention).
+  std::string camera_frame = "camera_optical_frame";
+  // Links whose pose in the estimated camera frame the tracker reports.
+  std::vector<std::string> end_effectors = {"left_ee", "right_ee"};
+
+  // Joint filters: defaults for every physical joint, and per-joint overrides
+  // (complete structs) keyed by joint name.
+  JointFilterParams joint_defaults;
+  std::map<std::string, JointFilterParams> joint_overrides;
+  // Virtual camera joints: translation (m) and rotation (rad) noise.
+  VirtualJointParams camera_translation{0.002, 0.03};
+  VirtualJointParams camera_rotation{0.002, 0.03};
+
+  // Vision only: how fast angles may wander between images (rad/sqrt(s)) and
+  // the standard deviation of the given initial configuration (rad).
+  double vision_only_angle_diffusion_rad_per_sqrt_s = 0.3;
+  double vision_only_initial_std_rad = 0.02;
+
+  DepthModelParams depth_model;
+  CoordinateParticleFilterParams particle_filter;
+  // Sampling blocks: named lists of joint names. Empty: one block per physical
+  // joint (ordered from the hand towards the root, so that the links a block
+  // does not move are the same for all particles within a chain), then one
+  // per virtual camera joint (a joint six-dimensional camera block finds
+  // local optima). camera_offset_only samples only the virtual joints.
+  struct Block {
+    std::string name;
+    std::vector<std::string> joints;
+  };
+  std::vector<Block> blocks;
+  // Seed of the particle filter's random generator.
+  unsigned long long seed = 1;
+  // Worker threads for the image update (0: one per core).
+  int threads = 0;
+
+  // Constant camera delay, s: an image stamped t is applied at t - delay.
+  double camera_delay_s = 0;
+  // Joint measurements (and beliefs) kept for re-filtering after a delayed
+  // image: images older than this are dropped and counted.
+  int buffer_capacity = 2000;
+  // Images stamped after the newest joint measurement wait for the joints;
+  // beyond this many waiting, the oldest is dropped and counted.
+  int max_pending_images = 4;
+  // Asynchronous: image updates run on a worker thread while joint updates
+  // go on (the paper's two filters). Synchronous: each image is applied when
+  // it becomes applicable, in the caller's thread (deterministic).
+  bool asynchronous = false;
+
+  // Throws InputError naming `context` and the field for an impossible value.
+  void validate(const std::string& context) const;
+};
+
+// Reads a tracker configuration file (see tracker/config/default.yaml for
+// every key). Unknown keys, wrong types and impossible values are errors
+// naming the file and the key.
+TrackerConfig load_tracker_config(const std::string& path);
+TrackerConfig tracker_config_from_yaml(const YamlDocument& doc);
+
+}  // namespace arttrack

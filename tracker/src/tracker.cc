@@ -1,0 +1,525 @@
+#include "arttrack/tracker/tracker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "arttrack/tracker/belief_buffer.h"
+#include "arttrack/tracker/coordinate_particle_filter.h"
+#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/error.h"
+#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/kinematics.h"
+
+namespace arttrack {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kNoTime = -std::numeric_limits<double>::infinity();
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// The belief as a flat vector for the buffer: five arrays of n.
+void save_belief(const JointBelief& b, std::span<double> out) {
+  const size_t n = b.mean_a.size();
+  std::copy(b.mean_a.begin(), b.mean_a.end(), out.begin());
+  std::copy(b.mean_b.begin(), b.mean_b.end(), out.begin() + n);
+  std::copy(b.var_a.begin(), b.var_a.end(), out.begin() + 2 * n);
+  std::copy(b.cov_ab.begin(), b.cov_ab.end(), out.begin() + 3 * n);
+  std::copy(b.var_b.begin(), b.var_b.end(), out.begin() + 4 * n);
+}
+
+void load_belief(std::span<const double> in, JointBelief& b) {
+  const size_t n = b.mean_a.size();
+  std::copy(in.begin(), in.begin() + n, b.mean_a.begin());
+  std::copy(in.begin() + n, in.begin() + 2 * n, b.mean_b.begin());
+  std::copy(in.begin() + 2 * n, in.begin() + 3 * n, b.var_a.begin());
+  std::copy(in.begin() + 3 * n, in.begin() + 4 * n, b.cov_ab.begin());
+  std::copy(in.begin() + 4 * n, in.begin() + 5 * n, b.var_b.begin());
+}
+
+// Renders the robot for each particle and scores it against the observed image.
+class RenderEvaluator final : public PerParticleEvaluator {
+ public:
+  RenderEvaluator(const RobotModel& model, int num_workers)
+      : model_(model), workspaces_(num_workers) {
+    for (auto& w : workspaces_) {
+      w.q = Eigen::VectorXd::Zero(model.num_joints());
+      w.kinematics = KinematicsState(model);
+    }
+  }
+
+  // Sets the camera at the likelihood's resolution (renderers are rebuilt
+  // only when it changes) and the likelihood of the current image.
+  void prepare(const CameraIntrinsics& camera, const DepthLikelihood& likelihood) {
+    likelihood_ = &likelihood;
+    if (camera == camera_ && workspaces_[0].renderer) return;
+    camera_ = camera;
+    for (auto& w : workspaces_) {
+      w.renderer = std::make_unique<DepthRenderer>(model_, camera);
+      w.image = DepthImage(camera.width, camera.height);
+    }
+  }
+
+  double log_likelihood(const ParticleBatch& batch, int particle, int worker) override {
+    Workspace& w = workspaces_[worker];
+    const auto x = batch.particle(particle);
+    for (int j = 0; j < batch.dimension; ++j) w.q[j] = x[j];
+    forward_kinematics(model_, w.q, w.kinematics);
+    const PixelRect rect = w.renderer->render(w.kinematics, w.image);
+    if (rect.empty()) return 0;
+    return likelihood_->log_ratio(
+        w.image.depth_m.data() + size_t(rect.v0) * w.image.width + rect.u0, w.image.width, rect);
+  }
+
+ private:
+  struct Workspace {
+    Eigen::VectorXd q;
+    KinematicsState kinematics;
+    std::unique_ptr<DepthRenderer> renderer;
+    DepthImage image;
+  };
+  const RobotModel& model_;
+  std::vector<Workspace> workspaces_;
+  CameraIntrinsics camera_;
+  const DepthLikelihood* likelihood_ = nullptr;
+};
+
+struct PendingImage {
+  double apply_time_s;  // stamp minus the camera delay
+  DepthImage image;
+  CameraIntrinsics camera;
+};
+
+}  // namespace
+
+struct Tracker::Impl {
+  Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
+       const std::vector<std::string>& encoder_joints);
+  ~Impl();
+
+  // All members below `mutex` are guarded by it, except the image-update
+  // machinery, which only the thread doing the update touches.
+  std::shared_ptr<const RobotModel> model;
+  TrackerConfig config;
+  int n = 0;                     // DOFs: physical then virtual (the model's order = the bank's)
+  int n_phys = 0;                // physical joints
+  std::vector<int> encoder_dof;  // reading index -> DOF
+  std::vector<int> ee_links;
+  bool use_encoders = true, use_images = true;
+  std::unique_ptr<JointFilterModel> filter_model;
+
+  mutable std::mutex mutex;
+  std::condition_variable wake, idle;
+  bool initialized = false;
+  double time_s = kNoTime;
+  JointBelief belief;
+  std::vector<double> readings_bank;  // newest readings, DOF order (physical)
+  std::unique_ptr<BeliefBuffer> buffer;
+  double image_time_s = kNoTime;      // time of the newest applied image
+  std::vector<double> image_state;    // belief right after it
+  std::vector<double> state_scratch;  // the belief flattened for the buffer
+  double last_stamp_s = kNoTime;
+  std::deque<PendingImage> pending;
+  bool updating = false;  // an asynchronous image update is running
+  bool stop = false;
+  TrackerStats stats;
+  mutable KinematicsState estimate_kinematics;
+  mutable Eigen::VectorXd estimate_q;
+
+  // Image update machinery (one update at a time).
+  std::unique_ptr<WorkerPool> pool;
+  std::unique_ptr<CoordinateParticleFilter> cpf;
+  std::unique_ptr<RenderEvaluator> evaluator;
+  DepthLikelihood likelihood;
+  std::mt19937_64 rng;
+  std::vector<double> prior_std;
+  std::thread worker;
+
+  bool applicable(const PendingImage& p) const {
+    return !use_encoders || (initialized && p.apply_time_s <= time_s);
+  }
+  void apply_pending_locked(std::unique_lock<std::mutex>& lock);
+  void apply_image(PendingImage image, std::unique_lock<std::mutex>& lock);
+  void worker_loop();
+};
+
+Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
+                    const std::vector<std::string>& encoder_joints)
+    : model(std::move(m)), config(c), likelihood(c.depth_model), rng(c.seed) {
+  config.validate(config.source);
+  n = model->num_joints();
+  for (int j = 0; j < n; ++j)
+    if (!model->is_virtual_joint(j)) ++n_phys;
+  if (n - n_phys != 6)
+    throw InputError(model->source() + ": the tracker needs the six virtual camera joints");
+  use_encoders = config.method != TrackingMethod::kVisionOnly;
+  use_images = config.method != TrackingMethod::kEncodersOnly;
+
+  // Encoder order -> DOFs: every physical joint exactly once.
+  if (use_encoders) {
+    std::vector<int> seen(n_phys, 0);
+    for (const std::string& name : encoder_joints) {
+      const int dof = model->joint_index(name);
+      if (model->is_virtual_joint(dof))
+        throw InputError("encoder joint '" + name + "' is a virtual camera joint");
+      if (seen[dof]++) throw InputError("encoder joint '" + name + "' is listed twice");
+      encoder_dof.push_back(dof);
+    }
+    for (int j = 0; j < n_phys; ++j)
+      if (!seen[j])
+        throw InputError("no encoder reading for joint '" + model->joint_name(j) +
+                         "' (every physical joint needs one, except for vision_only)");
+  }
+  for (const std::string& ee : config.end_effectors) ee_links.push_back(model->link_index(ee));
+
+  // Joint filter bank in DOF order.
+  std::vector<std::string> phys_names(model->joint_names().begin(),
+                                      model->joint_names().begin() + n_phys);
+  std::vector<std::string> virtual_names(model->joint_names().begin() + n_phys,
+                                         model->joint_names().end());
+  JointFilterParams defaults = config.joint_defaults;
+  if (config.method == TrackingMethod::kCameraOffsetOnly) defaults.estimate_bias = false;
+  if (config.method == TrackingMethod::kVisionOnly) {
+    defaults.estimate_bias = false;
+    defaults.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
+  }
+  auto overrides = config.joint_overrides;
+  for (auto& [name, p] : overrides) {
+    if (config.method != TrackingMethod::kFullFusion) p.estimate_bias = false;
+    if (config.method == TrackingMethod::kVisionOnly)
+      p.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
+  }
+  auto phys_params = per_joint_params(phys_names, defaults, overrides, config.source);
+  std::vector<VirtualJointParams> virtual_params;
+  for (int k = 0; k < 6; ++k)
+    virtual_params.push_back(k < 3 ? config.camera_translation : config.camera_rotation);
+  filter_model =
+      std::make_unique<JointFilterModel>(phys_names, phys_params, virtual_names, virtual_params);
+
+  belief = initial_joint_belief(*filter_model, std::vector<double>(n_phys, 0.0));
+  readings_bank.assign(n_phys, 0.0);
+  buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, config.buffer_capacity);
+  image_state.assign(5 * n, 0.0);
+  state_scratch.assign(5 * n, 0.0);
+  estimate_kinematics = KinematicsState(*model);
+  estimate_q = Eigen::VectorXd::Zero(n);
+  if (!use_encoders) {
+    // Vision only starts from a given configuration (set_initial_configuration).
+    for (int j = 0; j < n_phys; ++j) {
+      belief.mean_a[j] = std::clamp(0.0, model->joint_lower(j), model->joint_upper(j));
+      belief.var_a[j] = config.vision_only_initial_std_rad * config.vision_only_initial_std_rad;
+      belief.mean_b[j] = belief.cov_ab[j] = belief.var_b[j] = 0;
+    }
+    initialized = true;
+  }
+
+  if (use_images) {
+    // Sampling blocks: configured by joint name, or one per physical joint
+    // from the hand to the root of each chain (reverse depth-first order),
+    // then one per virtual camera joint.
+    std::vector<SamplingBlock> blocks;
+    if (!config.blocks.empty()) {
+      for (const auto& b : config.blocks) {
+        SamplingBlock block{b.name, {}};
+        for (const std::string& joint : b.joints) {
+          try {
+            block.coordinates.push_back(model->joint_index(joint));
+          } catch (const InputError& e) {
+            throw InputError(config.source + ": block '" + b.name + "': " + e.what());
+          }
+        }
+        blocks.push_back(std::move(block));
+      }
+    } else {
+      // One block per joint, virtual ones included. A single six-dimensional
+      // camera block settles in local optima (a roll and pitch that mimic a
+      // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
+      // which coordinate-wise sampling avoids.
+      for (int j = n_phys - 1; j >= 0; --j) blocks.push_back({model->joint_name(j), {j}});
+      for (int j = n_phys; j < n; ++j) blocks.push_back({model->joint_name(j), {j}});
+    }
+    if (config.method == TrackingMethod::kCameraOffsetOnly) {
+      // Encoders are trusted: only the virtual joints are sampled.
+      for (auto& b : blocks)
+        std::erase_if(b.coordinates, [&](int j) { return !model->is_virtual_joint(j); });
+      std::erase_if(blocks, [](const SamplingBlock& b) { return b.coordinates.empty(); });
+    }
+    pool = std::make_unique<WorkerPool>(config.threads);
+    cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), config.particle_filter);
+    evaluator = std::make_unique<RenderEvaluator>(*model, pool->num_workers());
+    prior_std.assign(n, 0.0);
+    if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
+  }
+}
+
+Tracker::Impl::~Impl() {
+  if (worker.joinable()) {
+    {
+      std::lock_guard lock(mutex);
+      stop = true;
+    }
+    wake.notify_all();
+    worker.join();
+  }
+}
+
+// Synchronous mode: applies every image that has become applicable, in order.
+void Tracker::Impl::apply_pending_locked(std::unique_lock<std::mutex>& lock) {
+  if (config.asynchronous) {
+    if (!pending.empty() && applicable(pending.front())) wake.notify_all();
+    return;
+  }
+  while (!pending.empty() && applicable(pending.front())) {
+    PendingImage next = std::move(pending.front());
+    pending.pop_front();
+    apply_image(std::move(next), lock);
+  }
+}
+
+void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>& lock) {
+  const auto start = Clock::now();
+  const double t = image.apply_time_s;
+  // The prior at the image's time: the newest belief at or before it,
+  // predicted forward. An image applied at or after the buffered entry
+  // supersedes the entry's belief.
+  JointBelief prior = belief;
+  double base_time;
+  if (use_encoders) {
+    const int i = buffer->last_at_or_before(t);
+    if (i < 0) {
+      ++stats.images_dropped_too_old;
+      return;
+    }
+    if (image_time_s >= buffer->time(i)) {
+      load_belief(image_state, prior);
+      base_time = image_time_s;
+    } else {
+      load_belief(buffer->state(i), prior);
+      base_time = buffer->time(i);
+    }
+  } else {
+    base_time = time_s == kNoTime ? t : time_s;
+  }
+  predict_joints(*filter_model, t - base_time, prior);
+
+  // The particle filter runs without the lock in asynchronous mode, so joint
+  // readings keep coming in.
+  for (int j = 0; j < n; ++j) prior_std[j] = std::sqrt(std::max(0.0, prior.var_a[j]));
+  if (config.asynchronous) lock.unlock();
+  likelihood.set_observation(image.image);
+  evaluator->prepare(image.camera.scaled_to(likelihood.width(), likelihood.height()), likelihood);
+  cpf->run(prior.mean_a, prior_std, *evaluator, rng, *pool);
+  fold_angle_posteriors(cpf->mean(), cpf->variance(), prior);
+  if (config.asynchronous) lock.lock();
+
+  // Re-filter the joint readings after the image (paper Sec. IV-C).
+  const auto refilter_start = Clock::now();
+  image_time_s = t;
+  save_belief(prior, image_state);
+  if (use_encoders) {
+    const int i = buffer->last_at_or_before(t);
+    if (i < 0) {  // the buffer moved past the image while it was being applied
+      ++stats.images_dropped_too_old;
+      return;
+    }
+    double previous = t;
+    for (int k = i + 1; k < buffer->size(); ++k) {
+      filter_joints(*filter_model, buffer->time(k) - previous, buffer->measurement(k), prior);
+      save_belief(prior, buffer->mutable_state(k));
+      previous = buffer->time(k);
+    }
+    // Bring the belief to the newest reading's time (it equals t when no
+    // reading came after the image).
+    if (previous < time_s) predict_joints(*filter_model, time_s - previous, prior);
+  } else {
+    time_s = t;
+  }
+  belief = prior;
+  ++stats.images_applied;
+  stats.last_evaluations_per_image = cpf->num_evaluations();
+  stats.likelihood_evaluations += cpf->num_evaluations();
+  stats.refilter_ms.push_back(ms_since(refilter_start));
+  stats.image_update_ms.push_back(ms_since(start));
+}
+
+void Tracker::Impl::worker_loop() {
+  std::unique_lock lock(mutex);
+  while (true) {
+    wake.wait(lock, [&] { return stop || (!pending.empty() && applicable(pending.front())); });
+    if (stop) return;
+    // Only the newest applicable image is worth the work; older ones that
+    // piled up while an update ran are dropped.
+    while (pending.size() > 1 && applicable(pending[1])) {
+      pending.pop_front();
+      ++stats.images_dropped_busy;
+    }
+    PendingImage next = std::move(pending.front());
+    pending.pop_front();
+    updating = true;
+    apply_image(std::move(next), lock);
+    updating = false;
+    idle.notify_all();
+  }
+}
+
+Tracker::Tracker(std::shared_ptr<const RobotModel> model, const TrackerConfig& config,
+                 const std::vector<std::string>& encoder_joints)
+    : impl_(std::make_unique<Impl>(std::move(model), config, encoder_joints)) {}
+
+Tracker::~Tracker() = default;
+
+const RobotModel& Tracker::model() const { return *impl_->model; }
+const TrackerConfig& Tracker::config() const { return impl_->config; }
+
+void Tracker::set_initial_configuration(const std::vector<std::string>& joints,
+                                        std::span<const double> angles_rad) {
+  Impl& s = *impl_;
+  if (joints.size() != angles_rad.size())
+    throw InputError("initial configuration: " + std::to_string(joints.size()) + " names but " +
+                     std::to_string(angles_rad.size()) + " angles");
+  std::lock_guard lock(s.mutex);
+  for (size_t k = 0; k < joints.size(); ++k) {
+    const int dof = s.model->joint_index(joints[k]);
+    if (!std::isfinite(angles_rad[k]))
+      throw InputError("initial configuration: joint '" + joints[k] + "' is not finite");
+    if (!s.use_encoders) s.belief.mean_a[dof] = angles_rad[k];
+  }
+}
+
+void Tracker::add_joint_measurement(double time_s, std::span<const double> angles_rad) {
+  Impl& s = *impl_;
+  std::unique_lock lock(s.mutex);
+  if (!s.use_encoders) return;  // vision only ignores the encoders
+  if (int(angles_rad.size()) != int(s.encoder_dof.size()))
+    throw InputError("joint measurement at " + std::to_string(time_s) + " s has " +
+                     std::to_string(angles_rad.size()) + " values, expected " +
+                     std::to_string(s.encoder_dof.size()));
+  if (!std::isfinite(time_s)) throw InputError("joint measurement time stamp is not finite");
+  if (s.initialized && time_s < s.time_s) {
+    std::ostringstream os;
+    os.precision(9);
+    os << "joint measurement time stamp goes backwards: " << time_s << " s after " << s.time_s
+       << " s";
+    throw InputError(os.str());
+  }
+  for (size_t k = 0; k < angles_rad.size(); ++k) {
+    if (!std::isfinite(angles_rad[k]))
+      throw InputError("joint measurement at " + std::to_string(time_s) + " s: joint '" +
+                       s.model->joint_name(s.encoder_dof[k]) + "' is not finite");
+    s.readings_bank[s.encoder_dof[k]] = angles_rad[k];
+  }
+  if (!s.initialized) {
+    s.belief = initial_joint_belief(*s.filter_model, s.readings_bank);
+    s.initialized = true;
+  } else {
+    filter_joints(*s.filter_model, time_s - s.time_s, s.readings_bank, s.belief);
+  }
+  s.time_s = time_s;
+  save_belief(s.belief, s.state_scratch);
+  s.buffer->push(time_s, s.readings_bank, s.state_scratch);
+  ++s.stats.joint_measurements;
+  s.apply_pending_locked(lock);
+}
+
+void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
+                              const CameraIntrinsics& camera) {
+  Impl& s = *impl_;
+  std::ostringstream where;
+  where.precision(9);
+  where << "depth image stamped " << stamp_s << " s";
+  if (!std::isfinite(stamp_s)) throw InputError("depth image time stamp is not finite");
+  if (image.width != camera.width || image.height != camera.height ||
+      image.depth_m.size() != size_t(image.width) * image.height || image.width <= 0)
+    throw InputError(where.str() + ": image is " + std::to_string(image.width) + "x" +
+                     std::to_string(image.height) + " but the intrinsics say " +
+                     std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  if (!(camera.fx > 0 && camera.fy > 0))
+    throw InputError(where.str() + ": focal lengths must be positive");
+  for (int v = 0; v < image.height; ++v)
+    for (int u = 0; u < image.width; ++u) {
+      const float z = image.at(u, v);
+      if (!(z >= 0) || !std::isfinite(z)) {
+        std::ostringstream os;
+        os << where.str() << ": pixel (" << u << ", " << v << ") has depth " << z
+           << " (expected metres >= 0, 0 for no return)";
+        throw InputError(os.str());
+      }
+    }
+
+  std::unique_lock lock(s.mutex);
+  if (stamp_s < s.last_stamp_s) {
+    std::ostringstream os;
+    os.precision(9);
+    os << where.str() << " comes after one stamped " << s.last_stamp_s
+       << " s: image time stamps go backwards";
+    throw InputError(os.str());
+  }
+  s.last_stamp_s = stamp_s;
+  ++s.stats.images_received;
+  if (!s.use_images) return;
+  s.pending.push_back({stamp_s - s.config.camera_delay_s, image, camera});
+  while (int(s.pending.size()) > s.config.max_pending_images) {
+    s.pending.pop_front();
+    ++s.stats.images_dropped_backlog;
+  }
+  s.apply_pending_locked(lock);
+}
+
+void Tracker::wait_until_idle() {
+  Impl& s = *impl_;
+  if (!s.config.asynchronous || !s.worker.joinable()) return;
+  std::unique_lock lock(s.mutex);
+  s.idle.wait(
+      lock, [&] { return !s.updating && (s.pending.empty() || !s.applicable(s.pending.front())); });
+}
+
+TrackerEstimate Tracker::estimate() const {
+  const Impl& s = *impl_;
+  std::lock_guard lock(s.mutex);
+  if (!s.initialized) throw InputError("tracker estimate asked for before any joint measurement");
+  TrackerEstimate e;
+  e.time_s = s.time_s;
+  e.joint_names.assign(s.model->joint_names().begin(), s.model->joint_names().begin() + s.n_phys);
+  e.angle_rad.resize(s.n_phys);
+  e.angle_std_rad.resize(s.n_phys);
+  e.bias_rad.resize(s.n_phys);
+  e.bias_std_rad.resize(s.n_phys);
+  const bool raw = s.config.method == TrackingMethod::kEncodersOnly;
+  for (int j = 0; j < s.n_phys; ++j) {
+    e.angle_rad[j] = raw ? s.readings_bank[j] : s.belief.mean_a[j];
+    e.angle_std_rad[j] =
+        raw ? std::sqrt(s.filter_model->encoder_var_rad2()[j]) : std::sqrt(s.belief.var_a[j]);
+    e.bias_rad[j] = raw ? 0.0 : s.belief.mean_b[j];
+    e.bias_std_rad[j] = raw ? 0.0 : std::sqrt(std::max(0.0, s.belief.var_b[j]));
+  }
+  for (int k = 0; k < 6; ++k) {
+    const int j = s.n_phys + k;
+    e.camera_offset[k] = raw ? 0.0 : s.belief.mean_a[j];
+    e.camera_offset_std[k] = raw ? 0.0 : std::sqrt(s.belief.var_a[j]);
+  }
+  for (int j = 0; j < s.n_phys; ++j) s.estimate_q[j] = e.angle_rad[j];
+  for (int k = 0; k < 6; ++k) s.estimate_q[s.n_phys + k] = e.camera_offset[k];
+  forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
+  for (int link : s.ee_links)
+    e.T_camera_ee.push_back(T_camera_link(*s.model, s.estimate_kinematics, link));
+  return e;
+}
+
+TrackerStats Tracker::stats() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->stats;
+}
+
+}  // namespace arttrack

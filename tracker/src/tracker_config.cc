@@ -1,0 +1,156 @@
+#include "arttrack/tracker/tracker_config.h"
+
+#include <cmath>
+#include <limits>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Joint filter keys; `base` supplies the values of keys not given.
+JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base) {
+  JointFilterParams p = base;
+  p.encoder_noise_rad =
+      node.number("encoder_noise_deg", base.encoder_noise_rad / kDeg, 0, 90) * kDeg;
+  p.angle_diffusion_rad_per_sqrt_s =
+      node.number("angle_diffusion_deg_per_sqrt_s", base.angle_diffusion_rad_per_sqrt_s / kDeg, 0,
+                  1e5) *
+      kDeg;
+  p.bias_diffusion_rad_per_sqrt_s = node.number("bias_diffusion_deg_per_sqrt_s",
+                                                base.bias_diffusion_rad_per_sqrt_s / kDeg, 0, 1e5) *
+                                    kDeg;
+  p.bias_decay_per_s = node.number("bias_decay_per_s", base.bias_decay_per_s, 1e-12, 1 - 1e-12);
+  p.estimate_bias = node.get<bool>("estimate_bias", base.estimate_bias);
+  return p;
+}
+
+}  // namespace
+
+const char* method_name(TrackingMethod method) {
+  switch (method) {
+    case TrackingMethod::kEncodersOnly:
+      return "encoders_only";
+    case TrackingMethod::kCameraOffsetOnly:
+      return "camera_offset_only";
+    case TrackingMethod::kFullFusion:
+      return "full_fusion";
+    case TrackingMethod::kVisionOnly:
+      return "vision_only";
+  }
+  return "?";
+}
+
+const std::vector<std::string>& all_method_names() {
+  static const std::vector<std::string> names = {"encoders_only", "camera_offset_only",
+                                                 "full_fusion", "vision_only"};
+  return names;
+}
+
+TrackingMethod parse_method(const std::string& name, const std::string& context) {
+  for (TrackingMethod m : {TrackingMethod::kEncodersOnly, TrackingMethod::kCameraOffsetOnly,
+                           TrackingMethod::kFullFusion, TrackingMethod::kVisionOnly}) {
+    if (name == method_name(m)) return m;
+  }
+  throw InputError(context + ": unknown method '" + name +
+                   "' (expected encoders_only, camera_offset_only, full_fusion or vision_only)");
+}
+
+void TrackerConfig::validate(const std::string& context) const {
+  auto fail = [&](const std::string& what) { throw InputError(context + ": " + what); };
+  if (camera_frame.empty()) fail("camera_frame is empty");
+  if (end_effectors.empty()) fail("end_effectors is empty: name at least one link");
+  depth_model.validate(context);
+  if (particle_filter.num_particles < 1) fail("particle_filter.particles must be at least 1");
+  if (!(particle_filter.max_kl_divergence >= 0)) fail("particle_filter.max_kl_divergence < 0");
+  if (!(particle_filter.proposal_scale > 0)) fail("particle_filter.proposal_scale must be > 0");
+  if (!(camera_delay_s >= 0) || !std::isfinite(camera_delay_s))
+    fail("timing.camera_delay_s must be a finite number >= 0");
+  if (buffer_capacity < 2) fail("timing.buffer_capacity must be at least 2");
+  if (max_pending_images < 1) fail("timing.max_pending_images must be at least 1");
+  if (!(vision_only_angle_diffusion_rad_per_sqrt_s >= 0))
+    fail("vision_only.angle_diffusion_deg_per_sqrt_s < 0");
+  for (const auto& b : blocks) {
+    if (b.name.empty()) fail("particle_filter.blocks: a block has no name");
+    if (b.joints.empty()) fail("particle_filter.blocks: block '" + b.name + "' has no joints");
+  }
+}
+
+TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
+  TrackerConfig c;
+  c.source = doc.file;
+  const ConfigNode root = ConfigNode::root(doc);
+  c.method = parse_method(root.choice("method", "full_fusion", all_method_names()), doc.file);
+  c.camera_frame = root.get<std::string>("camera_frame", c.camera_frame);
+  c.end_effectors = root.get<std::vector<std::string>>("end_effectors", c.end_effectors);
+
+  const ConfigNode joints = root.child("joints");
+  c.joint_defaults = read_joint_params(joints.child("defaults"), c.joint_defaults);
+  const ConfigNode per_joint = joints.child("per_joint");
+  for (const std::string& name : per_joint.keys())
+    c.joint_overrides[name] = read_joint_params(per_joint.child(name), c.joint_defaults);
+
+  const ConfigNode cam = root.child("camera_offset");
+  c.camera_translation.diffusion_per_sqrt_s = cam.number(
+      "translation_diffusion_m_per_sqrt_s", c.camera_translation.diffusion_per_sqrt_s, 0, 10);
+  c.camera_translation.initial_std =
+      cam.number("translation_initial_std_m", c.camera_translation.initial_std, 0, 10);
+  c.camera_rotation.diffusion_per_sqrt_s =
+      cam.number("rotation_diffusion_deg_per_sqrt_s", c.camera_rotation.diffusion_per_sqrt_s / kDeg,
+                 0, 1e4) *
+      kDeg;
+  c.camera_rotation.initial_std =
+      cam.number("rotation_initial_std_deg", c.camera_rotation.initial_std / kDeg, 0, 180) * kDeg;
+
+  const ConfigNode vision = root.child("vision_only");
+  c.vision_only_angle_diffusion_rad_per_sqrt_s =
+      vision.number("angle_diffusion_deg_per_sqrt_s",
+                    c.vision_only_angle_diffusion_rad_per_sqrt_s / kDeg, 0, 1e5) *
+      kDeg;
+  c.vision_only_initial_std_rad =
+      vision.number("initial_std_deg", c.vision_only_initial_std_rad / kDeg, 0, 180) * kDeg;
+
+  const ConfigNode dm = root.child("depth_model");
+  DepthModelParams& d = c.depth_model;
+  d.outlier_weight = dm.number("outlier_weight", d.outlier_weight, 1e-9, 1);
+  d.noise_std_m = dm.number("noise_std_m", d.noise_std_m, 1e-6, 1);
+  d.noise_quadratic_per_m = dm.number("noise_quadratic_per_m", d.noise_quadratic_per_m, 0, 1);
+  d.max_range_m = dm.number("max_range_m", d.max_range_m, 0.1, 100);
+  d.occluder_decay_per_m = dm.number("occluder_decay_per_m", d.occluder_decay_per_m, 1e-6, 100);
+  d.occlusion_prior = dm.number("occlusion_prior", d.occlusion_prior, 0, 1);
+  d.width = int(dm.number("width", d.width, 4, 4096));
+  d.height = int(dm.number("height", d.height, 3, 4096));
+
+  const ConfigNode pf = root.child("particle_filter");
+  c.particle_filter.num_particles =
+      int(pf.number("particles", c.particle_filter.num_particles, 1, 1e6));
+  c.particle_filter.max_kl_divergence =
+      pf.number("max_kl_divergence", c.particle_filter.max_kl_divergence, 0, kInf);
+  c.particle_filter.proposal_scale =
+      pf.number("proposal_scale", c.particle_filter.proposal_scale, 1e-6, 1e6);
+  c.seed = pf.get<unsigned long long>("seed", c.seed);
+  c.threads = int(pf.number("threads", c.threads, 0, 1024));
+  for (const ConfigNode& b : pf.list("blocks")) {
+    c.blocks.push_back(
+        {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
+  }
+
+  const ConfigNode timing = root.child("timing");
+  c.camera_delay_s = timing.number("camera_delay_s", c.camera_delay_s, 0, 10);
+  c.buffer_capacity = int(timing.number("buffer_capacity", c.buffer_capacity, 2, 1e7));
+  c.max_pending_images = int(timing.number("max_pending_images", c.max_pending_images, 1, 1000));
+  c.asynchronous = timing.get<bool>("asynchronous", c.asynchronous);
+
+  root.finish();
+  c.validate(doc.file);
+  return c;
+}
+
+TrackerConfig load_tracker_config(const std::string& path) {
+  return tracker_config_from_yaml(load_yaml_file(path));
+}
+
+}  // namespace arttrack
