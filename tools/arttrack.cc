@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   CLI::App app{"arttrack: probabilistic articulated robot tracking and its MuJoCo testbed"};
   app.require_subcommand(1);
   arttrack::cli::register_render(app);
+  arttrack::cli::register_run(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

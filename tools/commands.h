@@ -7,5 +7,6 @@
 namespace arttrack::cli {
 
 void register_render(CLI::App& app);
+void register_run(CLI::App& app);
 
 }  // namespace arttrack::cli

@@ -15,7 +15,7 @@ jobs=${JOBS:-$(nproc)}
 packages=(cmake g++ ninja-build pkg-config
   libmujoco-dev libqhull-dev libeigen3-dev liburdfdom-dev libassimp-dev
   libosmesa6-dev libegl-dev libyaml-cpp-dev libpng-dev libcli11-dev
-  libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev)
+  libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev nlohmann-json3-dev)
 
 missing=()
 for p in "${packages[@]}"; do

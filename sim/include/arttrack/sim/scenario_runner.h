@@ -1,0 +1,158 @@
+// Runs a scenario: simulates the robot, corrupts its sensors, feeds every
+// tracking method the same corrupted data in lockstep and scores each against
+// the ground truth.
+//
+// Per run k (seed run_seed(scenario seed, k)): one simulator with the
+// PERTURBED URDF (miscalibration, model mismatch), one Tracker per method
+// built on the NOMINAL URDF, in synchronous mode. Trackers never see ground
+// truth: they get corrupted encoder readings at the joint rate and corrupted
+// depth images, stamped with their capture time, at their arrival time
+// (latency, jitter, drops). Only vision_only gets the true initial
+// configuration (its starting point is "given", as in the paper).
+//
+// Scoring (scoring.h, paper Sec. V): at every camera capture time (and every
+// N joint steps if the scenario says so), each scored end effector's pose in
+// the method's estimated camera frame against its true pose in the true
+// camera frame; per joint, estimated minus true angle and bias (true bias:
+// EncoderCorruption::bias_rad()).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "arttrack/sim/scenario.h"
+#include "arttrack/sim/scoring.h"
+#include "arttrack/tracker/camera.h"
+#include "arttrack/tracker/tracker.h"
+
+namespace arttrack::sim {
+
+// Where a run is, for progress reports.
+struct RunProgress {
+  int run = 0;   // 0-based
+  int runs = 1;  // total
+  double time_s = 0;
+  double duration_s = 0;
+};
+
+struct RunOptions {
+  // Number of runs (0: the scenario's `runs`).
+  int runs = 0;
+  // Seed of run 0 (-1: the scenario's `seed`).
+  long long seed = -1;
+  // Methods to run (empty: the scenario's `methods`).
+  std::vector<std::string> methods;
+  // Called about every simulated second (may be empty).
+  std::function<void(const RunProgress&)> progress;
+  // Depth frames kept for reports, evenly spread over run 0.
+  int frames_to_keep = 4;
+};
+
+// The seed of run k of a scenario with seed `seed` (a SplitMix64 mix, so
+// neighbouring runs get unrelated streams).
+std::uint64_t run_seed(std::uint64_t seed, int run);
+
+// Ground truth at one scored instant.
+struct TruthSample {
+  double time_s = 0;
+  // Scored at a camera capture (else: an every-N-joint-steps sample).
+  bool camera_frame = false;
+  // True angles and encoder biases, rad, ScenarioResult::joint_names order.
+  Eigen::VectorXd angle_rad, bias_rad;
+  // Scored end effectors in the TRUE camera frame (ScenarioResult::end_effectors order).
+  std::vector<Eigen::Isometry3d> T_camera_ee;
+  // Share of the robot's pixels hidden by something else in front of it:
+  // (robot pixels of the robot-alone render where the full scene is nearer)
+  // / (robot pixels of the robot-alone render). NaN where not rendered (not
+  // a delivered camera frame) or where no part of the robot is in view.
+  double occluded_fraction = std::numeric_limits<double>::quiet_NaN();
+};
+
+// One method's estimate at a scored instant.
+struct EstimateSample {
+  Eigen::VectorXd angle_rad, angle_std_rad;  // ScenarioResult::joint_names order
+  Eigen::VectorXd bias_rad, bias_std_rad;
+  // Virtual camera joints: x, y, z (m), roll, pitch, yaw (rad).
+  Eigen::Matrix<double, 6, 1> camera_offset = Eigen::Matrix<double, 6, 1>::Zero();
+  // Scored end effectors in the ESTIMATED camera frame, and their errors.
+  std::vector<Eigen::Isometry3d> T_camera_ee;
+  std::vector<PoseError> ee_error;
+};
+
+// One method in one run.
+struct MethodRun {
+  std::string method;
+  // One per RunResult::truth sample, same order.
+  std::vector<EstimateSample> samples;
+  // Wall time of every add_joint_measurement call, microseconds.
+  std::vector<double> joint_update_us;
+  // The tracker's counters, image update times among them.
+  TrackerStats stats;
+};
+
+// One run.
+struct RunResult {
+  int run = 0;
+  std::uint64_t seed = 0;
+  std::vector<TruthSample> truth;
+  std::vector<MethodRun> methods;  // ScenarioResult::methods order
+  int frames_captured = 0;
+  int frames_delivered = 0;
+};
+
+// A depth frame kept for reports: what the camera delivered and what the
+// estimate of `estimate_method` renders right after the tracker took it.
+struct KeptFrame {
+  int run = 0;
+  double stamp_s = 0;    // capture time
+  double arrival_s = 0;  // when it reached the trackers
+  DepthImage observed;   // the corrupted image, camera resolution
+  std::string estimate_method;
+  DepthImage estimate;  // the nominal robot at the estimate, same camera, 0 = no robot
+};
+
+// Timings of one method, pooled over runs.
+struct MethodTiming {
+  Percentiles joint_update_us;
+  Percentiles image_update_ms;
+  // Likelihood evaluations per applied image (mean; 0 without images).
+  double evaluations_per_image = 0;
+};
+
+// Everything about one method over all runs.
+struct MethodResult {
+  std::string method;
+  // One ErrorTrace per run; one sample per (scored instant, end effector),
+  // with per-joint angle and bias errors.
+  MethodScores scores;
+  MethodSummary summary;
+  MethodTiming timing;
+};
+
+struct ScenarioResult {
+  std::string scenario;  // Scenario::name
+  std::string source;    // the scenario file
+  double duration_s = 0;
+  std::vector<std::uint64_t> seeds;  // per run
+  std::vector<std::string> methods;
+  // Physical joints in the tracker model's order (per-joint vectors).
+  std::vector<std::string> joint_names;
+  std::vector<std::string> end_effectors;  // scored
+  ScoringOptions scoring;
+  std::vector<RunResult> runs;
+  std::vector<MethodResult> method_results;  // methods order
+  std::vector<KeptFrame> frames;
+
+  const MethodResult* method(const std::string& name) const;
+};
+
+// Runs the scenario. Throws InputError for bad options (unknown method,
+// runs < 1) or a scenario the simulator or tracker rejects.
+ScenarioResult run_scenario(const Scenario& scenario, const RunOptions& options = {});
+
+}  // namespace arttrack::sim

@@ -1,0 +1,185 @@
+#include "arttrack/sim/run_outputs.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+
+#include "arttrack/sim/depth_png.h"
+#include "arttrack/tracker/error.h"
+
+namespace arttrack::sim {
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+Json five(const Percentiles& p) {
+  return Json{{"p1", number(p.p01)},
+              {"p25", number(p.p25)},
+              {"p50", number(p.p50)},
+              {"p75", number(p.p75)},
+              {"p99", number(p.p99)}};
+}
+
+// Median over runs of the convergence time, never converging = +inf.
+double median_convergence_s(const MethodSummary& s) {
+  std::vector<double> t;
+  for (const auto& c : s.time_to_converge_s) t.push_back(c ? *c : kInf);
+  std::sort(t.begin(), t.end());
+  if (t.empty()) return kInf;
+  const std::size_t n = t.size();
+  if (n % 2) return t[n / 2];
+  if (!std::isfinite(t[n / 2])) return kInf;
+  return 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
+
+// The method whose timings are reported: full fusion, else the first.
+const MethodResult* timing_method(const ScenarioResult& r) {
+  if (const MethodResult* m = r.method("full_fusion")) return m;
+  return r.method_results.empty() ? nullptr : &r.method_results.front();
+}
+
+std::string csv_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string summary_json(const ScenarioResult& r) {
+  Json j;
+  j["scenario"] = r.scenario;
+  j["runs"] = r.runs.size();
+  j["seeds"] = r.seeds;
+  j["duration_s"] = r.duration_s;
+  Json methods = Json::object();
+  for (const MethodResult& m : r.method_results) {
+    methods[m.method] = Json{
+        {"translation_m", five(m.summary.all.translation_m)},
+        {"rotation_rad", five(m.summary.all.rotation_rad)},
+        {"converged_translation_m", five(m.summary.converged.translation_m)},
+        {"converged_rotation_rad", five(m.summary.converged.rotation_rad)},
+        {"convergence_time_s", number(median_convergence_s(m.summary))},
+    };
+  }
+  j["methods"] = methods;
+  const MethodResult* t = timing_method(r);
+  const MethodTiming timing = t ? t->timing : MethodTiming{};
+  j["timing"] = Json{
+      {"joint_update_us",
+       {{"p50", number(timing.joint_update_us.p50)}, {"p99", number(timing.joint_update_us.p99)}}},
+      {"image_update_ms",
+       {{"p50", number(timing.image_update_ms.p50)}, {"p99", number(timing.image_update_ms.p99)}}},
+      {"evaluations_per_image", number(timing.evaluations_per_image)},
+  };
+  return j.dump(2) + "\n";
+}
+
+void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
+  out << "time_s,run,method,camera_frame,occluded_fraction";
+  for (const std::string& e : r.end_effectors)
+    out << ",translation_m_" << e << ",rotation_rad_" << e;
+  for (const std::string& j : r.joint_names)
+    out << ',' << j << "_true_rad," << j << "_est_rad," << j << "_true_bias_rad," << j
+        << "_est_bias_rad";
+  out << ",cam_x_m,cam_y_m,cam_z_m,cam_roll_rad,cam_pitch_rad,cam_yaw_rad\n";
+  for (const RunResult& run : r.runs) {
+    for (std::size_t i = 0; i < run.truth.size(); ++i) {
+      const TruthSample& truth = run.truth[i];
+      for (const MethodRun& m : run.methods) {
+        const EstimateSample& s = m.samples[i];
+        out << csv_number(truth.time_s) << ',' << run.run << ',' << m.method << ','
+            << (truth.camera_frame ? 1 : 0) << ',' << csv_number(truth.occluded_fraction);
+        for (const PoseError& e : s.ee_error)
+          out << ',' << csv_number(e.translation_m) << ',' << csv_number(e.rotation_rad);
+        for (Eigen::Index j = 0; j < truth.angle_rad.size(); ++j)
+          out << ',' << csv_number(truth.angle_rad[j]) << ',' << csv_number(s.angle_rad[j]) << ','
+              << csv_number(truth.bias_rad[j]) << ',' << csv_number(s.bias_rad[j]);
+        for (int k = 0; k < 6; ++k) out << ',' << csv_number(s.camera_offset[k]);
+        out << '\n';
+      }
+    }
+  }
+}
+
+void print_summary_table(std::ostream& out, const ScenarioResult& r) {
+  const double mm = 1e3, deg = 180.0 / M_PI;
+  auto cell = [&](double v, double scale, int width, int precision) {
+    if (!std::isfinite(v)) {
+      out << std::setw(width) << "-";
+      return;
+    }
+    out << std::setw(width) << std::fixed << std::setprecision(precision) << v * scale;
+  };
+  out << "scenario " << r.scenario << ": " << r.runs.size() << " run(s) of " << r.duration_s
+      << " s, end effectors";
+  for (const std::string& e : r.end_effectors) out << ' ' << e;
+  out << "\n"
+      << std::left << std::setw(20) << "method" << std::right
+      << "  translation mm: p1    p25    p50    p75    p99"
+      << "  | rotation deg: p1   p25   p50   p75   p99"
+      << "  | conv. p50 mm  conv. s\n";
+  for (const MethodResult& m : r.method_results) {
+    out << std::left << std::setw(20) << m.method << std::right << std::setw(15) << "";
+    const Percentiles& t = m.summary.all.translation_m;
+    for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99}) cell(v, mm, 7, 1);
+    out << "  |" << std::setw(13) << "";
+    const Percentiles& a = m.summary.all.rotation_rad;
+    for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99}) cell(v, deg, 6, 2);
+    out << "  |";
+    cell(m.summary.converged.translation_m.p50, mm, 13, 1);
+    cell(median_convergence_s(m.summary), 1.0, 9, 1);
+    out << "\n";
+  }
+  out << "timing (per method): joint update p50/p99 us, image update p50/p99 ms, "
+         "likelihood evaluations per image\n";
+  for (const MethodResult& m : r.method_results) {
+    out << "  " << std::left << std::setw(20) << m.method << std::right;
+    cell(m.timing.joint_update_us.p50, 1.0, 8, 2);
+    cell(m.timing.joint_update_us.p99, 1.0, 8, 2);
+    out << " us ";
+    cell(m.timing.image_update_ms.p50, 1.0, 8, 2);
+    cell(m.timing.image_update_ms.p99, 1.0, 8, 2);
+    out << " ms ";
+    cell(m.timing.evaluations_per_image, 1.0, 7, 0);
+    out << "\n";
+  }
+  out.unsetf(std::ios::floatfield);
+}
+
+void write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
+  std::error_code ec;
+  fs::create_directories(dir / "frames", ec);
+  if (!fs::is_directory(dir / "frames"))
+    throw InputError(dir.string() + ": cannot create the output folder");
+  {
+    std::ofstream json(dir / "summary.json");
+    json << summary_json(r);
+    if (!json) throw InputError((dir / "summary.json").string() + ": cannot write");
+  }
+  {
+    std::ofstream csv(dir / "timeseries.csv");
+    write_timeseries_csv(csv, r);
+    if (!csv) throw InputError((dir / "timeseries.csv").string() + ": cannot write");
+  }
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const std::string stem = "frame_" + std::to_string(i);
+    write_depth_png_mm(dir / "frames" / (stem + "_observed.png"), r.frames[i].observed);
+    if (!r.frames[i].estimate.empty())
+      write_depth_png_mm(dir / "frames" / (stem + "_estimate.png"), r.frames[i].estimate);
+  }
+}
+
+}  // namespace arttrack::sim

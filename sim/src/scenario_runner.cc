@@ -1,0 +1,420 @@
+#include "arttrack/sim/scenario_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <random>
+
+#include "arttrack/sim/depth_camera.h"
+#include "arttrack/sim/sim_model.h"
+#include "arttrack/sim/simulator.h"
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/error.h"
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
+
+namespace arttrack::sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Independent streams of one run: encoders, depth noise, frame timing, ...
+enum Stream : std::uint64_t { kMotion = 1, kEncoders, kDepth, kFrames, kTracker };
+std::uint64_t stream_seed(std::uint64_t run_seed, Stream s) { return splitmix64(run_seed + s); }
+
+// Depth agreement below which a robot pixel of the full scene is the robot.
+constexpr float kSameSurface_m = 2e-3f;
+
+// (robot pixels hidden by something nearer) / (robot pixels); NaN if none.
+double occluded_fraction(const DepthImage& robot, const DepthImage& scene) {
+  std::size_t visible = 0, hidden = 0;
+  for (std::size_t i = 0; i < robot.depth_m.size(); ++i) {
+    const float r = robot.depth_m[i];
+    if (r <= 0) continue;
+    ++visible;
+    const float z = scene.depth_m[i];
+    if (z > 0 && z < r - kSameSurface_m) ++hidden;
+  }
+  return visible ? double(hidden) / double(visible) : std::numeric_limits<double>::quiet_NaN();
+}
+
+// A captured frame on its way to the trackers.
+struct InFlight {
+  double stamp_s, arrival_s;
+  DepthImage image;
+};
+
+// Everything fixed over the runs of a scenario.
+struct Setup {
+  std::shared_ptr<const SimModel> sim_model;
+  std::shared_ptr<const RobotModel> robot;  // nominal, with virtual camera joints
+  std::vector<std::string> joint_names;     // tracker physical joints
+  std::vector<int> sim_joint;               // per joint_names: SimModel index
+  std::vector<int> sim_ee;                  // per scored end effector: GroundTruth index
+  std::vector<JointLimit> limits;           // per SimModel joint
+  std::vector<double> home;                 // per SimModel joint
+  std::vector<TrackingMethod> methods;
+  int substeps = 1;
+  double joint_period_s = 1e-3;
+};
+
+Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_names) {
+  Setup s;
+  for (const std::string& m : method_names) s.methods.push_back(parse_method(m, "run options"));
+
+  // The tracker's nominal model.
+  RobotModelOptions ro;
+  ro.camera_frame = sc.scene.camera_link;
+  for (const auto& [name, dir] : sc.scene.package_paths) ro.mesh_search_paths.push_back(dir);
+  s.robot = std::make_shared<const RobotModel>(
+      RobotModel::from_urdf_file(sc.scene.urdf_path.string(), ro));
+
+  // The simulator's perturbed model; physics steps divide the joint period.
+  SceneDescription scene = sc.scene;
+  s.joint_period_s = 1.0 / sc.joint_rate_hz;
+  s.substeps = std::max(1, int(std::ceil(s.joint_period_s / scene.timestep_s - 1e-9)));
+  scene.timestep_s = s.joint_period_s / s.substeps;
+  std::optional<PerturbedUrdf> perturbed;
+  if (!sc.perturbation.empty()) {
+    perturbed.emplace(sc.scene.urdf_path, sc.scene.package_paths, sc.perturbation);
+    scene.urdf_path = perturbed->path();
+  }
+  s.sim_model = build_sim_model(scene);
+  const SimModel& m = *s.sim_model;
+
+  for (int j = 0; j < s.robot->num_joints(); ++j) {
+    if (s.robot->is_virtual_joint(j)) continue;
+    const int k = m.joint_index(s.robot->joint_name(j));
+    if (k < 0)
+      throw InputError(sc.source + ": joint '" + s.robot->joint_name(j) +
+                       "' of the nominal robot is not driven in the simulator");
+    s.joint_names.push_back(s.robot->joint_name(j));
+    s.sim_joint.push_back(k);
+  }
+  for (const std::string& ee : sc.scoring.end_effectors) {
+    const auto it = std::find(m.end_effector_names.begin(), m.end_effector_names.end(), ee);
+    if (it == m.end_effector_names.end())
+      throw InputError(sc.source + ": end effector '" + ee + "' is not simulated");
+    s.sim_ee.push_back(int(it - m.end_effector_names.begin()));
+  }
+  for (std::size_t i = 0; i < m.joint_names.size(); ++i) {
+    s.limits.push_back({m.joint_lower[i], m.joint_upper[i]});
+    s.home.push_back(m.initial_joints[i]);
+  }
+  return s;
+}
+
+// The method whose estimate is rendered next to kept frames.
+int render_method(const std::vector<TrackingMethod>& methods) {
+  for (std::size_t i = 0; i < methods.size(); ++i)
+    if (methods[i] == TrackingMethod::kFullFusion) return int(i);
+  for (std::size_t i = 0; i < methods.size(); ++i)
+    if (methods[i] != TrackingMethod::kEncodersOnly) return int(i);
+  return -1;
+}
+
+class Run {
+ public:
+  Run(const Scenario& sc, const Setup& setup, Simulator& sim, DepthCamera& camera, int run,
+      std::uint64_t seed, std::vector<MethodScores>& scores, const RunOptions& options,
+      std::vector<KeptFrame>& frames)
+      : sc_(sc),
+        setup_(setup),
+        sim_(sim),
+        camera_(camera),
+        scores_(scores),
+        options_(options),
+        frames_(frames),
+        encoders_(setup.sim_model->joint_names, sc.encoders, stream_seed(seed, kEncoders)),
+        depth_noise_(sc.depth_corruption, stream_seed(seed, kDepth)) {
+    result_.run = run;
+    result_.seed = seed;
+    std::mt19937_64 rng(stream_seed(seed, kMotion));
+    trajectory_.emplace(
+        make_trajectory(sc, setup.sim_model->joint_names, setup.limits, setup.home, rng));
+    frames_timing_ = camera_frames(sc.camera_timing, sc.duration_s, stream_seed(seed, kFrames));
+    sim_.reset();
+    const SimModel& m = *setup.sim_model;
+    for (const OccluderSchedule& o : sc.occluder_schedules)
+      sim_.set_occluder_pose(o.occluder, o.pose_at(0));
+    for (const LinkLoad& l : sc.loads) load_body_.push_back(m.link_body[m.link_index(l.link)]);
+
+    const GroundTruth g0 = sim_.ground_truth();
+    for (std::size_t i = 0; i < setup.methods.size(); ++i) {
+      TrackerConfig config = sc.tracker;
+      config.source = sc.tracker_file.string();
+      config.method = setup.methods[i];
+      config.seed = stream_seed(seed, kTracker);
+      config.asynchronous = false;
+      trackers_.push_back(std::make_unique<Tracker>(setup.robot, config, m.joint_names));
+      if (setup.methods[i] == TrackingMethod::kVisionOnly) {
+        // Vision only starts from the true configuration ("given").
+        trackers_.back()->set_initial_configuration(
+            m.joint_names, std::span<const double>(g0.q.data(), std::size_t(g0.q.size())));
+      }
+      MethodRun mr;
+      mr.method = method_name(setup.methods[i]);
+      result_.methods.push_back(std::move(mr));
+      scores_[i].begin_run();
+    }
+    estimate_method_ = render_method(setup.methods);
+    if (run == 0 && options.frames_to_keep > 0)
+      for (int i = 0; i < options.frames_to_keep; ++i)
+        keep_times_.push_back(sc.duration_s * (i + 1) / (options.frames_to_keep + 1));
+  }
+
+  RunResult execute() {
+    const SimModel& m = *setup_.sim_model;
+    const int n_sim = int(m.joint_names.size());
+    const long steps = std::lround(sc_.duration_s * sc_.joint_rate_hz);
+    const double period = setup_.joint_period_s;
+    const long progress_every = std::max(1L, std::lround(sc_.joint_rate_hz));
+    Eigen::VectorXd target(n_sim);
+    std::vector<double> readings(n_sim);
+    std::size_t next_frame = 0;
+    GroundTruth truth;
+    DepthImage exact, robot_alone;
+
+    for (long n = 0; n <= steps; ++n) {
+      const double t = double(n) * period;
+      if (n > 0) advance_physics(target);
+      sim_.ground_truth(truth);
+
+      // Encoders, then every method's joint update.
+      encoders_.corrupt(
+          t, n == 0 ? 0.0 : period, std::span<const double>(truth.q.data(), std::size_t(n_sim)),
+          std::span<const double>(truth.actuator_torque.data(), std::size_t(n_sim)), readings);
+      for (std::size_t i = 0; i < trackers_.size(); ++i) {
+        if (setup_.methods[i] == TrackingMethod::kVisionOnly) continue;
+        const auto start = Clock::now();
+        trackers_[i]->add_joint_measurement(t, readings);
+        result_.methods[i].joint_update_us.push_back(
+            std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+      }
+
+      // Camera captures at this step (the step nearest each capture time).
+      bool frame_now = false;
+      double occluded = std::numeric_limits<double>::quiet_NaN();
+      while (next_frame < frames_timing_.size() &&
+             frames_timing_[next_frame].stamp_s <= t + 0.5 * period) {
+        const CameraFrame& f = frames_timing_[next_frame++];
+        frame_now = true;
+        ++result_.frames_captured;
+        if (f.dropped) continue;
+        for (const OccluderSchedule& o : sc_.occluder_schedules)
+          sim_.set_occluder_pose(o.occluder, o.pose_at(t));
+        camera_.render(sim_.data(), DepthContent::kScene, exact);
+        camera_.render(sim_.data(), DepthContent::kRobot, robot_alone);
+        occluded = occluded_fraction(robot_alone, exact);
+        InFlight frame{t, t + (f.arrival_s - f.stamp_s), {}};
+        depth_noise_.corrupt(exact, frame.image);
+        in_flight_.push_back(std::move(frame));
+      }
+
+      // Deliveries: every frame that has arrived by now, in capture order.
+      while (!in_flight_.empty() && in_flight_.front().arrival_s <= t + 1e-9) {
+        deliver(in_flight_.front(), t);
+        in_flight_.pop_front();
+      }
+
+      const int every = sc_.scoring.every_n_joint_steps;
+      if (frame_now || (every > 0 && n % every == 0)) score(t, truth, frame_now, occluded);
+      if (options_.progress && n % progress_every == 0 && n > 0)
+        options_.progress({result_.run, 0, t, sc_.duration_s});
+    }
+    for (std::size_t i = 0; i < trackers_.size(); ++i)
+      result_.methods[i].stats = trackers_[i]->stats();
+    return std::move(result_);
+  }
+
+ private:
+  // One joint period of physics: servo targets and loads before every step.
+  void advance_physics(Eigen::VectorXd& target) {
+    mjData* d = sim_.data();
+    const Eigen::Vector3d g = setup_.sim_model->scene.gravity_m_s2;
+    for (int k = 0; k < setup_.substeps; ++k) {
+      const double now = sim_.time_s();
+      trajectory_->position(now, std::span<double>(target.data(), std::size_t(target.size())));
+      sim_.set_targets(target);
+      for (std::size_t i = 0; i < sc_.loads.size(); ++i) {
+        const LinkLoad& l = sc_.loads[i];
+        const Eigen::Vector3d f = l.weight(now) * l.mass_kg * g;
+        for (int a = 0; a < 3; ++a) d->xfrc_applied[6 * load_body_[i] + a] = f[a];
+      }
+      sim_.step();
+    }
+  }
+
+  void deliver(const InFlight& frame, double now) {
+    const CameraIntrinsics& K = camera_.intrinsics();
+    for (auto& tracker : trackers_) tracker->add_depth_image(frame.stamp_s, frame.image, K);
+    ++result_.frames_delivered;
+    if (keep_times_.empty() || frame.stamp_s < keep_times_.front()) return;
+    keep_times_.erase(keep_times_.begin());
+    KeptFrame kept;
+    kept.run = result_.run;
+    kept.stamp_s = frame.stamp_s;
+    kept.arrival_s = now;
+    kept.observed = frame.image;
+    if (estimate_method_ >= 0) {
+      const TrackerEstimate e = trackers_[estimate_method_]->estimate();
+      const RobotModel& robot = *setup_.robot;
+      Eigen::VectorXd q(robot.num_joints());
+      q.head(e.angle_rad.size()) = e.angle_rad;
+      q.tail<6>() = e.camera_offset;
+      KinematicsState state(robot);
+      forward_kinematics(robot, q, state);
+      DepthRenderer renderer(robot, K);
+      renderer.render(state, kept.estimate);
+      kept.estimate_method = method_name(setup_.methods[estimate_method_]);
+    }
+    frames_.push_back(std::move(kept));
+  }
+
+  void score(double t, const GroundTruth& g, bool camera_frame, double occluded) {
+    const std::size_t nj = setup_.joint_names.size(), ne = setup_.sim_ee.size();
+    TruthSample truth;
+    truth.time_s = t;
+    truth.camera_frame = camera_frame;
+    truth.occluded_fraction = occluded;
+    truth.angle_rad.resize(Eigen::Index(nj));
+    truth.bias_rad.resize(Eigen::Index(nj));
+    const std::span<const double> bias = encoders_.bias_rad();
+    for (std::size_t j = 0; j < nj; ++j) {
+      truth.angle_rad[j] = g.q[setup_.sim_joint[j]];
+      truth.bias_rad[j] = bias[setup_.sim_joint[j]];
+    }
+    for (std::size_t e = 0; e < ne; ++e)
+      truth.T_camera_ee.push_back(g.T_camera_ee[setup_.sim_ee[e]]);
+
+    std::vector<double> angle_error(nj), bias_error(nj);
+    for (std::size_t i = 0; i < trackers_.size(); ++i) {
+      const TrackerEstimate est = trackers_[i]->estimate();
+      EstimateSample s;
+      s.angle_rad = est.angle_rad;
+      s.angle_std_rad = est.angle_std_rad;
+      s.bias_rad = est.bias_rad;
+      s.bias_std_rad = est.bias_std_rad;
+      s.camera_offset = est.camera_offset;
+      s.T_camera_ee = est.T_camera_ee;
+      for (std::size_t j = 0; j < nj; ++j) {
+        angle_error[j] = est.angle_rad[j] - truth.angle_rad[j];
+        bias_error[j] = est.bias_rad[j] - truth.bias_rad[j];
+      }
+      for (std::size_t e = 0; e < ne; ++e) {
+        s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
+        scores_[i].add(t, s.ee_error.back(), angle_error, bias_error);
+      }
+      result_.methods[i].samples.push_back(std::move(s));
+    }
+    result_.truth.push_back(std::move(truth));
+  }
+
+  const Scenario& sc_;
+  const Setup& setup_;
+  Simulator& sim_;
+  DepthCamera& camera_;
+  std::vector<MethodScores>& scores_;
+  const RunOptions& options_;
+  std::vector<KeptFrame>& frames_;
+  EncoderCorruption encoders_;
+  DepthCorruption depth_noise_;
+  std::optional<JointTrajectory> trajectory_;
+  std::vector<CameraFrame> frames_timing_;
+  std::vector<int> load_body_;
+  std::vector<std::unique_ptr<Tracker>> trackers_;
+  std::deque<InFlight> in_flight_;
+  std::vector<double> keep_times_;
+  int estimate_method_ = -1;
+  RunResult result_;
+};
+
+}  // namespace
+
+std::uint64_t run_seed(std::uint64_t seed, int run) {
+  return splitmix64(splitmix64(seed) + std::uint64_t(run));
+}
+
+const MethodResult* ScenarioResult::method(const std::string& name) const {
+  for (const MethodResult& m : method_results)
+    if (m.method == name) return &m;
+  return nullptr;
+}
+
+ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
+  const int runs = options.runs > 0 ? options.runs : sc.runs;
+  if (options.runs < 0) throw InputError("runs must be >= 1");
+  const std::uint64_t seed = options.seed >= 0 ? std::uint64_t(options.seed) : sc.seed;
+  const std::vector<std::string> method_names =
+      options.methods.empty() ? sc.methods : options.methods;
+  for (std::size_t i = 0; i < method_names.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (method_names[i] == method_names[k])
+        throw InputError("method '" + method_names[i] + "' is listed twice");
+
+  const Setup setup = make_setup(sc, method_names);
+  Simulator sim(setup.sim_model);
+  DepthCamera camera(setup.sim_model);
+
+  ScenarioResult result;
+  result.scenario = sc.name;
+  result.source = sc.source;
+  result.duration_s = sc.duration_s;
+  result.joint_names = setup.joint_names;
+  result.end_effectors = sc.scoring.end_effectors;
+  result.scoring = sc.scoring.options;
+  std::vector<MethodScores> scores;
+  for (TrackingMethod m : setup.methods) {
+    result.methods.push_back(method_name(m));
+    scores.emplace_back(method_name(m), setup.joint_names);
+  }
+
+  for (int k = 0; k < runs; ++k) {
+    const std::uint64_t seed_k = run_seed(seed, k);
+    result.seeds.push_back(seed_k);
+    RunOptions run_options = options;
+    if (options.progress)
+      run_options.progress = [&](const RunProgress& p) {
+        options.progress({k, runs, p.time_s, p.duration_s});
+      };
+    Run run(sc, setup, sim, camera, k, seed_k, scores, run_options, result.frames);
+    result.runs.push_back(run.execute());
+  }
+
+  // Summaries and timings per method, against encoders only where it ran.
+  const MethodScores* reference = nullptr;
+  for (const MethodScores& s : scores)
+    if (s.method() == method_name(TrackingMethod::kEncodersOnly)) reference = &s;
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    MethodResult r{result.methods[i], scores[i], {}, {}};
+    r.summary =
+        scores[i].summary(sc.scoring.options, reference == &scores[i] ? nullptr : reference);
+    std::vector<double> joint_us, image_ms;
+    long long evaluations = 0, images = 0;
+    for (const RunResult& run : result.runs) {
+      const MethodRun& mr = run.methods[i];
+      joint_us.insert(joint_us.end(), mr.joint_update_us.begin(), mr.joint_update_us.end());
+      image_ms.insert(image_ms.end(), mr.stats.image_update_ms.begin(),
+                      mr.stats.image_update_ms.end());
+      evaluations += mr.stats.likelihood_evaluations;
+      images += mr.stats.images_applied;
+    }
+    r.timing.joint_update_us = percentiles(joint_us);
+    r.timing.image_update_ms = percentiles(image_ms);
+    r.timing.evaluations_per_image = images ? double(evaluations) / double(images) : 0.0;
+    result.method_results.push_back(std::move(r));
+  }
+  return result;
+}
+
+}  // namespace arttrack::sim
