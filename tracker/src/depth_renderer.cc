@@ -241,9 +241,8 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
   };
   const float s02 = slope(*p0, *p2), s01 = slope(*p0, *p1), s12 = slope(*p1, *p2);
   // p1 right of the long edge (negative cross product): the long edge is the left side.
-  const bool long_left = (p2->x() - p0->x()) * (p1->y() - p0->y()) -
-                             (p2->y() - p0->y()) * (p1->x() - p0->x()) <
-                         0.f;
+  const bool long_left =
+      (p2->x() - p0->x()) * (p1->y() - p0->y()) - (p2->y() - p0->y()) * (p1->x() - p0->x()) < 0.f;
 
   float* rows = depth.depth_m.data();
   int u_min = W, u_max = 0, v_min = H, v_max = 0;
