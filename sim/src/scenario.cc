@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <type_traits>
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/yaml_config.h"
@@ -127,7 +128,32 @@ std::vector<std::string> joint_list(const ConfigNode& n, const UrdfSummary& urdf
   return out;
 }
 
+// The home configuration the scene starts in, clamped into the limits.
+std::vector<double> home_configuration(const Scenario& s) {
+  std::vector<double> home;
+  for (std::size_t i = 0; i < s.urdf.movable_joints.size(); ++i) {
+    const auto it = s.scene.initial_joints_rad.find(s.urdf.movable_joints[i]);
+    const double q = it == s.scene.initial_joints_rad.end() ? 0.0 : it->second;
+    home.push_back(
+        std::clamp(q, s.urdf.movable_limits[i].lower_rad, s.urdf.movable_limits[i].upper_rad));
+  }
+  return home;
+}
+
 void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
+  // Each part on its own trajectory, so that an error names its key.
+  const std::vector<double> home = home_configuration(s);
+  auto check = [&](const ConfigNode& n, const auto& part) {
+    checked(n, [&] {
+      JointTrajectory t(urdf.movable_joints, home, urdf.movable_limits);
+      if constexpr (std::is_same_v<std::decay_t<decltype(part)>, RandomMotion>) {
+        std::mt19937_64 rng(0);
+        t.add(part, rng);
+      } else {
+        t.add(part);
+      }
+    });
+  };
   for (const ConfigNode& n : m.list("sinusoids")) {
     SinusoidMotion p;
     p.joints = joint_list(n, urdf, true);
@@ -136,7 +162,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
     p.phase_rad = kDeg * n.number("phase_deg", 0, -1e4, 1e4);
     p.centre_rad = numbers(n, "centre_deg", kDeg);
     p.fade_in_s = n.number("fade_in_s", p.fade_in_s, 0, 1e6);
-    checked(n, [&] { p.validate(); });
+    check(n, p);
     s.sinusoids.push_back(p);
   }
   for (const ConfigNode& n : m.list("waypoints")) {
@@ -152,7 +178,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
     }
     for (auto& row : p.positions_rad)
       for (double& x : row) x *= kDeg;
-    checked(n, [&] { p.validate(); });
+    check(n, p);
     s.waypoints.push_back(p);
   }
   for (const ConfigNode& n : m.list("random")) {
@@ -165,7 +191,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
     p.margin_rad = kDeg * n.number("margin_deg", p.margin_rad / kDeg, 0, 360);
     p.num_components = int(integer(n, "components", p.num_components, 1, 1000));
     p.fade_in_s = n.number("fade_in_s", p.fade_in_s, 0, 1e6);
-    checked(n, [&] { p.validate(); });
+    check(n, p);
     s.random.push_back(p);
   }
   for (const ConfigNode& n : m.list("out_of_view")) {
@@ -176,7 +202,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
     p.leave_s = n.number("leave_s", p.leave_s, 0, 1e6);
     p.return_s = n.number("return_s", p.return_s, 0, 1e6);
     p.move_duration_s = n.number("move_duration_s", p.move_duration_s, 1e-6, 1e6);
-    checked(n, [&] { p.validate(); });
+    check(n, p);
     s.out_of_view.push_back(p);
   }
 }
@@ -409,7 +435,12 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
       over.fail(key, std::string("cannot be applied: ") + e.what());
     }
   }
-  s.tracker = tracker_config_from_yaml(doc);
+  try {
+    s.tracker = tracker_config_from_yaml(doc);
+  } catch (const InputError& e) {
+    if (over.keys().empty()) throw;
+    root.fail("tracker_overrides", std::string("give a bad tracker configuration: ") + e.what());
+  }
   // The tracker's nominal camera is the simulated camera's link.
   s.tracker.camera_frame = s.scene.camera_link;
 }
@@ -509,15 +540,11 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir) {
   read_tracker(root, dir, s);
   s.tracker.end_effectors = s.scoring.end_effectors;
 
-  // The motion as a whole (joints moved twice, waypoints outside the limits).
-  std::vector<double> home;
-  for (const std::string& j : s.urdf.movable_joints) {
-    const auto it = s.scene.initial_joints_rad.find(j);
-    home.push_back(it == s.scene.initial_joints_rad.end() ? 0.0 : it->second);
-  }
+  // The motion as a whole.
   std::mt19937_64 rng(s.seed);
-  checked(root.child("motion"),
-          [&] { make_trajectory(s, s.urdf.movable_joints, s.urdf.movable_limits, home, rng); });
+  checked(root.child("motion"), [&] {
+    make_trajectory(s, s.urdf.movable_joints, s.urdf.movable_limits, home_configuration(s), rng);
+  });
 
   root.finish();
   return s;

@@ -1,0 +1,381 @@
+// Scenario YAML: defaults, every key read into the struct (degrees to
+// radians, groups expanded, sweeps turned into keyframes), extends and
+// overrides, and bad input (unknown key, wrong type, impossible value,
+// unknown joint, group, link or method) an InputError naming the file and
+// the key path. Every scenario shipped in scenarios/ loads.
+#include "arttrack/sim/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "arttrack/tracker/error.h"
+#include "scenario_test_robot.h"
+
+namespace arttrack::sim {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kDeg = M_PI / 180.0;
+
+// Expects load_scenario to throw an InputError whose message holds every
+// one of `parts`.
+void expect_error(const fs::path& file, const std::vector<std::string>& parts,
+                  const std::vector<std::string>& overrides = {}) {
+  try {
+    load_scenario(file, overrides);
+    FAIL() << "no error for " << file;
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    for (const std::string& p : parts)
+      EXPECT_NE(what.find(p), std::string::npos) << "'" << p << "' missing from: " << what;
+  }
+}
+
+TEST(Scenario, Defaults) {
+  const test::TestDir dir("scenario_defaults");
+  const Scenario s = load_scenario(dir.write("minimal.yaml", "scene: scene.yaml\n"));
+  EXPECT_EQ(s.name, "minimal");
+  EXPECT_EQ(s.duration_s, 10.0);
+  EXPECT_EQ(s.seed, 1u);
+  EXPECT_EQ(s.runs, 1);
+  EXPECT_EQ(s.joint_rate_hz, 1000.0);
+  EXPECT_EQ(s.methods, all_method_names());
+  EXPECT_EQ(s.tracker_file,
+            fs::weakly_canonical(fs::path(ARTTRACK_SOURCE_DIR) / "tracker/config/default.yaml"));
+  EXPECT_EQ(s.tracker.method, TrackingMethod::kFullFusion);
+  EXPECT_EQ(s.tracker.end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));
+  EXPECT_EQ(s.scene.width, 160);  // the scene's camera
+  EXPECT_EQ(s.camera_timing.rate_hz, 30.0);
+  EXPECT_EQ(s.camera_timing.latency_s, 0.0);
+  EXPECT_EQ(s.depth_corruption.noise_sigma0_m, 0.0);
+  EXPECT_TRUE(s.perturbation.empty());
+  EXPECT_TRUE(s.encoders.groups.empty());
+  EXPECT_TRUE(s.sinusoids.empty() && s.waypoints.empty() && s.random.empty() &&
+              s.out_of_view.empty() && s.loads.empty() && s.occluder_schedules.empty());
+  EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));
+  EXPECT_EQ(s.scoring.options.converged_after_s, 10.0);
+  EXPECT_EQ(s.scoring.every_n_joint_steps, 0);
+  EXPECT_EQ(s.urdf.movable_joints.size(), 6u);
+}
+
+constexpr char kFull[] = R"(
+name: everything
+scene: scene.yaml
+duration_s: 12.5
+seed: 42
+runs: 3
+joint_rate_hz: 500
+methods: [full_fusion, encoders_only]
+tracker_overrides: {particle_filter.particles: 7, depth_model.width: 40, depth_model.height: 30}
+motion:
+  sinusoids:
+    - {joints: [left_arm], amplitude_deg: 10, frequency_hz: 0.5, phase_deg: 90, fade_in_s: 1}
+  waypoints:
+    - {joints: [head_pan_joint], times_s: [0, 2], positions_deg: [[0], [30]]}
+  random:
+    - {joints: [right_arm_joint_1], amplitude_deg: 20, speed_scale: 3, base_speed_deg_per_s: 10,
+       margin_deg: 2, components: 5, fade_in_s: 0.5}
+  out_of_view:
+    - {joints: [right_arm_joint_2], out_of_view_deg: [80], leave_s: 3, return_s: 8, move_duration_s: 1}
+loads:
+  - {link: left_ee, mass_kg: 2, start_s: 1, end_s: 5, ramp_s: 0.5}
+encoders:
+  - {joints: [arms], offset_deg: 8.6, noise_deg: 0.01}
+  - {joints: [head], step_amplitude_deg: 5, step_period_s: 10, step_ramp_time_s: 2,
+     compliance_deg_per_Nm: 0.2, stretch_time_constant_s: 0.1, resolution_deg: 0.02}
+camera:
+  width: 320
+  height: 240
+  fovy_deg: 60
+  rate_hz: 15
+  latency_s: 0.05
+  jitter_s: 0.01
+  jitter: uniform
+  drop_probability: 0.1
+  noise_sigma0_m: 0.001
+  noise_quadratic_per_m: 0.002
+  baseline_focal_m_px: 43.5
+  dropout_probability: 0.02
+  edge_dropout_probability: 0.5
+  max_range_m: 4
+miscalibration:
+  camera_offset: {xyz_m: [0.01, -0.02, 0.03], rpy_deg: [1, 2, 3]}
+  head_error:
+    head_tilt_joint: {xyz_m: [0, 0, 0.005], rpy_deg: [0, 1, 0], axis_tilt_deg: [2, 0, 0]}
+model_mismatch:
+  link_lengths_m: {left_arm_joint_2: 0.01}
+  shape_scale: {left_arm_fore: 1.1}
+occluders:
+  - name: board
+    type: box
+    size_m: [0.5, 0.02, 0.5]
+    keyframes:
+      - {time_s: 1, position_m: [0.3, 0, 1.2]}
+      - {time_s: 3, position_m: [0.3, 0.4, 1.2], rpy_deg: [0, 0, 90]}
+  - name: walker
+    type: person
+    height_m: 1.7
+    sweep: {from: {position_m: [1, -1, 0]}, to: {position_m: [1, 1, 0]}, start_s: 2,
+            duration_s: 4, passes: 2, pause_s: 1}
+scoring:
+  converged_after_s: 6
+  convergence_threshold_m: 0.005
+  every_n_joint_steps: 10
+  end_effectors: [left_ee]
+)";
+
+TEST(Scenario, EveryKeyIsRead) {
+  const test::TestDir dir("scenario_every_key");
+  const Scenario s = load_scenario(dir.write("full.yaml", kFull));
+  EXPECT_EQ(s.name, "everything");
+  EXPECT_EQ(s.duration_s, 12.5);
+  EXPECT_EQ(s.seed, 42u);
+  EXPECT_EQ(s.runs, 3);
+  EXPECT_EQ(s.joint_rate_hz, 500.0);
+  EXPECT_EQ(s.methods, (std::vector<std::string>{"full_fusion", "encoders_only"}));
+  EXPECT_EQ(s.tracker.particle_filter.num_particles, 7);
+  EXPECT_EQ(s.tracker.depth_model.width, 40);
+
+  ASSERT_EQ(s.sinusoids.size(), 1u);
+  EXPECT_EQ(s.sinusoids[0].joints,
+            (std::vector<std::string>{"left_arm_joint_1", "left_arm_joint_2"}));
+  EXPECT_DOUBLE_EQ(s.sinusoids[0].amplitude_rad, 10 * kDeg);
+  EXPECT_DOUBLE_EQ(s.sinusoids[0].phase_rad, 90 * kDeg);
+  ASSERT_EQ(s.waypoints.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.waypoints[0].positions_rad[1][0], 30 * kDeg);
+  ASSERT_EQ(s.random.size(), 1u);
+  EXPECT_EQ(s.random[0].num_components, 5);
+  EXPECT_DOUBLE_EQ(s.random[0].base_speed_rad_per_s, 10 * kDeg);
+  EXPECT_DOUBLE_EQ(s.random[0].margin_rad, 2 * kDeg);
+  ASSERT_EQ(s.out_of_view.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.out_of_view[0].out_of_view_rad[0], 80 * kDeg);
+  EXPECT_EQ(s.out_of_view[0].return_s, 8.0);
+
+  ASSERT_EQ(s.loads.size(), 1u);
+  EXPECT_EQ(s.loads[0].link, "left_ee");
+  EXPECT_EQ(s.loads[0].mass_kg, 2.0);
+
+  ASSERT_EQ(s.encoders.groups.size(), 2u);
+  EXPECT_EQ(s.encoders.groups[0].joints.size(), 4u);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[0].offset_rad, 8.6 * kDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[0].noise_sigma_rad, 0.01 * kDeg);
+  EXPECT_EQ(s.encoders.groups[1].joints,
+            (std::vector<std::string>{"head_pan_joint", "head_tilt_joint"}));
+  EXPECT_DOUBLE_EQ(s.encoders.groups[1].step_amplitude_rad, 5 * kDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[1].compliance_rad_per_Nm, 0.2 * kDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[1].resolution_rad, 0.02 * kDeg);
+
+  EXPECT_EQ(s.scene.width, 320);
+  EXPECT_EQ(s.scene.height, 240);
+  EXPECT_DOUBLE_EQ(s.scene.fovy_rad, 60 * kDeg);
+  EXPECT_EQ(s.camera_timing.rate_hz, 15.0);
+  EXPECT_EQ(s.camera_timing.jitter, CameraTiming::Jitter::kUniform);
+  EXPECT_EQ(s.camera_timing.drop_probability, 0.1);
+  EXPECT_EQ(s.depth_corruption.baseline_focal_m_px, 43.5);
+  EXPECT_EQ(s.depth_corruption.max_range_m, 4.0);
+
+  const Eigen::Isometry3d& T = s.perturbation.T_nominal_true_camera;
+  EXPECT_LT((T.translation() - Eigen::Vector3d(0.01, -0.02, 0.03)).norm(), 1e-15);
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(3 * kDeg, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(2 * kDeg, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(1 * kDeg, Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  EXPECT_LT((T.linear() - R).norm(), 1e-15);
+  ASSERT_EQ(s.perturbation.joint_changes.size(), 1u);
+  EXPECT_EQ(s.perturbation.joint_changes[0].joint, "head_tilt_joint");
+  EXPECT_DOUBLE_EQ(s.perturbation.joint_changes[0].T_old_new.translation().z(), 0.005);
+  EXPECT_EQ(s.perturbation.origin_extension_m.at("left_arm_joint_2"), 0.01);
+  EXPECT_EQ(s.perturbation.link_scale.at("left_arm_fore"), 1.1);
+
+  // Two new occluders; the sweep becomes keyframes out, pause, back.
+  ASSERT_EQ(s.scene.occluders.size(), 2u);
+  EXPECT_EQ(s.scene.occluders[1].type, OccluderSpec::Type::kPerson);
+  EXPECT_EQ(s.scene.occluders[1].size_m.x(), 1.7);
+  ASSERT_EQ(s.occluder_schedules.size(), 2u);
+  const OccluderSchedule& walk = s.occluder_schedules[1];
+  ASSERT_EQ(walk.keyframes.size(), 4u);
+  EXPECT_EQ(walk.keyframes[1].time_s, 6.0);
+  EXPECT_EQ(walk.keyframes[2].time_s, 7.0);
+  EXPECT_EQ(walk.keyframes[3].time_s, 11.0);
+  EXPECT_EQ(walk.keyframes[3].T_world_occluder.translation().y(), -1.0);
+  EXPECT_EQ(walk.pose_at(4.0).translation().y(), 0.0);  // halfway out
+  EXPECT_EQ(walk.pose_at(6.5).translation().y(), 1.0);  // pausing
+  // The initial pose is the first keyframe's.
+  EXPECT_EQ(s.scene.occluders[0].T_world_occluder.translation().y(), 0.0);
+
+  EXPECT_EQ(s.scoring.options.converged_after_s, 6.0);
+  EXPECT_EQ(s.scoring.options.convergence_threshold_m, 0.005);
+  EXPECT_EQ(s.scoring.every_n_joint_steps, 10);
+  EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"left_ee"}));
+  EXPECT_EQ(s.tracker.end_effectors, (std::vector<std::string>{"left_ee"}));
+}
+
+TEST(Scenario, ExtendsAndOverrides) {
+  const test::TestDir dir("scenario_extends");
+  dir.write("base.yaml", R"(
+scene: scene.yaml
+duration_s: 5
+seed: 3
+encoders: [{joints: [arms], offset_deg: 8.6}]
+camera: {rate_hz: 20, latency_s: 0.1}
+)");
+  const fs::path child = dir.write("child.yaml", R"(
+extends: base.yaml
+seed: 7
+camera: {latency_s: 0.02}
+)");
+  const Scenario s = load_scenario(child);
+  EXPECT_EQ(s.name, "child");
+  EXPECT_EQ(s.duration_s, 5.0);              // from the base
+  EXPECT_EQ(s.seed, 7u);                     // the extending file wins
+  EXPECT_EQ(s.camera_timing.rate_hz, 20.0);  // maps merge deeply
+  EXPECT_EQ(s.camera_timing.latency_s, 0.02);
+  ASSERT_EQ(s.encoders.groups.size(), 1u);
+
+  const Scenario o =
+      load_scenario(child, {"duration_s=2", "camera.rate_hz=10", "methods=[encoders_only]",
+                            "encoders=[{joints: [left_arm], offset_deg: 1}]"});
+  EXPECT_EQ(o.duration_s, 2.0);
+  EXPECT_EQ(o.camera_timing.rate_hz, 10.0);
+  EXPECT_EQ(o.methods, (std::vector<std::string>{"encoders_only"}));
+  ASSERT_EQ(o.encoders.groups.size(), 1u);
+  EXPECT_EQ(o.encoders.groups[0].joints.size(), 2u);
+  EXPECT_DOUBLE_EQ(o.encoders.groups[0].offset_rad, kDeg);
+
+  expect_error(child, {"override", "novalue"}, {"novalue"});
+}
+
+TEST(Scenario, UnknownKeysAreNamedWithPathAndFile) {
+  const test::TestDir dir("scenario_unknown_keys");
+  const fs::path top = dir.write("top.yaml", "scene: scene.yaml\nduraton_s: 3\n");
+  expect_error(top, {top.string(), "'duraton_s'", "not a known key"});
+  const fs::path nested =
+      dir.write("nested.yaml", "scene: scene.yaml\nencoders: [{joints: [arms], offset: 5}]\n");
+  expect_error(nested, {nested.string(), "'encoders[0].offset'"});
+  const fs::path deep = dir.write(
+      "deep.yaml", "scene: scene.yaml\nmotion: {sinusoids: [{joints: [head], amplitude: 3}]}\n");
+  expect_error(deep, {"'motion.sinusoids[0].amplitude'"});
+  const fs::path part = dir.write("part.yaml", "scene: scene.yaml\nmotion: {sinusoid: []}\n");
+  expect_error(part, {"'motion.sinusoid'"});
+  const fs::path ok = dir.write("ok.yaml", "scene: scene.yaml\n");
+  expect_error(ok, {"'camera.link'"}, {"camera.link=x"});
+}
+
+TEST(Scenario, WrongTypesAreNamed) {
+  const test::TestDir dir("scenario_wrong_types");
+  const fs::path f = dir.write("s.yaml", "scene: scene.yaml\n");
+  expect_error(f, {f.string(), "'duration_s'", "number"}, {"duration_s=abc"});
+  expect_error(f, {"'methods'"}, {"methods=full_fusion"});
+  expect_error(f, {"'motion'", "map"}, {"motion=[1, 2]"});
+  expect_error(f, {"'encoders[0].joints'"}, {"encoders=[{joints: left_arm}]"});
+  expect_error(f, {"'miscalibration.camera_offset.xyz_m'", "3 numbers"},
+               {"miscalibration.camera_offset.xyz_m=[1, 2]"});
+  expect_error(f, {"'runs'", "whole number"}, {"runs=1.5"});
+}
+
+TEST(Scenario, ImpossibleValuesAreNamed) {
+  const test::TestDir dir("scenario_impossible");
+  const fs::path f = dir.write("s.yaml", "scene: scene.yaml\n");
+  expect_error(f, {f.string(), "'duration_s'", "out of range"}, {"duration_s=-1"});
+  expect_error(f, {"'runs'"}, {"runs=0"});
+  expect_error(f, {"'methods'", "kalman"}, {"methods=[kalman]"});
+  expect_error(f, {"'methods'", "twice"}, {"methods=[full_fusion, full_fusion]"});
+  expect_error(f, {"'motion.sinusoids[0].joints'", "left_arm_joint_9"},
+               {"motion.sinusoids=[{joints: [left_arm_joint_9]}]"});
+  expect_error(f, {"'encoders[0].joints'", "legs"}, {"encoders=[{joints: [legs], offset_deg: 1}]"});
+  expect_error(f, {"'motion.sinusoids[0]'", "twice"},
+               {"motion.sinusoids=[{joints: [left_arm, left_arm_joint_1]}]"});
+  expect_error(
+      f, {"'motion.waypoints[0]'", "limit"},
+      {"motion.waypoints=[{joints: [head_pan_joint], times_s: [1], positions_deg: [[170]]}]"});
+  expect_error(f, {"'motion.out_of_view[0]'", "return_s"},
+               {"motion.out_of_view=[{joints: [head], out_of_view_deg: [1, 1], leave_s: 5, "
+                "return_s: 5.5, move_duration_s: 1}]"});
+  expect_error(f, {"'loads[0].link'", "hand"},
+               {"loads=[{link: hand, mass_kg: 1, start_s: 0, end_s: 2}]"});
+  expect_error(f, {"'loads[0].end_s'"},
+               {"loads=[{link: left_ee, mass_kg: 1, start_s: 2, end_s: 2.5, ramp_s: 0.5}]"});
+  expect_error(f, {"'encoders'", "left_arm_joint_1"},
+               {"encoders=[{joints: [arms], step_amplitude_deg: 1}, {joints: [left_arm], "
+                "step_amplitude_deg: 2}]"});
+  expect_error(f, {"'encoders[0]'", "step_ramp_time_s"},
+               {"encoders=[{step_amplitude_deg: 1, step_period_s: 2, step_ramp_time_s: 1.5}]"});
+  expect_error(f, {"'camera.far_m'"}, {"camera.near_m=2", "camera.far_m=1"});
+  expect_error(f, {"'camera.drop_probability'"}, {"camera.drop_probability=1"});
+  expect_error(f, {"'miscalibration.head_error.neck'"},
+               {"miscalibration.head_error={neck: {xyz_m: [0, 0, 0.01]}}"});
+  expect_error(f, {"'model_mismatch.shape_scale.left_arm_fore'"},
+               {"model_mismatch.shape_scale={left_arm_fore: 0}"});
+  expect_error(f, {"'occluders[0].keyframes[1].time_s'"},
+               {"occluders=[{name: o, size_m: [1, 1, 1], keyframes: [{time_s: 2}, {time_s: 1}]}]"});
+  expect_error(f, {"'occluders[0].keyframes'"}, {"occluders=[{name: o, size_m: [1, 1, 1]}]"});
+  expect_error(f, {"'scoring.end_effectors'", "nose"}, {"scoring.end_effectors=[nose]"});
+  expect_error(f, {"'scene'"}, {"scene=missing.yaml"});
+  expect_error(f, {f.string(), "'tracker_overrides'", "particle_filter.particles"},
+               {"tracker_overrides={particle_filter.particles: {a: 1}}"});
+  expect_error(f, {"'tracker_overrides'", "particles"},
+               {"tracker_overrides={particle_filter.particles: 0}"});
+  expect_error(f, {"'tracker_overrides.particle_filter.particles'", "not a map"},
+               {"tracker_overrides={particle_filter: 3, particle_filter.particles: 1}"});
+}
+
+TEST(Scenario, JointGroups) {
+  const std::vector<std::string> joints{"left_arm_joint_1", "left_arm_joint_2", "right_arm_joint_1",
+                                        "head_pan_joint", "torso_joint"};
+  EXPECT_EQ(expand_joint_group("left_arm", joints),
+            (std::vector<std::string>{"left_arm_joint_1", "left_arm_joint_2"}));
+  EXPECT_EQ(expand_joint_group("right_arm", joints),
+            (std::vector<std::string>{"right_arm_joint_1"}));
+  EXPECT_EQ(expand_joint_group("arms", joints).size(), 3u);
+  EXPECT_EQ(expand_joint_group("head", joints), (std::vector<std::string>{"head_pan_joint"}));
+  EXPECT_EQ(expand_joint_group("all", joints), joints);
+  EXPECT_EQ(expand_joint_group("torso_joint", joints), (std::vector<std::string>{"torso_joint"}));
+  EXPECT_TRUE(expand_joint_group("legs", joints).empty());
+}
+
+TEST(Scenario, OccluderScheduleInterpolates) {
+  OccluderSchedule s;
+  Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), b = Eigen::Isometry3d::Identity();
+  b.translation() << 2, 0, 0;
+  b.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  s.keyframes = {{1.0, a}, {3.0, b}};
+  EXPECT_TRUE(s.pose_at(0.0).isApprox(a));  // held before the first
+  EXPECT_TRUE(s.pose_at(5.0).isApprox(b));  // and after the last
+  const Eigen::Isometry3d mid = s.pose_at(2.0);
+  EXPECT_NEAR(mid.translation().x(), 1.0, 1e-15);
+  EXPECT_NEAR(Eigen::AngleAxisd(mid.linear()).angle(), M_PI / 4, 1e-12);
+}
+
+TEST(Scenario, LoadRampsInAndOut) {
+  LinkLoad l;
+  l.start_s = 1;
+  l.end_s = 5;
+  l.ramp_s = 1;
+  EXPECT_EQ(l.weight(0.5), 0.0);
+  EXPECT_NEAR(l.weight(1.5), 0.5, 1e-12);
+  EXPECT_EQ(l.weight(3.0), 1.0);
+  EXPECT_NEAR(l.weight(4.5), 0.5, 1e-12);
+  EXPECT_EQ(l.weight(5.5), 0.0);
+}
+
+// Every scenario shipped with the project loads (its scene, robot and
+// tracker configuration included).
+TEST(Scenario, ShippedScenariosLoad) {
+  const fs::path dir = fs::path(ARTTRACK_SOURCE_DIR) / "scenarios";
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Scenario s = load_scenario(entry.path());
+    EXPECT_FALSE(s.methods.empty());
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+  EXPECT_TRUE(fs::exists(default_scenario_path()));
+}
+
+}  // namespace
+}  // namespace arttrack::sim

@@ -1,0 +1,125 @@
+// A small dual-arm robot for the scenario tests, with the joint naming of the
+// project's robot (left_arm_joint_*, right_arm_joint_*, head_pan_joint,
+// head_tilt_joint, left_ee, right_ee, camera_optical_frame) so that joint
+// groups work, and a head camera that sees both arms: two-link arms
+// reaching forward (+x) at shoulder height 1 m, the head 0.5 m behind the
+// shoulders at 1.6 m, tilted down 40 degrees in the scene.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace arttrack::sim::test {
+
+constexpr char kRobotUrdf[] = R"(<robot name="mini_dual_arm">
+  <link name="base_link">
+    <visual><origin xyz="0 0 0.5"/><geometry><box size="0.3 0.4 1.0"/></geometry></visual>
+    <inertial><mass value="10"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="left_arm_upper">
+    <visual><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.07 0.07"/></geometry></visual>
+    <inertial><origin xyz="0.15 0 0"/><mass value="0.5"/>
+      <inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="left_arm_fore">
+    <visual><origin xyz="0.125 0 0"/><geometry><box size="0.25 0.06 0.06"/></geometry></visual>
+    <inertial><origin xyz="0.125 0 0"/><mass value="0.3"/>
+      <inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="left_ee"/>
+  <link name="right_arm_upper">
+    <visual><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.07 0.07"/></geometry></visual>
+    <inertial><origin xyz="0.15 0 0"/><mass value="0.5"/>
+      <inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="right_arm_fore">
+    <visual><origin xyz="0.125 0 0"/><geometry><box size="0.25 0.06 0.06"/></geometry></visual>
+    <inertial><origin xyz="0.125 0 0"/><mass value="0.3"/>
+      <inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="right_ee"/>
+  <link name="head_pan_link">
+    <inertial><mass value="0.2"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="head_tilt_link">
+    <inertial><mass value="0.2"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="camera_optical_frame"/>
+
+  <joint name="left_arm_joint_1" type="revolute">
+    <parent link="base_link"/><child link="left_arm_upper"/>
+    <origin xyz="0 0.25 1.0"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="200" velocity="2"/>
+  </joint>
+  <joint name="left_arm_joint_2" type="revolute">
+    <parent link="left_arm_upper"/><child link="left_arm_fore"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="200" velocity="2"/>
+  </joint>
+  <joint name="left_ee_joint" type="fixed">
+    <parent link="left_arm_fore"/><child link="left_ee"/><origin xyz="0.25 0 0"/>
+  </joint>
+  <joint name="right_arm_joint_1" type="revolute">
+    <parent link="base_link"/><child link="right_arm_upper"/>
+    <origin xyz="0 -0.25 1.0"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="200" velocity="2"/>
+  </joint>
+  <joint name="right_arm_joint_2" type="revolute">
+    <parent link="right_arm_upper"/><child link="right_arm_fore"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="200" velocity="2"/>
+  </joint>
+  <joint name="right_ee_joint" type="fixed">
+    <parent link="right_arm_fore"/><child link="right_ee"/><origin xyz="0.25 0 0"/>
+  </joint>
+  <joint name="head_pan_joint" type="revolute">
+    <parent link="base_link"/><child link="head_pan_link"/>
+    <origin xyz="-0.5 0 1.5"/><axis xyz="0 0 1"/>
+    <limit lower="-1.5" upper="1.5" effort="50" velocity="2"/>
+  </joint>
+  <joint name="head_tilt_joint" type="revolute">
+    <parent link="head_pan_link"/><child link="head_tilt_link"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1.2" effort="50" velocity="2"/>
+  </joint>
+  <joint name="camera_joint" type="fixed">
+    <parent link="head_tilt_link"/><child link="camera_optical_frame"/>
+    <origin xyz="0.05 0 0" rpy="-1.5707963267948966 0 -1.5707963267948966"/>
+  </joint>
+</robot>)";
+
+// The scene around it: no floor (nothing but the robot and occluders in
+// view), a 160x120 camera.
+constexpr char kSceneYaml[] = R"(
+robot:
+  urdf: robot.urdf
+  initial_joints_deg: {head_tilt_joint: 40}
+  end_effectors: [left_ee, right_ee]
+camera: {width: 160, height: 120, fovy_deg: 50}
+actuators: {kp: 400, kv: 40}
+floor: false
+)";
+
+// A folder with robot.urdf and scene.yaml, plus any other files written with
+// write(); named after the test so that tests never share one.
+class TestDir {
+ public:
+  explicit TestDir(const std::string& name)
+      : dir_(std::filesystem::temp_directory_path() / ("arttrack_" + name)) {
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    write("robot.urdf", kRobotUrdf);
+    write("scene.yaml", kSceneYaml);
+  }
+  std::filesystem::path write(const std::string& file, const std::string& text) const {
+    std::ofstream(dir_ / file) << text;
+    return dir_ / file;
+  }
+  const std::filesystem::path& path() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+}  // namespace arttrack::sim::test
