@@ -36,6 +36,8 @@ std::uint64_t stream_seed(std::uint64_t run_seed, Stream s) { return splitmix64(
 constexpr float kSameSurface_m = 2e-3f;
 
 // (robot pixels hidden by something nearer) / (robot pixels); NaN if none.
+// No return where the robot alone has one means something nearer than the
+// near plane covers it.
 double occluded_fraction(const DepthImage& robot, const DepthImage& scene) {
   std::size_t visible = 0, hidden = 0;
   for (std::size_t i = 0; i < robot.depth_m.size(); ++i) {
@@ -43,7 +45,7 @@ double occluded_fraction(const DepthImage& robot, const DepthImage& scene) {
     if (r <= 0) continue;
     ++visible;
     const float z = scene.depth_m[i];
-    if (z > 0 && z < r - kSameSurface_m) ++hidden;
+    if (z <= 0 || z < r - kSameSurface_m) ++hidden;
   }
   return visible ? double(hidden) / double(visible) : std::numeric_limits<double>::quiet_NaN();
 }
@@ -247,9 +249,19 @@ class Run {
       trajectory_->position(now, std::span<double>(target.data(), std::size_t(target.size())));
       sim_.set_targets(target);
       for (std::size_t i = 0; i < sc_.loads.size(); ++i) {
+        // MuJoCo applies xfrc_applied at the body's centre of mass (xipos),
+        // which for a massless link frame is not the frame; the torque term
+        // moves the force to the link frame's origin (xpos).
         const LinkLoad& l = sc_.loads[i];
+        const int b = load_body_[i];
         const Eigen::Vector3d f = l.weight(now) * l.mass_kg * g;
-        for (int a = 0; a < 3; ++a) d->xfrc_applied[6 * load_body_[i] + a] = f[a];
+        const Eigen::Vector3d lever = Eigen::Map<const Eigen::Vector3d>(d->xpos + 3 * b) -
+                                      Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
+        const Eigen::Vector3d torque = lever.cross(f);
+        for (int a = 0; a < 3; ++a) {
+          d->xfrc_applied[6 * b + a] = f[a];
+          d->xfrc_applied[6 * b + 3 + a] = torque[a];
+        }
       }
       sim_.step();
     }
@@ -342,7 +354,8 @@ class Run {
 }  // namespace
 
 std::uint64_t run_seed(std::uint64_t seed, int run) {
-  return splitmix64(splitmix64(seed) + std::uint64_t(run));
+  // 53 bits, so that JSON readers keep every digit.
+  return splitmix64(splitmix64(seed) + std::uint64_t(run)) & ((std::uint64_t(1) << 53) - 1);
 }
 
 const MethodResult* ScenarioResult::method(const std::string& name) const {

@@ -45,9 +45,9 @@ struct OccluderSchedule {
   Eigen::Isometry3d pose_at(double t_s) const;
 };
 
-// Lifting a load: a downward force m g on a link's body (MuJoCo
-// xfrc_applied at the body's centre of mass), ramped in and out with a
-// cosine ramp. Its joints' load torques change, and cable stretch with them.
+// Lifting a load: a downward force m g (the scene's gravity) at the origin of
+// a link's frame (MuJoCo xfrc_applied on the link's body), ramped in and out
+// with a cosine ramp. The joints' torques change, and cable stretch with them.
 struct LinkLoad {
   std::string link;
   double mass_kg = 1.0;  // > 0

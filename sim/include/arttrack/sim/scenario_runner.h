@@ -53,8 +53,8 @@ struct RunOptions {
   int frames_to_keep = 4;
 };
 
-// The seed of run k of a scenario with seed `seed` (a SplitMix64 mix, so
-// neighbouring runs get unrelated streams).
+// The seed of run k of a scenario with seed `seed`: a SplitMix64 mix (so
+// neighbouring runs get unrelated streams) cut to 53 bits (exact in JSON).
 std::uint64_t run_seed(std::uint64_t seed, int run);
 
 // Ground truth at one scored instant.
@@ -69,7 +69,9 @@ struct TruthSample {
   // Share of the robot's pixels hidden by something else in front of it:
   // (robot pixels of the robot-alone render where the full scene is nearer)
   // / (robot pixels of the robot-alone render). NaN where not rendered (not
-  // a delivered camera frame) or where no part of the robot is in view.
+  // a delivered camera frame) or where no part of the robot is in view. A
+  // robot pixel without return in the full scene (something nearer than the
+  // near plane) counts as hidden.
   double occluded_fraction = std::numeric_limits<double>::quiet_NaN();
 };
 
