@@ -6,8 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/kinematics.h"
 
 namespace arttrack {
 namespace {
@@ -246,6 +248,46 @@ TEST(RobotModel, MissingMeshNamesMeshLinkAndFile) {
   const std::string msg2 =
       error_of([&] { RobotModel::from_urdf_file((dir / "robot.urdf").string()); });
   EXPECT_TRUE(contains(msg2, "cube.obj") && contains(msg2, "'base_link'")) << msg2;
+}
+
+// The project's robot in both variants (primitives; STL/OBJ/DAE meshes found
+// by relative and package:// paths) has the documented joints and frames, the
+// same kinematics, and a shape on every arm link.
+TEST(RobotModel, LoadsTheProjectRobots) {
+  const std::string models = std::string(ARTTRACK_SOURCE_DIR) + "/models/";
+  const RobotModel primitives = RobotModel::from_urdf_file(models + "dual_arm.urdf");
+  const RobotModel meshes = RobotModel::from_urdf_file(models + "dual_arm_meshes.urdf");
+  for (const RobotModel* model : {&primitives, &meshes}) {
+    ASSERT_EQ(model->num_joints(), 2 * 7 + 2 + 6) << model->source();
+    for (const std::string side : {"left", "right"}) {
+      for (int i = 1; i <= 7; ++i) {
+        const int j = model->joint_index(side + "_arm_joint_" + std::to_string(i));
+        EXPECT_EQ(model->joint_type(j), JointType::kRevolute);
+        EXPECT_LT(model->joint_lower(j), model->joint_upper(j));
+        EXPECT_FALSE(model->link(model->joint_child_link(j)).mesh.empty())
+            << side << " joint " << i << " moves a link without shape";
+      }
+      model->link_index(side + "_hand");
+      model->link_index(side + "_ee");
+    }
+    model->joint_index("head_pan_joint");
+    model->joint_index("head_tilt_joint");
+    model->link_index("camera_link");
+    EXPECT_EQ(model->link_name(model->nominal_camera_link()), "camera_optical_frame");
+    EXPECT_TRUE(model->is_virtual_joint(model->joint_index("camera_offset_yaw")));
+  }
+  ASSERT_EQ(primitives.joint_names(), meshes.joint_names());
+  KinematicsState a(primitives), b(meshes);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Eigen::VectorXd q(primitives.num_joints());
+  for (int j = 0; j < q.size(); ++j) q[j] = U(rng);
+  forward_kinematics(primitives, q, a);
+  forward_kinematics(meshes, q, b);
+  for (int l = 0; l < primitives.num_links(); ++l) {
+    const int lm = meshes.link_index(primitives.link_name(l));
+    EXPECT_TRUE(a.T_root_link[l].isApprox(b.T_root_link[lm], 1e-12)) << primitives.link_name(l);
+  }
 }
 
 }  // namespace
