@@ -1,0 +1,102 @@
+// Benchmarks of the tracker's two updates on the default scene's robot:
+// one joint update of the whole robot, and one delayed depth image update
+// (particle filter over rendered hypotheses, then re-filtering 100 ms of 1 kHz
+// joint readings) at 80x60 and 160x120 likelihood resolution.
+//
+//   build/bench_tracker_update [--benchmark_filter=...]
+//
+// Counters: evaluations (likelihood evaluations per image), refilter_ms (the
+// re-filtering part of an image update, mean).
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <numeric>
+
+#include "arttrack/sim/depth_camera.h"
+#include "arttrack/sim/scene.h"
+#include "arttrack/sim/sim_model.h"
+#include "arttrack/sim/simulator.h"
+#include "arttrack/tracker/tracker.h"
+
+namespace {
+
+using namespace arttrack;
+
+// The default scene at its initial configuration, seen by the simulator's camera.
+struct Fixture {
+  std::shared_ptr<const sim::SimModel> sim_model;
+  std::shared_ptr<const RobotModel> robot;
+  DepthImage observed;
+  CameraIntrinsics camera;
+  std::vector<double> readings;  // encoders, sim joint order, with a constant bias
+
+  Fixture() {
+    sim_model = sim::build_sim_model(sim::load_scene(sim::default_scene_path()));
+    sim::Simulator simulator(sim_model);
+    sim::DepthCamera depth_camera(sim_model);
+    depth_camera.render(simulator.data(), sim::DepthContent::kScene, observed);
+    camera = depth_camera.intrinsics();
+    robot = std::make_shared<const RobotModel>(
+        RobotModel::from_urdf_file(sim_model->scene.urdf_path.string()));
+    const sim::GroundTruth truth = simulator.ground_truth();
+    for (int j = 0; j < truth.q.size(); ++j) readings.push_back(truth.q[j] + 0.05);
+  }
+};
+
+const Fixture& fixture() {
+  static const Fixture f;
+  return f;
+}
+
+TrackerConfig config_for(int width, int height, int particles) {
+  TrackerConfig c;
+  c.depth_model.width = width;
+  c.depth_model.height = height;
+  c.particle_filter.num_particles = particles;
+  return c;
+}
+
+void BM_JointUpdate(benchmark::State& state) {
+  const Fixture& f = fixture();
+  Tracker tracker(f.robot, config_for(80, 60, 10), f.sim_model->joint_names);
+  double t = 0;
+  for (auto _ : state) {
+    tracker.add_joint_measurement(t, f.readings);
+    t += 0.001;
+  }
+  state.counters["joints"] = double(f.readings.size());
+}
+BENCHMARK(BM_JointUpdate);
+
+// One image stamped 100 ms before the newest joint reading: the particle
+// filter at that time, then 100 re-filtered joint readings.
+void BM_DelayedImageUpdate(benchmark::State& state) {
+  const Fixture& f = fixture();
+  const int width = int(state.range(0)), height = int(state.range(1));
+  Tracker tracker(f.robot, config_for(width, height, int(state.range(2))),
+                  f.sim_model->joint_names);
+  double t = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    for (int k = 0; k < 100; ++k, t += 0.001) tracker.add_joint_measurement(t, f.readings);
+    state.ResumeTiming();
+    tracker.add_depth_image(t - 0.1, f.observed, f.camera);
+  }
+  const TrackerStats s = tracker.stats();
+  state.counters["evaluations"] = s.last_evaluations_per_image;
+  state.counters["refilter_ms"] =
+      std::accumulate(s.refilter_ms.begin(), s.refilter_ms.end(), 0.0) / s.refilter_ms.size();
+  state.counters["applied"] = s.images_applied;
+}
+BENCHMARK(BM_DelayedImageUpdate)
+    ->Args({80, 60, 10})
+    ->Args({80, 60, 20})
+    ->Args({80, 60, 50})
+    ->Args({160, 120, 10})
+    ->Args({160, 120, 20})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
