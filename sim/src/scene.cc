@@ -102,6 +102,7 @@ void read_camera(const ConfigNode& n, SceneDescription& s) {
   s.near_m = n.number("near_m", s.near_m, 1e-3, 100);
   s.far_m = n.number("far_m", s.far_m, 1e-2, 1000);
   if (s.far_m <= s.near_m) n.fail("far_m", "must be larger than near_m");
+  s.shape_segments = int(n.number("shape_segments", s.shape_segments, 8, 256));
 }
 
 ServoGains gains(const ConfigNode& n, const ServoGains& fallback) {

@@ -318,9 +318,9 @@ void add_options(XMLDocument& doc, XMLElement* root, const SceneDescription& sce
   quality->SetAttribute("offsamples", 0);  // multisampling would blur depth edges
   quality->SetAttribute("shadowsize", 0);
   // Finer than the default 28 x 16 so that drawn cylinders and spheres stay
-  // within a fraction of a millimetre of the true shapes.
-  quality->SetAttribute("numslices", 96);
-  quality->SetAttribute("numstacks", 48);
+  // close to the true shapes.
+  quality->SetAttribute("numslices", scene.shape_segments);
+  quality->SetAttribute("numstacks", (scene.shape_segments + 1) / 2);
   XMLElement* map = child(doc, visual, "map");
   map->SetAttribute("znear", nums({scene.near_m / scene.extent_m}).c_str());
   map->SetAttribute("zfar", nums({scene.far_m / scene.extent_m}).c_str());

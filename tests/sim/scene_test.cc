@@ -41,6 +41,7 @@ camera:
   fovy_deg: 60
   near_m: 0.2
   far_m: 4
+  shape_segments: 64
 actuators:
   kp: 100
   kv: 10
@@ -77,6 +78,7 @@ TEST(Scene, ReadsEveryKey) {
   EXPECT_NEAR(s.fovy_rad, M_PI / 3, 1e-15);
   EXPECT_EQ(s.near_m, 0.2);
   EXPECT_EQ(s.far_m, 4);
+  EXPECT_EQ(s.shape_segments, 64);
   EXPECT_EQ(s.default_gains.kp_Nm_per_rad, 100);
   EXPECT_EQ(s.joint_gains.at("j1").kp_Nm_per_rad, 50);
   EXPECT_EQ(s.joint_gains.at("j1").kv_Nms_per_rad, 10);  // inherits the default

@@ -89,7 +89,7 @@ SceneDescription scene_for(const Robot& r, int width, int height) {
 // The comparison is of geometry, kinematics and camera, not tessellation:
 // both sides draw cylinders and spheres finely (the tracker's default
 // 16-segment sphere is up to 15 mm off a true 10 cm sphere; MuJoCo's scene
-// draws 96 x 48).
+// draws 48 x 24 by default).
 RobotModel tracker_model(const Robot& r) {
   RobotModelOptions o;
   o.add_virtual_camera_joints = false;
