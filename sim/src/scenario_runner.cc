@@ -216,8 +216,11 @@ class Run {
         for (const OccluderSchedule& o : sc_.occluder_schedules)
           sim_.set_occluder_pose(o.occluder, o.pose_at(t));
         camera_.render(sim_.data(), DepthContent::kScene, exact);
-        camera_.render(sim_.data(), DepthContent::kRobot, robot_alone);
-        occluded = occluded_fraction(robot_alone, exact);
+        if (!sc_.occluder_schedules.empty()) {
+          // A second render, so only when something walks about.
+          camera_.render(sim_.data(), DepthContent::kRobot, robot_alone);
+          occluded = occluded_fraction(robot_alone, exact);
+        }
         InFlight frame{t, t + (f.arrival_s - f.stamp_s), {}};
         depth_noise_.corrupt(exact, frame.image);
         in_flight_.push_back(std::move(frame));

@@ -69,7 +69,9 @@ struct TruthSample {
   // Share of the robot's pixels hidden by something else in front of it:
   // (robot pixels of the robot-alone render where the full scene is nearer)
   // / (robot pixels of the robot-alone render). NaN where not rendered (not
-  // a delivered camera frame) or where no part of the robot is in view. A
+  // a delivered camera frame, or a scenario that moves no occluder: the
+  // robot-alone render costs as much as the image) or where no robot pixel
+  // is in view. A
   // robot pixel without return in the full scene (something nearer than the
   // near plane) counts as hidden.
   double occluded_fraction = std::numeric_limits<double>::quiet_NaN();
