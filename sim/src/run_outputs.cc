@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <sstream>
 
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/tracker/error.h"
@@ -116,47 +117,57 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
 
 void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   const double mm = 1e3, deg = 180.0 / M_PI;
-  auto cell = [&](double v, double scale, int width, int precision) {
-    if (!std::isfinite(v)) {
-      out << std::setw(width) << "-";
-      return;
-    }
-    out << std::setw(width) << std::fixed << std::setprecision(precision) << v * scale;
+  const std::ios::fmtflags flags = out.flags();
+  const std::streamsize precision = out.precision();
+  auto text = [&](const std::string& s, int width) { out << std::setw(width) << s; };
+  auto cell = [&](double v, double scale, int width, int digits) {
+    if (!std::isfinite(v)) return text("-", width);
+    out << std::setw(width) << std::fixed << std::setprecision(digits) << v * scale;
   };
   out << "scenario " << r.scenario << ": " << r.runs.size() << " run(s) of " << r.duration_s
-      << " s, end effectors";
+      << " s, scored:";
   for (const std::string& e : r.end_effectors) out << ' ' << e;
-  out << "\n"
-      << std::left << std::setw(20) << "method" << std::right
-      << "  translation mm: p1    p25    p50    p75    p99"
-      << "  | rotation deg: p1   p25   p50   p75   p99"
-      << "  | conv. p50 mm  conv. s\n";
+  std::ostringstream after;
+  after << "from " << r.scoring.converged_after_s << " s on";
+  out << "\n" << std::left << std::setw(20) << "" << std::right;
+  text("translation error, mm", 35);
+  text("rotation error, deg", 35);
+  text(after.str(), 19);
+  out << "\n" << std::left << std::setw(20) << "method" << std::right;
+  for (int k = 0; k < 2; ++k)
+    for (const char* p : {"p1", "p25", "p50", "p75", "p99"}) text(p, 7);
+  text("p50 mm", 10);
+  text("conv. s", 9);
+  out << "\n";
   for (const MethodResult& m : r.method_results) {
-    out << std::left << std::setw(20) << m.method << std::right << std::setw(15) << "";
+    out << std::left << std::setw(20) << m.method << std::right;
     const Percentiles& t = m.summary.all.translation_m;
     for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99}) cell(v, mm, 7, 1);
-    out << "  |" << std::setw(13) << "";
     const Percentiles& a = m.summary.all.rotation_rad;
-    for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99}) cell(v, deg, 6, 2);
-    out << "  |";
-    cell(m.summary.converged.translation_m.p50, mm, 13, 1);
+    for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99}) cell(v, deg, 7, 2);
+    cell(m.summary.converged.translation_m.p50, mm, 10, 1);
     cell(median_convergence_s(m.summary), 1.0, 9, 1);
     out << "\n";
   }
-  out << "timing (per method): joint update p50/p99 us, image update p50/p99 ms, "
-         "likelihood evaluations per image\n";
+  out << std::left << std::setw(20) << "timing" << std::right;
+  text("joint update us", 17);
+  text("image update ms", 17);
+  text("evaluations", 13);
+  out << "\n" << std::left << std::setw(20) << "" << std::right;
+  for (int k = 0; k < 2; ++k) text("p50", 8), text("p99", 9);
+  text("per image", 13);
+  out << "\n";
   for (const MethodResult& m : r.method_results) {
-    out << "  " << std::left << std::setw(20) << m.method << std::right;
+    out << std::left << std::setw(20) << m.method << std::right;
     cell(m.timing.joint_update_us.p50, 1.0, 8, 2);
-    cell(m.timing.joint_update_us.p99, 1.0, 8, 2);
-    out << " us ";
+    cell(m.timing.joint_update_us.p99, 1.0, 9, 2);
     cell(m.timing.image_update_ms.p50, 1.0, 8, 2);
-    cell(m.timing.image_update_ms.p99, 1.0, 8, 2);
-    out << " ms ";
-    cell(m.timing.evaluations_per_image, 1.0, 7, 0);
+    cell(m.timing.image_update_ms.p99, 1.0, 9, 2);
+    cell(m.timing.evaluations_per_image, 1.0, 13, 0);
     out << "\n";
   }
-  out.unsetf(std::ios::floatfield);
+  out.flags(flags);
+  out.precision(precision);
 }
 
 void write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
