@@ -45,7 +45,8 @@ std::vector<std::string> split_commas(const std::string& text) {
 }
 
 void run(const RunArgs& args) {
-  const fs::path path = args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
+  const fs::path path =
+      args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.runs < 0) throw InputError("--runs must be >= 1");
   if (args.seed < -1) throw InputError("--seed must be >= 0");
@@ -70,7 +71,8 @@ void run(const RunArgs& args) {
   };
 
   const sim::ScenarioResult result = sim::run_scenario(scenario, options);
-  const fs::path out = args.out_dir.empty() ? fs::path("out") / scenario.name : fs::path(args.out_dir);
+  const fs::path out =
+      args.out_dir.empty() ? fs::path("out") / scenario.name : fs::path(args.out_dir);
   sim::write_run_outputs(out, result);
   sim::print_summary_table(std::cout, result);
   std::cout << "wrote " << (out / "summary.json").string() << ", "
@@ -88,7 +90,8 @@ void register_run(CLI::App& app) {
   cmd->add_option("scenario", args->scenario, "Scenario YAML (default: scenarios/default.yaml)");
   cmd->add_option("--runs", args->runs,
                   "Number of runs with different seeds (default: the scenario's)");
-  cmd->add_option("--seed", args->seed, "Seed of the first run (default: the scenario's)");
+  cmd->add_option("--seed", args->seed,
+                  "Scenario seed; run k uses a seed mixed from it and k (default: the scenario's)");
   cmd->add_option("--methods", args->methods,
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "
                   "vision_only (default: the scenario's)");

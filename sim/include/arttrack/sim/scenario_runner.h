@@ -43,7 +43,7 @@ struct RunProgress {
 struct RunOptions {
   // Number of runs (0: the scenario's `runs`).
   int runs = 0;
-  // Seed of run 0 (-1: the scenario's `seed`).
+  // The scenario seed that run seeds derive from (-1: the scenario's `seed`).
   long long seed = -1;
   // Methods to run (empty: the scenario's `methods`).
   std::vector<std::string> methods;
