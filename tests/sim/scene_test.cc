@@ -7,6 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 
 #include "arttrack/tracker/error.h"
 
@@ -109,6 +111,27 @@ TEST(Scene, DefaultSceneLoads) {
   EXPECT_TRUE(fs::exists(s.urdf_path));
   EXPECT_FALSE(s.initial_joints_rad.empty());
   EXPECT_FALSE(s.shapes.empty());
+}
+
+// The robot's home pose is documented in the header comment of
+// models/dual_arm.urdf ("  name   <degrees> = <radians>" lines, written by
+// models/generate_robot.py); the default scene must start there.
+TEST(Scene, DefaultSceneStartsAtTheDocumentedHome) {
+  const SceneDescription s = load_scene(default_scene_path());
+  std::ifstream in(s.urdf_path);
+  std::map<std::string, double> documented;
+  for (std::string line; std::getline(in, line) && line.find("<robot") == std::string::npos;) {
+    std::istringstream words(line);
+    std::string name, equals;
+    double deg, rad;
+    if (words >> name >> deg >> equals >> rad && equals == "=") documented[name] = rad;
+  }
+  ASSERT_GE(documented.size(), 16u);
+  EXPECT_EQ(documented.size(), s.initial_joints_rad.size());
+  for (const auto& [name, rad] : documented) {
+    ASSERT_TRUE(s.initial_joints_rad.count(name)) << name;
+    EXPECT_NEAR(s.initial_joints_rad.at(name), rad, 1e-6) << name;
+  }
 }
 
 std::string load_error(const std::string& name, const std::string& text) {
