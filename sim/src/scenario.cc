@@ -552,6 +552,8 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir) {
 
 Scenario load_scenario(const fs::path& path, const std::vector<std::string>& overrides) {
   YamlDocument doc = load_yaml_file(path.string());
+  // A name names one file: it is not inherited through `extends`.
+  if (doc.root["name"] && !YAML::LoadFile(path.string())["name"]) doc.root.remove("name");
   for (const std::string& o : overrides) {
     try {
       apply_override(doc, o);

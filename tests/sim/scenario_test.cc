@@ -216,6 +216,7 @@ TEST(Scenario, EveryKeyIsRead) {
 TEST(Scenario, ExtendsAndOverrides) {
   const test::TestDir dir("scenario_extends");
   dir.write("base.yaml", R"(
+name: base
 scene: scene.yaml
 duration_s: 5
 seed: 3
@@ -228,7 +229,7 @@ seed: 7
 camera: {latency_s: 0.02}
 )");
   const Scenario s = load_scenario(child);
-  EXPECT_EQ(s.name, "child");
+  EXPECT_EQ(s.name, "child");                // the base's name is not inherited
   EXPECT_EQ(s.duration_s, 5.0);              // from the base
   EXPECT_EQ(s.seed, 7u);                     // the extending file wins
   EXPECT_EQ(s.camera_timing.rate_hz, 20.0);  // maps merge deeply
