@@ -201,6 +201,41 @@ TEST(TrackerAgreement, RenderDualArmMeshes) {
   check_render(dual_arm_meshes(), home_pose());
 }
 
+// What the tracker really uses: its default tessellation, the default scene
+// and camera, at 160x120, home pose and perturbations of it.
+TEST(TrackerAgreement, RenderDefaultSceneWithTheTrackersDefaults) {
+  SceneDescription scene = load_scene(default_scene_path());
+  scene.width = 160;
+  scene.height = 120;
+  const auto model = build_sim_model(scene);
+  RobotModelOptions options;  // defaults, less the (zero) virtual camera joints
+  options.add_virtual_camera_joints = false;
+  const RobotModel robot = RobotModel::from_urdf_file(scene.urdf_path.string(), options);
+  Simulator sim(model);
+  DepthCamera camera(model);
+  DepthRenderer renderer(robot, camera.intrinsics());
+  KinematicsState state(robot);
+  DepthImage mujoco, tracker;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> perturb(0, 0.1);
+  for (int trial = 0; trial < 4; ++trial) {
+    Eigen::VectorXd q = model->initial_joints;
+    if (trial > 0)
+      for (Eigen::Index i = 0; i < q.size(); ++i)
+        q[i] = std::clamp(q[i] + perturb(rng), model->joint_lower[i], model->joint_upper[i]);
+    sim.set_joint_positions(q);
+    camera.render(sim.data(), DepthContent::kRobot, mujoco);
+    forward_kinematics(robot, to_tracker(robot, *model, q), state);
+    renderer.render(state, tracker);
+    const DepthAgreement a = compare_depth(tracker, mujoco, 2e-3);
+    std::printf("default scene configuration %d: %s\n", trial, a.summary().c_str());
+    SCOPED_TRACE("configuration " + std::to_string(trial) + ": " + a.summary());
+    EXPECT_GT(a.pixels_both, 2000);
+    EXPECT_GE(a.fraction_within(), 0.99);
+    EXPECT_GE(a.silhouette_iou(), 0.98);
+  }
+}
+
 TEST(TrackerAgreement, RenderInlineRobot) {
   check_render(inline_robot(), {{"shoulder", 0.3}, {"elbow", 0.4}, {"head_tilt_joint", 0.75}});
 }

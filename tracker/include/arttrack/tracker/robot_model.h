@@ -43,8 +43,10 @@ struct RobotModelOptions {
   bool add_virtual_camera_joints = true;
   // Sides of the polygon approximating URDF cylinders.
   int cylinder_segments = 32;
-  // Meridians of the UV sphere approximating URDF spheres (half as many bands).
-  int sphere_segments = 16;
+  // Meridians of the UV sphere approximating URDF spheres (half as many
+  // bands). 24 keeps the default render within 2 mm of MuJoCo's on 99% of the
+  // robot's pixels (16 did not: 98.95% at 640x480, the spheres up to 15 mm off).
+  int sphere_segments = 24;
 };
 
 // One link and the joint to its parent.
