@@ -8,6 +8,7 @@
 #include <optional>
 #include <random>
 
+#include "arttrack/sim/dataset.h"
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/sim_model.h"
 #include "arttrack/sim/simulator.h"
@@ -170,6 +171,9 @@ class Run {
       scores_[i].begin_run();
     }
     estimate_method_ = render_method(setup.methods);
+    if (options.sink)
+      options.sink->begin_run({run, seed, stream_seed(seed, kTracker), m.joint_names,
+                               camera_.intrinsics(), setup.joint_names, sc.scoring.end_effectors});
     if (run == 0 && options.frames_to_keep > 0)
       for (int i = 0; i < options.frames_to_keep; ++i)
         keep_times_.push_back(sc.duration_s * (i + 1) / (options.frames_to_keep + 1));
@@ -196,6 +200,7 @@ class Run {
       encoders_.corrupt(
           t, n == 0 ? 0.0 : period, std::span<const double>(truth.q.data(), std::size_t(n_sim)),
           std::span<const double>(truth.actuator_torque.data(), std::size_t(n_sim)), readings);
+      if (options_.sink) options_.sink->joints(result_.run, t, readings);
       for (std::size_t i = 0; i < trackers_.size(); ++i) {
         if (setup_.methods[i] == TrackingMethod::kVisionOnly) continue;
         const auto start = Clock::now();
@@ -223,6 +228,7 @@ class Run {
         }
         InFlight frame{t, t + (f.arrival_s - f.stamp_s), {}};
         depth_noise_.corrupt(exact, frame.image);
+        if (options_.quantise_depth_mm) quantise_depth_mm(frame.image);
         in_flight_.push_back(std::move(frame));
       }
 
@@ -273,6 +279,7 @@ class Run {
   void deliver(const InFlight& frame, double now) {
     const CameraIntrinsics& K = camera_.intrinsics();
     for (auto& tracker : trackers_) tracker->add_depth_image(frame.stamp_s, frame.image, K);
+    if (options_.sink) options_.sink->image(result_.run, frame.stamp_s, now, frame.image);
     ++result_.frames_delivered;
     if (keep_times_.empty() || frame.stamp_s < keep_times_.front()) return;
     keep_times_.erase(keep_times_.begin());
@@ -332,6 +339,7 @@ class Run {
       }
       result_.methods[i].samples.push_back(std::move(s));
     }
+    if (options_.sink) options_.sink->truth(result_.run, truth);
     result_.truth.push_back(std::move(truth));
   }
 

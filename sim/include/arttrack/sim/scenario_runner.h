@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,35 @@ struct RunProgress {
   double duration_s = 0;
 };
 
+struct TruthSample;
+
+// What a MeasurementSink learns when a run starts.
+struct RunStart {
+  int run = 0;
+  std::uint64_t seed = 0;                   // the run's seed
+  unsigned long long tracker_seed = 0;      // TrackerConfig::seed of its trackers
+  std::vector<std::string> encoder_joints;  // order of the readings
+  CameraIntrinsics camera;                  // of the delivered images
+  // Order of TruthSample's per-joint and per-end-effector values.
+  std::vector<std::string> truth_joints, end_effectors;
+};
+
+// Sees a run's measurements exactly as its trackers receive them, and the
+// ground truth they are scored against (to export a dataset).
+class MeasurementSink {
+ public:
+  virtual ~MeasurementSink() = default;
+  virtual void begin_run(const RunStart& start) {}
+  // Encoder readings taken at time_s, RunStart::encoder_joints order, rad.
+  virtual void joints(int run, double time_s, std::span<const double> readings_rad) {}
+  // A depth image stamped stamp_s (capture), given to the trackers at
+  // arrival_s: the first joint step at or after its arrival, right after
+  // that step's readings.
+  virtual void image(int run, double stamp_s, double arrival_s, const DepthImage& image) {}
+  // Ground truth at a scored instant, after that step's readings and images.
+  virtual void truth(int run, const TruthSample& truth) {}
+};
+
 struct RunOptions {
   // Number of runs (0: the scenario's `runs`).
   int runs = 0;
@@ -51,6 +81,12 @@ struct RunOptions {
   std::function<void(const RunProgress&)> progress;
   // Depth frames kept for reports, evenly spread over run 0.
   int frames_to_keep = 4;
+  // Sees every run's measurements and truth (may be null; not owned).
+  MeasurementSink* sink = nullptr;
+  // Depth delivered in whole millimetres, as a 16-bit PNG stores it
+  // (quantise_depth_mm in dataset.h): a run then equals tracking its
+  // exported dataset.
+  bool quantise_depth_mm = false;
 };
 
 // The seed of run k of a scenario with seed `seed`: a SplitMix64 mix (so
