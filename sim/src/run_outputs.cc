@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "arttrack/sim/depth_png.h"
+#include "arttrack/sim/report.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
@@ -185,6 +186,7 @@ void write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
     write_timeseries_csv(csv, r);
     if (!csv) throw InputError((dir / "timeseries.csv").string() + ": cannot write");
   }
+  write_report_html(dir / "report.html", r);
   for (std::size_t i = 0; i < r.frames.size(); ++i) {
     const std::string stem = "frame_" + std::to_string(i);
     write_depth_png_mm(dir / "frames" / (stem + "_observed.png"), r.frames[i].observed);

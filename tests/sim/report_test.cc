@@ -1,0 +1,416 @@
+// The HTML report of a run, on a small ScenarioResult built here (no
+// simulation): every chart is there, the page is self-contained and
+// well-formed, the summary's numbers appear, and the embedded depth frame
+// decodes (base64 and PNG checked with independent decoders).
+#include "arttrack/sim/report.h"
+
+#include <gtest/gtest.h>
+
+#include <png.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "arttrack/sim/run_outputs.h"
+#include "arttrack/tracker/error.h"
+
+namespace arttrack::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kJoints = {"shoulder", "elbow", "wrist"};
+constexpr double kDt = 0.1, kDuration = 12.0;
+
+// Translation error of each method at time t, m (NaN: lost).
+double error_m(const std::string& method, double t) {
+  if (method == "encoders_only") return 0.0421;  // constant: every percentile is 42.10 mm
+  if (method == "full_fusion") return 0.0002 + 0.04 * std::exp(-t);
+  return t > 11.4 ? std::nan("") : 0.003 + 0.001 * std::sin(t);  // vision_only, lost at the end
+}
+
+// Three methods, one run, a 40x30 kept frame: enough for every section.
+ScenarioResult synthetic_result() {
+  ScenarioResult r;
+  r.scenario = "synthetic";
+  r.source = "scenarios/synthetic.yaml";
+  r.duration_s = kDuration;
+  r.seeds = {4242};
+  r.methods = {"encoders_only", "full_fusion", "vision_only"};
+  r.joint_names = kJoints;
+  r.end_effectors = {"left_ee"};
+  r.scoring.converged_after_s = 5.0;
+  r.scoring.convergence_threshold_m = 0.01;
+
+  RunResult run;
+  run.seed = 4242;
+  run.frames_captured = 360;
+  run.frames_delivered = 350;
+  const int n = int(std::lround(kDuration / kDt));
+  for (const std::string& m : r.methods) {
+    MethodRun mr;
+    mr.method = m;
+    mr.stats.images_received = 350;
+    mr.stats.images_applied = 340;
+    mr.stats.images_dropped_backlog = 10;
+    run.methods.push_back(mr);
+  }
+  for (int i = 0; i <= n; ++i) {
+    const double t = i * kDt;
+    TruthSample truth;
+    truth.time_s = t;
+    truth.camera_frame = true;
+    truth.angle_rad = Eigen::Vector3d(0.1, 0.2, 0.3);
+    truth.bias_rad = Eigen::Vector3d(0.15, -0.05, 0.0);
+    truth.T_camera_ee = {Eigen::Isometry3d::Identity()};
+    run.truth.push_back(truth);
+    for (MethodRun& mr : run.methods) {
+      EstimateSample s;
+      s.angle_rad = truth.angle_rad;
+      s.angle_std_rad = Eigen::Vector3d::Constant(0.01);
+      const double approach = 1.0 - std::exp(-0.5 * t);
+      s.bias_rad = truth.bias_rad * approach;
+      s.bias_std_rad = Eigen::Vector3d::Constant(0.02 + 0.1 * (1.0 - approach));
+      s.camera_offset << 0.01 * approach, -0.01 * approach, 0.015 * approach, 0.01, -0.02, 0.01;
+      s.T_camera_ee = {Eigen::Isometry3d::Identity()};
+      s.ee_error = {PoseError{error_m(mr.method, t), 0.5 * error_m(mr.method, t)}};
+      mr.samples.push_back(s);
+    }
+  }
+  r.runs.push_back(run);
+
+  for (const MethodRun& mr : r.runs[0].methods) {
+    MethodResult m{mr.method, MethodScores(mr.method, kJoints), {}, {}};
+    m.scores.begin_run();
+    for (std::size_t i = 0; i < mr.samples.size(); ++i)
+      m.scores.add(r.runs[0].truth[i].time_s, mr.samples[i].ee_error[0]);
+    r.method_results.push_back(std::move(m));
+  }
+  for (MethodResult& m : r.method_results)
+    m.summary = m.scores.summary(r.scoring, &r.method_results[0].scores);
+  for (MethodResult& m : r.method_results) {
+    const std::vector<double> joint_us = {1.5, 2.5, 3.5}, image_ms = {4.0, 6.5, 7.0};
+    m.timing.joint_update_us = percentiles(joint_us);
+    m.timing.image_update_ms = percentiles(image_ms);
+    m.timing.evaluations_per_image = 1234;
+  }
+
+  KeptFrame f;
+  f.stamp_s = 6.0;
+  f.arrival_s = 6.05;
+  f.estimate_method = "full_fusion";
+  f.observed = DepthImage(40, 30);
+  for (int v = 0; v < 30; ++v)
+    for (int u = 0; u < 40; ++u) f.observed.at(u, v) = u < 2 ? 0.f : 1.0f + 0.02f * u;
+  f.estimate = DepthImage(40, 30);
+  for (int v = 10; v < 20; ++v)
+    for (int u = 15; u < 30; ++u) f.estimate.at(u, v) = 1.2f;
+  r.frames.push_back(f);
+  return r;
+}
+
+// The <svg ...>...</svg> element whose data-chart is `id` ("" if none).
+std::string chart(const std::string& html, const std::string& id) {
+  const std::size_t at = html.find("data-chart=\"" + id + "\"");
+  if (at == std::string::npos) return "";
+  const std::size_t begin = html.rfind("<svg", at);
+  const std::size_t end = html.find("</svg>", at);
+  return html.substr(begin, end + 6 - begin);
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// Every opened element is closed in order (void elements and "/>" aside).
+// Returns the first problem, or "" if none.
+std::string tag_problem(const std::string& html) {
+  std::vector<std::string> open;
+  for (std::size_t at = html.find('<'); at != std::string::npos; at = html.find('<', at + 1)) {
+    const std::size_t end = html.find('>', at);
+    if (end == std::string::npos) return "unterminated tag at " + std::to_string(at);
+    const std::string tag = html.substr(at + 1, end - at - 1);
+    if (tag.starts_with("!")) continue;  // <!DOCTYPE html>
+    const bool closing = tag.starts_with("/");
+    const std::size_t name_end = tag.find_first_of(" \t\n/", closing ? 1 : 0);
+    const std::string name =
+        tag.substr(closing ? 1 : 0, name_end == std::string::npos ? std::string::npos
+                                                                  : name_end - (closing ? 1 : 0));
+    if (closing) {
+      if (open.empty() || open.back() != name)
+        return "</" + name + "> closes <" + (open.empty() ? "nothing" : open.back()) + ">";
+      open.pop_back();
+    } else if (!tag.ends_with("/") && name != "meta" && name != "img" && name != "br") {
+      open.push_back(name);
+    }
+  }
+  return open.empty() ? "" : "<" + open.back() + "> never closed";
+}
+
+// RFC 4648 decoding, written independently of the encoder under test.
+std::vector<std::uint8_t> base64_decode(const std::string& text) {
+  std::vector<std::uint8_t> out;
+  std::uint32_t bits = 0;
+  int have = 0;
+  for (char c : text) {
+    int v;
+    if (c >= 'A' && c <= 'Z')
+      v = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      v = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      v = c - '0' + 52;
+    else if (c == '+')
+      v = 62;
+    else if (c == '/')
+      v = 63;
+    else
+      break;  // '=' padding
+    bits = (bits << 6) | std::uint32_t(v);
+    have += 6;
+    if (have >= 8) {
+      have -= 8;
+      out.push_back(std::uint8_t((bits >> have) & 0xff));
+    }
+  }
+  return out;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+TEST(Report, EveryChartIsThere) {
+  const ScenarioResult r = synthetic_result();
+  const std::string html = report_html(r);
+  std::vector<std::string> ids = {"box-translation-all", "box-translation-converged",
+                                  "box-rotation-all",    "box-rotation-converged",
+                                  "error-time",          "colours-0"};
+  for (const std::string& j : kJoints) ids.push_back("bias-" + j);
+  for (const char* k : {"x", "y", "z", "roll", "pitch", "yaw"})
+    ids.push_back(std::string("camera-") + k);
+  for (const std::string& id : ids) EXPECT_NE(chart(html, id), "") << id;
+  EXPECT_EQ(count(html, "<svg"), ids.size());
+  EXPECT_EQ(count(html, "</svg>"), ids.size());
+  // One box per method in each box plot, one line per method over time.
+  for (const char* id : {"box-translation-all", "box-rotation-converged"})
+    EXPECT_EQ(count(chart(html, id), "<rect"), 3u) << id;
+  EXPECT_EQ(count(chart(html, "error-time"), "stroke-width=\"1.6\""), 3u);
+  // Bias: estimate and truth lines and the band; camera: the two estimating methods.
+  EXPECT_EQ(count(chart(html, "bias-elbow"), "<path"), 3u);
+  EXPECT_EQ(count(chart(html, "camera-yaw"), "<path"), 2u);
+  // 42 mm against 0.2 mm: the translation axis is logarithmic and says so.
+  EXPECT_NE(chart(html, "box-translation-all").find("(log scale)"), std::string::npos);
+  EXPECT_NE(chart(html, "error-time").find("(log scale)"), std::string::npos);
+  EXPECT_EQ(chart(html, "bias-shoulder").find("(log scale)"), std::string::npos);
+  // vision_only's lost estimates show as such.
+  EXPECT_NE(chart(html, "box-translation-all").find(">lost<"), std::string::npos);
+}
+
+TEST(Report, SelfContainedAndWellFormed) {
+  const std::string html = report_html(synthetic_result());
+  EXPECT_EQ(html.find("http"), std::string::npos);
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(count(html, "src=\"data:image/png;base64,"), count(html, "src=\""));  // only data URIs
+  EXPECT_EQ(count(html, "src=\""), 1u);
+  EXPECT_EQ(html.find("url(http"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
+  EXPECT_TRUE(html.starts_with("<!DOCTYPE html>"));
+}
+
+TEST(Report, TagCheckerFindsProblems) {
+  EXPECT_NE(tag_problem("<svg><g></svg>"), "");
+  EXPECT_NE(tag_problem("<div><svg></svg>"), "");
+  EXPECT_EQ(tag_problem("<div><img src=\"x\"><line/></div>"), "");
+}
+
+TEST(Report, ShowsTheSummaryNumbers) {
+  const ScenarioResult r = synthetic_result();
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("<td>42.10</td>"), std::string::npos);  // encoders_only's constant error, mm
+  EXPECT_NE(html.find("<td>1.206</td>"), std::string::npos);  // its rotation: 21.05 mrad in degrees
+  // Every finite percentile of the summary, in mm (2 decimals) and degrees (3).
+  for (const MethodResult& m : r.method_results) {
+    for (const ErrorStats* s : {&m.summary.all, &m.summary.converged}) {
+      const Percentiles& t = s->translation_m;
+      const Percentiles& a = s->rotation_rad;
+      for (const auto& [v, text] : {std::pair{t.p01, fixed(t.p01 * 1e3, 2)},
+                                    {t.p25, fixed(t.p25 * 1e3, 2)},
+                                    {t.p50, fixed(t.p50 * 1e3, 2)},
+                                    {t.p75, fixed(t.p75 * 1e3, 2)},
+                                    {t.p99, fixed(t.p99 * 1e3, 2)},
+                                    {a.p01, fixed(a.p01 * 180 / M_PI, 3)},
+                                    {a.p25, fixed(a.p25 * 180 / M_PI, 3)},
+                                    {a.p50, fixed(a.p50 * 180 / M_PI, 3)},
+                                    {a.p75, fixed(a.p75 * 180 / M_PI, 3)},
+                                    {a.p99, fixed(a.p99 * 180 / M_PI, 3)}}) {
+        if (std::isfinite(v)) {
+          EXPECT_NE(html.find("<td>" + text + "</td>"), std::string::npos) << m.method << " " << v;
+        }
+      }
+    }
+  }
+  EXPECT_NE(html.find("<td>&infin;</td>"), std::string::npos);  // vision_only's p99: lost
+  EXPECT_NE(html.find("<td>2.50</td>"), std::string::npos);     // joint update p50, us
+  EXPECT_NE(html.find("<td>6.50</td>"), std::string::npos);     // image update p50, ms
+  EXPECT_NE(html.find("<td>1234</td>"), std::string::npos);     // evaluations per image
+  // full_fusion converges when its error drops below 10 mm: 0.2 + 40 exp(-t) < 10 for t > 1.41 s,
+  // the first sample after is at 1.5 s; the others never converge.
+  EXPECT_NE(html.find("<td>1.5</td>"), std::string::npos);
+  EXPECT_EQ(count(html, "<td>never</td>"), 2u);
+  // The JSON itself, folded in.
+  EXPECT_NE(html.find(summary_json(r)), std::string::npos);
+  // Header facts.
+  for (const char* s :
+       {"synthetic", "scenarios/synthetic.yaml", "4242", "12.0 s", "vision_only", "from 5.0 s on"})
+    EXPECT_NE(html.find(s), std::string::npos) << s;
+}
+
+TEST(Report, EmptyConvergedWindowSaysNoSamples) {
+  ScenarioResult r = synthetic_result();
+  r.scoring.converged_after_s = 100.0;  // beyond the run
+  for (MethodResult& m : r.method_results) m.summary = m.scores.summary(r.scoring);
+  const std::string html = report_html(r);
+  EXPECT_NE(chart(html, "box-translation-converged").find("no samples"), std::string::npos);
+  EXPECT_EQ(chart(html, "box-translation-all").find("no samples"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
+}
+
+TEST(Report, SeveralRunsPlotTheMedian) {
+  ScenarioResult r = synthetic_result();
+  r.runs.push_back(r.runs[0]);
+  r.runs.push_back(r.runs[0]);
+  r.seeds = {1, 2, 3};
+  const std::string html = report_html(r);
+  EXPECT_NE(chart(html, "error-time").find("median over 3 runs"), std::string::npos);
+}
+
+TEST(Report, Base64KnownVectorsAndRoundTrip) {
+  // RFC 4648, section 10.
+  const std::pair<std::string, std::string> vectors[] = {{"", ""},
+                                                         {"f", "Zg=="},
+                                                         {"fo", "Zm8="},
+                                                         {"foo", "Zm9v"},
+                                                         {"foob", "Zm9vYg=="},
+                                                         {"fooba", "Zm9vYmE="},
+                                                         {"foobar", "Zm9vYmFy"}};
+  for (const auto& [in, out] : vectors)
+    EXPECT_EQ(base64_encode({reinterpret_cast<const std::uint8_t*>(in.data()), in.size()}), out);
+  std::mt19937 rng(3);
+  for (int n = 0; n < 70; ++n) {
+    std::vector<std::uint8_t> bytes(n);
+    for (auto& b : bytes) b = std::uint8_t(rng());
+    const std::string text = base64_encode(bytes);
+    EXPECT_EQ(text.size(), std::size_t((n + 2) / 3 * 4));
+    EXPECT_EQ(base64_decode(text), bytes) << n;
+  }
+}
+
+TEST(Report, PngInMemoryDecodes) {
+  std::vector<std::uint8_t> rgb(7 * 5 * 3);
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = std::uint8_t(i * 37);
+  const std::vector<std::uint8_t> png = encode_png_rgb(7, 5, rgb);
+  png_image img{};
+  img.version = PNG_IMAGE_VERSION;
+  ASSERT_TRUE(png_image_begin_read_from_memory(&img, png.data(), png.size()));
+  ASSERT_EQ(img.width, 7u);
+  ASSERT_EQ(img.height, 5u);
+  img.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> back(PNG_IMAGE_SIZE(img));
+  ASSERT_TRUE(png_image_finish_read(&img, nullptr, back.data(), 0, nullptr));
+  EXPECT_EQ(back, rgb);
+  EXPECT_THROW(encode_png_rgb(7, 5, std::span(rgb).first(10)), InputError);
+  EXPECT_THROW(encode_png_rgb(0, 5, {}), InputError);
+}
+
+TEST(Report, EmbeddedFrameShowsDepthAndSilhouette) {
+  const std::string html = report_html(synthetic_result());
+  const std::string key = "src=\"data:image/png;base64,";
+  const std::size_t at = html.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t begin = at + key.size();
+  const std::vector<std::uint8_t> png =
+      base64_decode(html.substr(begin, html.find('"', begin) - begin));
+  png_image img{};
+  img.version = PNG_IMAGE_VERSION;
+  ASSERT_TRUE(png_image_begin_read_from_memory(&img, png.data(), png.size()));
+  ASSERT_EQ(img.width, 40u);
+  ASSERT_EQ(img.height, 30u);
+  img.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> rgb(PNG_IMAGE_SIZE(img));
+  ASSERT_TRUE(png_image_finish_read(&img, nullptr, rgb.data(), 0, nullptr));
+  auto pixel = [&](int u, int v) {
+    const std::uint8_t* p = &rgb[(std::size_t(v) * 40 + u) * 3];
+    return std::array<int, 3>{p[0], p[1], p[2]};
+  };
+  const std::array<int, 3> white{255, 255, 255}, black{0, 0, 0};
+  EXPECT_EQ(pixel(0, 0), black);    // no return
+  EXPECT_EQ(pixel(15, 14), white);  // the estimate's left edge
+  EXPECT_EQ(pixel(22, 10), white);  // its top edge
+  EXPECT_EQ(pixel(29, 19), white);  // its corner
+  EXPECT_NE(pixel(22, 14), white);  // inside: the observed depth shows
+  EXPECT_NE(pixel(22, 14), black);
+  EXPECT_NE(pixel(5, 5), white);  // outside
+  // Near is red, far is blue.
+  EXPECT_GT(pixel(3, 25)[0], pixel(3, 25)[2]);
+  EXPECT_LT(pixel(39, 25)[0], pixel(39, 25)[2]);
+}
+
+TEST(Report, RoundTicks) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> exponent(-4, 4), unit(-1, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double scale = std::pow(10.0, exponent(rng));
+    double lo = unit(rng) * scale, hi = unit(rng) * scale;
+    if (lo > hi) std::swap(lo, hi);
+    const int max_ticks = 3 + trial % 6;
+    const std::vector<double> t = round_ticks(lo, hi, max_ticks);
+    ASSERT_GE(t.size(), 2u);
+    ASSERT_LE(t.size(), std::size_t(max_ticks + 1)) << lo << " " << hi;
+    EXPECT_LE(t.front(), lo);
+    EXPECT_GE(t.back(), hi);
+    const double step = t[1] - t[0];
+    const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
+    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-6 || std::abs(mantissa - 2) < 1e-6 ||
+                std::abs(mantissa - 5) < 1e-6)
+        << step;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      EXPECT_NEAR(t[i] / step, std::round(t[i] / step), 1e-6);  // multiples of the step
+      if (i > 0) {
+        EXPECT_NEAR(t[i] - t[i - 1], step, 1e-9 * scale);
+      }
+    }
+  }
+  EXPECT_EQ(round_ticks(0, 10, 6), (std::vector<double>{0, 2, 4, 6, 8, 10}));
+  const std::vector<double> t = round_ticks(0.13, 0.87, 5);  // 0.1 steps would be 9 ticks
+  ASSERT_EQ(t.size(), 6u);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(t[i], 0.2 * i, 1e-12);
+}
+
+TEST(Report, WritesTheFileOrNamesIt) {
+  const ScenarioResult r = synthetic_result();
+  const fs::path dir = fs::temp_directory_path() / "arttrack_report_test";
+  fs::create_directories(dir);
+  write_report_html(dir / "report.html", r);
+  std::ifstream in(dir / "report.html", std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), report_html(r));
+  try {
+    write_report_html(dir / "no_such_dir" / "report.html", r);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_dir"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace arttrack::sim
