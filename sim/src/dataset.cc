@@ -113,11 +113,9 @@ class CsvFile {
 };
 
 [[noreturn]] void fail_time_order(const CsvFile& csv, double t, double previous) {
-  std::ostringstream os;
-  os.precision(17);
-  os << "time stamp " << t << " s is " << (t == previous ? "repeated" : "out of order")
-     << " (the previous row's is " << previous << " s)";
-  csv.fail(os.str());
+  csv.fail("time stamp " + number_text(t) + " s is " +
+           (t == previous ? "repeated" : "out of order") + " (the previous row's is " +
+           number_text(previous) + " s)");
 }
 
 // ---- the parts of a dataset ----
