@@ -418,17 +418,21 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
   svg_open(o, f, c.id, c.title);
   y_axis(o, f, ya, c.y_label);
   x_axis(o, f, xa, c.x_label);
+  // Reference lines under the data, their labels over it.
+  std::ostringstream labels;
   for (const auto& [x, text] : c.x_marks) {
     const double X = xa.map(x);
     o << "<line class=\"mark\" x1=\"" << px(X) << "\" x2=\"" << px(X) << "\" y1=\"" << px(f.y0())
-      << "\" y2=\"" << px(f.y1()) << "\"/><text class=\"note\" x=\"" << px(X + 3) << "\" y=\""
-      << px(f.y1() + 11) << "\">" << esc(text) << "</text>\n";
+      << "\" y2=\"" << px(f.y1()) << "\"/>\n";
+    labels << "<text class=\"note\" x=\"" << px(X + 3) << "\" y=\"" << px(f.y1() + 11) << "\">"
+           << esc(text) << "</text>\n";
   }
   for (const auto& [y, text] : c.y_marks) {
     const double Y = ya.map(y);
     o << "<line class=\"mark\" x1=\"" << px(f.x0()) << "\" x2=\"" << px(f.x1()) << "\" y1=\""
-      << px(Y) << "\" y2=\"" << px(Y) << "\"/><text class=\"note\" x=\"" << px(f.x1() - 3)
-      << "\" y=\"" << px(Y - 3) << "\" text-anchor=\"end\">" << esc(text) << "</text>\n";
+      << px(Y) << "\" y2=\"" << px(Y) << "\"/>\n";
+    labels << "<text class=\"note\" x=\"" << px(f.x1() - 3) << "\" y=\"" << px(Y - 3)
+           << "\" text-anchor=\"end\">" << esc(text) << "</text>\n";
   }
   o << "<clipPath id=\"clip-" << esc(c.id) << "\"><rect x=\"" << px(f.x0()) << "\" y=\""
     << px(f.y1()) << "\" width=\"" << px(f.x1() - f.x0()) << "\" height=\"" << px(f.y0() - f.y1())
@@ -470,7 +474,7 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
       << px(c.line_width) << "\" stroke-linejoin=\"round\""
       << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/>\n";
   }
-  o << "</g>\n";
+  o << "</g>\n" << labels.str();
   if (c.legend) {
     // Right-aligned above the plot, clear of the title (about 7 px per character).
     double width = 0;

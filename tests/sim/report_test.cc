@@ -284,6 +284,13 @@ TEST(Report, EmptyConvergedWindowSaysNoSamples) {
   EXPECT_EQ(tag_problem(html), "");
 }
 
+TEST(Report, EmptyResultGivesAPageSayingSo) {
+  const std::string html = report_html(ScenarioResult{});
+  EXPECT_EQ(tag_problem(html), "");
+  EXPECT_NE(html.find("full_fusion was not run"), std::string::npos);
+  EXPECT_NE(html.find("No depth frame was kept"), std::string::npos);
+}
+
 TEST(Report, SeveralRunsPlotTheMedian) {
   ScenarioResult r = synthetic_result();
   r.runs.push_back(r.runs[0]);
