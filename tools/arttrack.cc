@@ -10,6 +10,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   arttrack::cli::register_render(app);
   arttrack::cli::register_run(app);
+  arttrack::cli::register_sweep(app);
+  arttrack::cli::register_merge(app);
+  arttrack::cli::register_tune(app);
   arttrack::cli::register_export(app);
   arttrack::cli::register_track(app);
   try {

@@ -8,6 +8,9 @@ namespace arttrack::cli {
 
 void register_render(CLI::App& app);
 void register_run(CLI::App& app);
+void register_sweep(CLI::App& app);
+void register_merge(CLI::App& app);
+void register_tune(CLI::App& app);
 void register_export(CLI::App& app);
 void register_track(CLI::App& app);
 

@@ -1,0 +1,302 @@
+// Stress sweeps on the small dual-arm robot of the scenario tests (160x120
+// camera, 1.5 simulated seconds, 1 run):
+//   - grid specifications: ranges include their end, lists keep their text,
+//     and bad ones (stop below start, non-numbers, zero step, unknown keys,
+//     indices past the end) are errors naming the spec;
+//   - list elements can be swept (encoders[0].offset_deg reaches the
+//     scenario's encoder group);
+//   - a cell's seed depends on its overrides and the scenario seed only;
+//   - sharded runs merged give exactly the bytes of one unsharded run, with
+//     failed cells (a value the scenario rejects) reported and the others run;
+//   - the same through the arttrack program and GNU parallel, if installed.
+#include "arttrack/sim/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "arttrack/tracker/error.h"
+#include "scenario_test_robot.h"
+
+namespace arttrack::sim {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kDeg = M_PI / 180.0;
+
+constexpr char kScenario[] = R"(
+scene: scene.yaml
+duration_s: 1.5
+seed: 5
+methods: [encoders_only, full_fusion]
+motion:
+  sinusoids:
+    - {joints: [left_arm_joint_1], amplitude_deg: 10, frequency_hz: 0.4}
+encoders:
+  - {joints: [arms], offset_deg: 5}
+scoring: {converged_after_s: 0.5, end_effectors: [left_ee]}
+tracker_overrides: {particle_filter.particles: 8, depth_model.width: 40, depth_model.height: 30}
+)";
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs `f` and returns the InputError's message ("" if none was thrown).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SweepGrid, RangesIncludeTheirEndAndListsKeepTheirText) {
+  const GridAxis a = parse_grid_axis("camera.latency_s=0:0.1:0.025");
+  EXPECT_EQ(a.key, "camera.latency_s");
+  EXPECT_EQ(a.values, (std::vector<std::string>{"0", "0.025", "0.05", "0.075", "0.1"}));
+  // 0.1 + 0.2 is 0.30000000000000004 in binary: the text stays 0.3.
+  EXPECT_EQ(parse_grid_axis("k=0.1:0.3:0.1").values,
+            (std::vector<std::string>{"0.1", "0.2", "0.3"}));
+  // The end is included only when reached.
+  EXPECT_EQ(parse_grid_axis("k=0:1:0.4").values, (std::vector<std::string>{"0", "0.4", "0.8"}));
+  EXPECT_EQ(parse_grid_axis("k=-2:-1:1").values, (std::vector<std::string>{"-2", "-1"}));
+  const GridAxis l = parse_grid_axis("camera.jitter=gaussian, uniform");
+  EXPECT_EQ(l.values, (std::vector<std::string>{"gaussian", "uniform"}));
+  EXPECT_EQ(parse_grid_axis("encoders[0].offset_deg=1,2").key, "encoders[0].offset_deg");
+}
+
+TEST(SweepGrid, BadSpecificationsAreErrorsNamingTheSpec) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"key=1:0:0.1", "stop 0 is below start 1"},
+      {"key=a:b:c", "start 'a' is not a finite number"},
+      {"key=0:1:0", "step must be > 0"},
+      {"key=0:1:-0.5", "step must be > 0"},
+      {"key=0:1", "three numbers"},
+      {"key=0:1e9:1", "more than 10000"},
+      {"key", "expected key=start:stop:step"},
+      {"=1,2", "expected key=start:stop:step"},
+      {"key=", "no values"},
+      {"key=1,,2", "an empty value"},
+      {"key=1,1", "listed twice"},
+      {"a..b=1", "empty component"},
+      {"a[x].b=1", "bad index"},
+  };
+  for (const auto& [spec, problem] : cases) {
+    const std::string msg = error_of([&] { parse_grid_axis(spec); });
+    EXPECT_NE(msg.find("--grid '" + spec + "'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(problem), std::string::npos) << spec << ": " << msg;
+  }
+}
+
+TEST(SweepGrid, ShardsAreValidated) {
+  const Shard s = parse_shard("2/4");
+  EXPECT_EQ(s.index, 2);
+  EXPECT_EQ(s.count, 4);
+  EXPECT_TRUE(s.contains(6));
+  EXPECT_FALSE(s.contains(7));
+  for (const char* bad : {"4/4", "-1/4", "1/0", "1", "a/b", "1.5/4"})
+    EXPECT_NE(error_of([&] { parse_shard(bad); }).find(std::string("--shard '") + bad + "'"),
+              std::string::npos)
+        << bad;
+}
+
+TEST(SweepGrid, UnknownKeysAndBadIndicesAreErrorsNamingTheSpec) {
+  const test::TestDir dir("sweep_keys");
+  const fs::path scenario = dir.write("s.yaml", kScenario);
+  auto resolve = [&](const std::string& spec) {
+    return error_of([&] {
+      SweepSpec s;
+      s.scenario = scenario;
+      s.axes = {parse_grid_axis(spec)};
+      resolve_sweep(s);
+    });
+  };
+  std::string msg = resolve("camera.latncy_s=0:0.1:0.05");
+  EXPECT_NE(msg.find("--grid 'camera.latncy_s=0:0.1:0.05'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("camera.latncy_s' is not a known key"), std::string::npos) << msg;
+  msg = resolve("encoders[2].offset_deg=1,2");
+  EXPECT_NE(msg.find("--grid 'encoders[2].offset_deg=1,2'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("has 1 element(s): no [2]"), std::string::npos) << msg;
+  msg = resolve("encoders.offset_deg=1,2");
+  EXPECT_NE(msg.find("'encoders' is not a map"), std::string::npos) << msg;
+  // A value the scenario rejects is not a spec error: that cell fails.
+  EXPECT_EQ(resolve("camera.drop_probability=0,1"), "");
+}
+
+TEST(SweepGrid, ListElementsCanBeSwept) {
+  const test::TestDir dir("sweep_index");
+  const fs::path scenario = dir.write("s.yaml", kScenario);
+  const Scenario s = load_scenario_indexed(
+      scenario, {"encoders[0].offset_deg=2.5", "occluders=[]", "camera.latency_s=0.01"});
+  ASSERT_EQ(s.encoders.groups.size(), 1u);
+  EXPECT_NEAR(s.encoders.groups[0].offset_rad, 2.5 * kDeg, 1e-12);
+  EXPECT_EQ(s.encoders.groups[0].joints.size(), 4u);  // the rest of the group stays
+  EXPECT_DOUBLE_EQ(s.camera_timing.latency_s, 0.01);
+  // A new key inside an element reaches it too, and overrides of one list add up.
+  const Scenario t = load_scenario_indexed(
+      scenario, {"encoders[0].noise_deg=0.5", "duration_s=2", "encoders[0].step_amplitude_deg=1"});
+  EXPECT_NEAR(t.encoders.groups[0].noise_sigma_rad, 0.5 * kDeg, 1e-12);
+  EXPECT_NEAR(t.encoders.groups[0].step_amplitude_rad, 1 * kDeg, 1e-12);
+  EXPECT_NEAR(t.encoders.groups[0].offset_rad, 5 * kDeg, 1e-12);
+  EXPECT_EQ(t.duration_s, 2);
+}
+
+TEST(SweepGrid, CellsAndSeeds) {
+  SweepSpec spec;
+  spec.axes = {parse_grid_axis("a=1,2,3"), parse_grid_axis("b=x,y")};
+  ASSERT_EQ(spec.cell_count(), 6u);
+  // Row-major: the last axis fastest.
+  EXPECT_EQ(spec.cell_coordinates(3), (std::vector<std::size_t>{1, 1}));
+  EXPECT_EQ(spec.cell_overrides(4), (std::vector<std::string>{"a=3", "b=x"}));
+  // Seeds: a function of the overrides and the scenario seed, 53 bits.
+  std::set<std::uint64_t> seeds;
+  for (std::size_t c = 0; c < 6; ++c) {
+    const std::uint64_t s = cell_seed(spec.cell_overrides(c), 7);
+    EXPECT_EQ(s, cell_seed(spec.cell_overrides(c), 7));
+    EXPECT_LT(s, std::uint64_t(1) << 53);
+    seeds.insert(s);
+  }
+  EXPECT_EQ(seeds.size(), 6u);
+  EXPECT_NE(cell_seed({"a=1", "b=x"}, 7), cell_seed({"a=1", "b=x"}, 8));
+  EXPECT_NE(cell_seed({"a=1", "b=x"}, 7), cell_seed({"a=1b=x"}, 7));
+}
+
+// The sweep of the sharding tests: 2 x 2 cells, 2 methods, 1 run; the cells
+// with drop_probability 1 (cells 2 and 3) fail: the scenario rejects it.
+// Each of two shards gets one cell that runs and one that fails.
+SweepSpec small_sweep(const fs::path& scenario) {
+  SweepSpec spec;
+  spec.scenario = scenario;
+  spec.axes = {parse_grid_axis("camera.drop_probability=0,1"),
+               parse_grid_axis("camera.latency_s=0,0.03")};
+  resolve_sweep(spec);
+  return spec;
+}
+
+TEST(Sweep, ShardedAndUnshardedGiveIdenticalOutputs) {
+  const test::TestDir dir("sweep_shards");
+  const SweepSpec spec = small_sweep(dir.write("s.yaml", kScenario));
+  EXPECT_EQ(spec.methods, (std::vector<std::string>{"encoders_only", "full_fusion"}));
+  EXPECT_EQ(spec.runs, 1);
+  EXPECT_EQ(spec.scenario_seed, 5u);
+
+  std::vector<CellResult> all;
+  for (std::size_t c = 0; c < spec.cell_count(); ++c) all.push_back(run_sweep_cell(spec, c));
+  write_sweep_outputs(dir.path() / "all", spec, Shard{}, all);
+
+  // Failed cells carry the scenario's message; the others real numbers.
+  for (const CellResult& r : all) {
+    const bool should_fail = r.cell >= 2;
+    EXPECT_EQ(r.failed, should_fail) << r.cell << ": " << r.message;
+    if (should_fail) {
+      EXPECT_NE(r.message.find("drop_probability"), std::string::npos) << r.message;
+      EXPECT_TRUE(std::isnan(r.stats[0][0]));
+    } else {
+      ASSERT_EQ(r.stats.size(), 2u);
+      for (const auto& m : r.stats)
+        for (std::size_t s = 0; s + 1 < m.size(); ++s) EXPECT_TRUE(std::isfinite(m[s])) << s;
+      // Encoders only sees the 5 degree bias; percentiles are ordered.
+      EXPECT_GT(r.stats[0][2], 0.01);
+      EXPECT_LE(r.stats[0][0], r.stats[0][4]);
+    }
+  }
+
+  // Shards in reverse order, each from its own cells.
+  for (int i : {1, 0}) {
+    const Shard shard{i, 2};
+    std::vector<CellResult> part;
+    for (std::size_t c = 0; c < spec.cell_count(); ++c)
+      if (shard.contains(c)) part.push_back(run_sweep_cell(spec, c));
+    write_sweep_outputs(dir.path() / ("part" + std::to_string(i)), spec, shard, part);
+  }
+  merge_sweep_parts({dir.path() / "part1", dir.path() / "part0"}, dir.path() / "merged");
+  for (const char* f : {"sweep.csv", "sweep.html", "sweep.json"})
+    EXPECT_EQ(read_file(dir.path() / "all" / f), read_file(dir.path() / "merged" / f)) << f;
+
+  // The CSV: one row per cell x method x statistic, failures marked.
+  const std::string csv = read_file(dir.path() / "all" / "sweep.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "cell,camera.drop_probability,camera.latency_s,method,statistic,value,seed,runs,"
+            "status,message");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4 * 2 * 21);
+  EXPECT_NE(csv.find("\n3,1,0.03,encoders_only,p1_translation_m,nan,"), std::string::npos);
+  const std::vector<CellResult> back = read_sweep_csv(dir.path() / "all" / "sweep.csv", spec);
+  ASSERT_EQ(back.size(), 4u);
+  EXPECT_EQ(back[1].stats[1][3], all[1].stats[1][3]);  // exact round trip
+  EXPECT_EQ(back[2].message, all[2].message);
+  const std::string html = read_file(dir.path() / "all" / "sweep.html");
+  EXPECT_NE(html.find("Where each method breaks"), std::string::npos);
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+
+  // A missing part, a part twice and another sweep are errors naming them.
+  std::string msg = error_of([&] { merge_sweep_parts({dir.path() / "part0"}, dir.path() / "m2"); });
+  EXPECT_NE(msg.find("2 of 4 cells are in no part (cells 1, 3)"), std::string::npos) << msg;
+  msg = error_of([&] {
+    merge_sweep_parts({dir.path() / "part0", dir.path() / "all"}, dir.path() / "m3");
+  });
+  EXPECT_NE(msg.find("cell 0 is in both"), std::string::npos) << msg;
+  SweepSpec other = spec;
+  other.runs = 2;
+  write_sweep_outputs(dir.path() / "other", other, Shard{1, 2}, {});
+  msg = error_of([&] {
+    merge_sweep_parts({dir.path() / "part0", dir.path() / "other"}, dir.path() / "m4");
+  });
+  EXPECT_NE(msg.find("holds another sweep"), std::string::npos) << msg;
+}
+
+// The arttrack program next to this test's build tree, if built.
+fs::path find_arttrack() {
+  std::error_code ec;
+  fs::path dir = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  for (int up = 0; up < 4 && !dir.empty(); ++up, dir = dir.parent_path())
+    if (fs::is_regular_file(dir / "arttrack")) return dir / "arttrack";
+  return {};
+}
+
+TEST(Sweep, GnuParallelShardsMergeIntoTheUnshardedOutputs) {
+  if (std::system("parallel --version > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "GNU parallel is not installed (apt-get install parallel)";
+  const fs::path arttrack = find_arttrack();
+  if (arttrack.empty()) GTEST_SKIP() << "the arttrack program is not built next to this test";
+  const test::TestDir dir("sweep_parallel");
+  const fs::path scenario = dir.write("s.yaml", kScenario);
+  // Paths quoted for the shell.
+  auto quoted = [](const fs::path& p) {
+    std::string q = "'";
+    q += p.string();
+    q += "'";
+    return q;
+  };
+  std::string sweep = quoted(arttrack);
+  sweep += " sweep ";
+  sweep += quoted(scenario);
+  sweep += " --grid camera.drop_probability=0,1 --grid camera.latency_s=0,0.03";
+  const std::string d = quoted(dir.path());
+  ASSERT_EQ(std::system((sweep + " --out " + d + "/all > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system(("cd " + d + " && parallel --will-cite -j 2 " + sweep +
+                         " --shard {}/2 --out parts/{} '>' /dev/null '2>&1' ::: 0 1")
+                            .c_str()),
+            0);
+  ASSERT_EQ(std::system(
+                ("cd " + d + " && " + quoted(arttrack) + " merge parts/* --out merged > /dev/null")
+                    .c_str()),
+            0);
+  const std::string all = read_file(dir.path() / "all" / "sweep.csv");
+  EXPECT_GT(all.size(), 1000u);
+  EXPECT_EQ(all, read_file(dir.path() / "merged" / "sweep.csv"));
+}
+
+}  // namespace
+}  // namespace arttrack::sim
