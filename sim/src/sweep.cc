@@ -829,7 +829,7 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
 }
 
 void legend_svg(std::ostream& o, const Scale& scale, const Display& disp) {
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"330\" height=\"30\" "
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"470\" height=\"30\" "
        "font-family=\"sans-serif\" font-size=\"10\">";
   for (int i = 0; i < 50; ++i)
     o << "<rect x=\"" << 40 + i * 5 << "\" y=\"2\" width=\"5.5\" height=\"12\" fill=\""

@@ -618,7 +618,8 @@ void write_search_csv(std::ostream& out, const TuningOptions& options, const Tun
   out << ",status\n";
   for (const Evaluation& e : result.history) {
     out << e.index;
-    for (double v : e.values) out << ',' << csv_number(v);
+    for (std::size_t i = 0; i < e.values.size(); ++i)
+      out << ',' << result.params[i].text(e.values[i]);
     out << ',' << csv_number(e.objective) << ',' << (e.cached ? 1 : 0);
     std::string status;
     for (const ScenarioOutcome& o : e.outcomes) {
@@ -727,8 +728,13 @@ void search_chart(std::ostream& o, const TuningResult& r) {
   if (hi == lo) hi = lo + (lo == 0 ? 1 : std::fabs(lo) * 0.1);
   const double n = std::max<double>(1, double(v.size()) - 1);
   auto X = [&](std::size_t i) { return left + (W - left - 10) * double(i) / n; };
+  // Logarithmic when the values span more than a factor 4 (a bad candidate
+  // would flatten the rest).
+  const bool log_y = lo > 0 && hi / lo > 4;
   auto Y = [&](double x) {
-    return top_m + (H - bottom - top_m) * (1 - (std::min(x, hi) - lo) / (hi - lo));
+    x = std::clamp(x, lo, hi);
+    const double t = log_y ? std::log(x / lo) / std::log(hi / lo) : (x - lo) / (hi - lo);
+    return top_m + (H - bottom - top_m) * (1 - t);
   };
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
     << "\" font-family=\"sans-serif\" font-size=\"10\"><rect x=\"" << left << "\" y=\"" << top_m
@@ -736,7 +742,8 @@ void search_chart(std::ostream& o, const TuningResult& r) {
     << "\" fill=\"none\" stroke=\"#ccc\"/><text x=\"" << left - 4 << "\" y=\"" << top_m + 8
     << "\" text-anchor=\"end\">" << format_g(hi, 3) << "</text><text x=\"" << left - 4 << "\" y=\""
     << H - bottom << "\" text-anchor=\"end\">" << format_g(lo, 3) << "</text><text x=\""
-    << (W + left) / 2 << "\" y=\"" << H - 6 << "\" text-anchor=\"middle\">evaluation</text>";
+    << (W + left) / 2 << "\" y=\"" << H - 6 << "\" text-anchor=\"middle\">evaluation"
+    << (log_y ? " (objective on a log scale)" : "") << "</text>";
   std::string line;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < v.size(); ++i) {
