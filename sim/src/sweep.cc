@@ -341,6 +341,7 @@ Display display_of(const std::string& stat) {
 std::string short_value(double v) {
   if (std::isnan(v)) return "-";
   if (std::isinf(v)) return v > 0 ? "never" : "-inf";
+  if (std::fabs(v) < 5e-4) return "0";
   if (std::fabs(v) >= 100) return format_g(std::round(v), 6);
   return format_g(v, 3);
 }
@@ -832,14 +833,15 @@ void legend_svg(std::ostream& o, const Scale& scale, const Display& disp) {
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"470\" height=\"30\" "
        "font-family=\"sans-serif\" font-size=\"10\">";
   for (int i = 0; i < 50; ++i)
-    o << "<rect x=\"" << 40 + i * 5 << "\" y=\"2\" width=\"5.5\" height=\"12\" fill=\""
+    o << "<rect x=\"" << 60 + i * 5 << "\" y=\"2\" width=\"5.5\" height=\"12\" fill=\""
       << colour(i / 49.0) << "\"/>";
   if (scale.any) {
-    o << "<text x=\"36\" y=\"12\" text-anchor=\"end\">" << short_value(scale.lo * disp.scale)
-      << "</text><text x=\"294\" y=\"12\">" << short_value(scale.hi * disp.scale) << " "
-      << disp.unit << (scale.log ? " (log)" : "") << "</text>";
+    o << "<text x=\"56\" y=\"12\" text-anchor=\"end\">" << (scale.log && scale.lo > 0 ? "&le;" : "")
+      << short_value(scale.lo * disp.scale) << "</text><text x=\"314\" y=\"12\">"
+      << short_value(scale.hi * disp.scale) << " " << disp.unit << (scale.log ? " (log)" : "")
+      << "</text>";
   }
-  o << "<text x=\"40\" y=\"26\">grey x: run failed; black: never converged; red outline: method "
+  o << "<text x=\"60\" y=\"26\">grey x: run failed; black: never converged; red outline: method "
        "fails</text></svg>";
 }
 
@@ -967,7 +969,10 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
       scale.any = true;
       scale.lo = lo;
       scale.hi = hi;
-      scale.log = stats[s] != "convergence_time_s" && lo > 0 && hi / lo > 10;
+      // Logarithmic for errors spanning more than a decade, over at most
+      // three decades (a numerically zero error would squash the rest).
+      scale.log = stats[s] != "convergence_time_s" && hi > 0 && hi > 10 * lo;
+      if (scale.log) scale.lo = std::max(lo, hi * 1e-3);
     }
     o << "<details" << (open.count(stats[s]) ? " open" : "") << "><summary>" << stats[s] << " ("
       << disp.unit << ")</summary>\n";
