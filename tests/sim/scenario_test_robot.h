@@ -6,6 +6,8 @@
 // shoulders at 1.6 m, tilted down 40 degrees in the scene.
 #pragma once
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -106,12 +108,21 @@ floor: false
 class TestDir {
  public:
   explicit TestDir(const std::string& name)
-      : dir_(std::filesystem::temp_directory_path() / ("arttrack_" + name)) {
+      // The process id keeps test processes that CTest runs in parallel apart.
+      : dir_(std::filesystem::temp_directory_path() /
+             ("arttrack_" + name + "_" + std::to_string(::getpid()))) {
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
     write("robot.urdf", kRobotUrdf);
     write("scene.yaml", kSceneYaml);
   }
+  ~TestDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  TestDir(const TestDir&) = delete;
+  TestDir& operator=(const TestDir&) = delete;
+
   std::filesystem::path write(const std::string& file, const std::string& text) const {
     std::ofstream(dir_ / file) << text;
     return dir_ / file;
