@@ -1,0 +1,171 @@
+// The paper's findings (Garcia Cifuentes et al. 2017, Sec. VI) as numbers, on
+// short versions of the paper scenarios (scenarios/paper/): the same files,
+// shortened and cheapened through overrides (a 160x120 camera, the tracker's
+// 80x60 likelihood, one run, a few seconds) so the suite fits in CI.
+//
+//   - encoders only is centimetres off under the constant bias and the head
+//     error; full fusion reaches millimetres once converged;
+//   - without bias, estimating the camera offset fixes the head error;
+//   - under heavy occlusion and out of view, full fusion is never much worse
+//     than encoders only, and recovers when the arm is back in view;
+//   - vision only loses track where the paper says it does: occlusion, out of
+//     view, fast motion.
+//
+// Thresholds are set from measured values with a margin; the measured values
+// (these overrides, one run with the file's seed, some with other seeds via
+// --seed) are in the comments. With the Apollo-like head error and the 8.6
+// degree bias, full fusion's first image lands in a wrong mode, decimetres
+// off for good, in some runs (10 of 30 one-second runs of arm__constant_bias,
+// 1 of 30 without the head error; `--seed 3` is one): a weakness of the
+// tracker's start, not of the thresholds. A tracker change that reshuffles
+// its random numbers can hit it and fail these tests. To see a test fail on
+// purpose, see ARTTRACK_SCENARIO_TEST_SET in short_run.h.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "short_run.h"
+
+namespace arttrack::sim::test {
+namespace {
+
+// A short run of scenarios/paper/<name>.yaml (short_run.h).
+ScenarioResult run_paper(const std::string& name, double duration_s,
+                         const std::vector<std::string>& methods,
+                         std::vector<std::string> overrides = {}) {
+  return run_short("paper/" + name, duration_s, methods, std::move(overrides));
+}
+
+// Constant 8.6 degree bias on every arm joint, head error and camera offset,
+// the arm moving slowly (paper Fig. 5, "arm"): encoders only is off by
+// decimetres, estimating the camera offset alone helps by centimetres at
+// most, full fusion is at millimetres after it converged.
+TEST(PaperFindings, ConstantBiasEncodersAreCentimetresOffFullFusionMillimetres) {
+  const ScenarioResult r =
+      run_paper("arm__constant_bias", 15, {"encoders_only", "camera_offset_only", "full_fusion"},
+                {"scoring.converged_after_s=8"});
+  // Measured (seed 1, [seed 2]): p50 encoders only 251.6 mm [251.2], camera
+  // offset only 235.9 mm [247.7]; full fusion after 8 s p50 5.5 mm [5.5], p99
+  // 8.9 mm [8.6] (over the whole run p99 57.8 mm: the first second).
+  EXPECT_GT(all(r, "encoders_only").p50, 150 * kMm);
+  EXPECT_LT(all(r, "camera_offset_only").p50, all(r, "encoders_only").p50);
+  EXPECT_GT(all(r, "camera_offset_only").p50, 100 * kMm);
+  EXPECT_LT(converged(r, "full_fusion").p50, 10 * kMm);
+  EXPECT_LT(converged(r, "full_fusion").p99, 20 * kMm);
+}
+
+// No bias, the head moving with its wrong kinematics (paper Fig. 4, real
+// data): encoders only is centimetres off, the camera offset estimate brings
+// it to millimetres, and full fusion is about as good.
+TEST(PaperFindings, NoBiasCameraOffsetFixesTheHeadError) {
+  const ScenarioResult r =
+      run_paper("head__no_bias", 15, {"encoders_only", "camera_offset_only", "full_fusion"},
+                {"scoring.converged_after_s=8"});
+  // Measured (seeds 1, 2, 3): encoders only p1 28.3, 28.4, 27.3 mm (p50
+  // 33.1, 33.3, 33.3 mm); after 8 s p50 camera offset only 4.6, 4.6, 4.6 mm,
+  // full fusion 5.2, 5.4, 5.3 mm.
+  EXPECT_GT(all(r, "encoders_only").p01, 20 * kMm);
+  EXPECT_LT(converged(r, "camera_offset_only").p50, 8 * kMm);
+  EXPECT_LT(converged(r, "camera_offset_only").p50, all(r, "encoders_only").p50 / 4);
+  EXPECT_LT(converged(r, "full_fusion").p50, 10 * kMm);
+}
+
+// The arm leaves the view and comes back (paper Fig. 7b, "in/out/in", with
+// the constant bias), shortened: out of view from 8 s to 13 s, back at 15 s.
+// Out of view, full fusion is pulled towards the encoders but never worse
+// than them; back in view it recovers. Vision only has nothing to follow
+// while the arm is away and does not find it again.
+TEST(PaperFindings, OutOfViewFullFusionRecoversVisionOnlyIsLost) {
+  const ScenarioResult r = run_short(
+      "in_out_in__constant_bias", 20, {"encoders_only", "full_fusion", "vision_only"},
+      {"scoring.converged_after_s=8",
+       "motion.out_of_view=[{joints: [left_arm_joint_2], out_of_view_deg: [0], leave_s: 6, "
+       "return_s: 13, move_duration_s: 2}]"});
+  const Percentiles encoders_out = window(r, "encoders_only", 8.5, 13);
+  const Percentiles fusion_out = window(r, "full_fusion", 8.5, 13);
+  const Percentiles fusion_back = window(r, "full_fusion", 16.5, 20);
+  const Percentiles vision_back = window(r, "vision_only", 16.5, 20);
+  // Measured (seed 1; seed 2 with --seed 2 in brackets): out of view, encoders
+  // only p1 196.4 mm [202.2], full fusion p50 51.1 mm [15.1] and p99 76.1 mm
+  // [77.6]; back in view, full fusion p50 5.5 mm [5.4], vision only p50
+  // 953.7 mm [1199.1].
+  EXPECT_LT(fusion_out.p99, encoders_out.p01);
+  EXPECT_LT(fusion_out.p99, 150 * kMm);
+  EXPECT_LT(fusion_back.p50, 12 * kMm);
+  EXPECT_GT(vision_back.p50, 100 * kMm);
+  EXPECT_GT(vision_back.p50, 5 * fusion_back.p50);
+}
+
+// Fast arm motion (paper Fig. 5, "arm++", constant bias): full fusion keeps
+// its millimetres, vision only loses the arm.
+TEST(PaperFindings, FastMotionVisionOnlyLosesTrackFullFusionDoesNot) {
+  const ScenarioResult r =
+      run_paper("arm_fast__constant_bias", 12, {"encoders_only", "full_fusion", "vision_only"},
+                {"scoring.converged_after_s=6"});
+  // Measured after 6 s (seed 1, [seed 2]): full fusion p50 5.3 mm [5.4] and
+  // 1.19 degrees [1.17]; vision only p50 30.3 mm [215.6] and 17.4 degrees
+  // [142.6]: the hand turned the wrong way.
+  const MethodSummary& fusion = method(r, "full_fusion").summary;
+  const MethodSummary& vision = method(r, "vision_only").summary;
+  EXPECT_LT(fusion.converged.translation_m.p50, 10 * kMm);
+  EXPECT_GT(vision.converged.translation_m.p50, 15 * kMm);
+  EXPECT_GT(vision.converged.translation_m.p50, 3 * fusion.converged.translation_m.p50);
+  EXPECT_GT(vision.converged.rotation_rad.p50, 5 * kDeg);
+  EXPECT_GT(vision.converged.rotation_rad.p50, 5 * fusion.converged.rotation_rad.p50);
+}
+
+// The time-varying bias (paper Fig. 6 and 7d, "arm"): +5 degrees, then a 1 s
+// ramp at 9 s to -5. Full fusion follows the change and is at millimetres
+// again a few seconds later; encoders only stays decimetres off.
+TEST(PaperFindings, VaryingBiasFullFusionFollowsTheSteps) {
+  const ScenarioResult r = run_paper("arm__varying_bias", 19, {"encoders_only", "full_fusion"});
+  const Percentiles encoders = window(r, "encoders_only", 13, 19);
+  const Percentiles fusion = window(r, "full_fusion", 13, 19);
+  // Measured from 13 to 19 s: encoders only p50 155.5 mm, full fusion p50
+  // 5.2 mm, p99 8.6 mm (before the step it sat in a 68 mm wrong mode until
+  // 9 s; the step's first seconds 5.1 mm p50, 14.9 mm p99).
+  EXPECT_GT(encoders.p50, 100 * kMm);
+  EXPECT_LT(fusion.p50, 10 * kMm);
+  EXPECT_LT(fusion.p99, 20 * kMm);
+}
+
+// Heavy, long occlusion of the moving arm (paper Fig. 7c, constant bias): a
+// panel hides the forearm and hand from 11.5 s on. Vision only, with nothing
+// but the image, loses the arm.
+TEST(PaperFindings, OcclusionVisionOnlyLosesTrack) {
+  const ScenarioResult r = run_paper("occlusion__constant_bias", 17, {"vision_only"});
+  // Measured vision only p50 from 12 to 17 s: 647.3 mm (seed 2: 516.5, seed
+  // 3: 636.0); before the panel, from 2 to 10 s: 11.1 mm (49.2, 42.2).
+  const Percentiles before = window(r, "vision_only", 2, 10);
+  const Percentiles occluded = window(r, "vision_only", 12, 17);
+  EXPECT_GT(occluded.p50, 150 * kMm);
+  EXPECT_GT(occluded.p50, 4 * before.p50);
+}
+
+// The paper's finding under occlusion: full fusion "stays at least as
+// accurate as the encoders-only method, even when the visual information is
+// not reliable", and accurate. It does NOT hold for this tracker yet, so the
+// test is disabled (run it with --gtest_also_run_disabled_tests): as soon as
+// the panel covers the forearm and hand, the hidden joints' bias estimates
+// run away (elbow and wrist by 30-50 degrees within 8 s) and the hand
+// estimate drifts decimetres off, further than the encoders' own error,
+// with and without bias, with 40 particles, with occlusion prior 0.5 and
+// with other seeds. Hidden robot pixels score 1 / (1 - exp(-lambda r)), about
+// +0.8 in log per pixel, so hypotheses that hide more of the arm behind the
+// occluder win, and a bias diffusion of 3.2 deg/sqrt(s) lets them move; at
+// 1.0 deg/sqrt(s) it holds (p99 79 mm).
+TEST(PaperFindings, DISABLED_OcclusionFullFusionNeverMuchWorseThanEncoders) {
+  const ScenarioResult r =
+      run_paper("occlusion__constant_bias", 17, {"encoders_only", "full_fusion"});
+  const Percentiles encoders = window(r, "encoders_only", 12, 17);
+  const Percentiles fusion = window(r, "full_fusion", 12, 17);
+  // Measured from 12 to 17 s: encoders only p50 251.4 mm, p99 266.5 mm; full
+  // fusion p50 219.0 mm, p99 300.4 mm (before the panel: 5 mm). Without bias
+  // (occlusion__no_bias): encoders only p99 34.7 mm, full fusion 301.2 mm.
+  EXPECT_LT(fusion.p99, encoders.p99 + 20 * kMm);
+  EXPECT_LT(fusion.p50, 20 * kMm);
+}
+
+}  // namespace
+}  // namespace arttrack::sim::test
