@@ -77,7 +77,7 @@ TEST(PaperFindings, NoBiasCameraOffsetFixesTheHeadError) {
 // than them; back in view it recovers. Vision only has nothing to follow
 // while the arm is away and does not find it again.
 TEST(PaperFindings, OutOfViewFullFusionRecoversVisionOnlyIsLost) {
-  const ScenarioResult r = run_short(
+  const ScenarioResult r = run_paper(
       "in_out_in__constant_bias", 20, {"encoders_only", "full_fusion", "vision_only"},
       {"scoring.converged_after_s=8",
        "motion.out_of_view=[{joints: [left_arm_joint_2], out_of_view_deg: [0], leave_s: 6, "
