@@ -13,12 +13,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "arttrack/tracker/camera.h"
+#include "arttrack/tracker/coordinate_particle_filter.h"
+#include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 
@@ -141,6 +147,151 @@ void BM_RenderCachedWrist(benchmark::State& bench) {
   }
 }
 BENCHMARK(BM_RenderCachedWrist)->Unit(benchmark::kMicrosecond);
+
+// ------------------------------------------------ image update hot loop
+// The particle filter of one image on the home pose: an observation of the
+// robot a few degrees away (3 mm noise, a wall behind), the prior at the
+// home pose (3 degrees per arm joint, 1 per head joint, 1 cm / 0.5 degree
+// camera), the tracker's default blocks (one per joint, hand to root per
+// arm, then the head, then the camera joints), scored by HypothesisEvaluator.
+struct ImageUpdateFixture {
+  const RobotModel& model = robot();
+  CameraIntrinsics camera;
+  DepthImage observed;
+  std::vector<SamplingBlock> blocks;
+  std::vector<double> prior_mean, prior_std;
+
+  ImageUpdateFixture(int width, int height)
+      : camera(CameraIntrinsics::from_vertical_fov(width, height, 45 * std::numbers::pi / 180)) {
+    constexpr double deg = std::numbers::pi / 180;
+    const Eigen::VectorXd home = home_pose(model);
+    Eigen::VectorXd truth = home;
+    for (int j = 0; j < model.num_joints(); ++j)
+      if (!model.is_virtual_joint(j)) truth[j] += (j % 3 - 1) * 2 * deg;
+    truth[model.joint_index("camera_offset_x")] = 0.005;
+    KinematicsState state(model);
+    forward_kinematics(model, truth, state);
+    DepthRenderer renderer(model, camera);
+    renderer.render(state, observed);
+    std::mt19937_64 rng(3);
+    std::normal_distribution<float> noise(0.f, 0.003f);
+    for (int v = 0; v < height; ++v)
+      for (int u = 0; u < width; ++u) {
+        float& z = observed.at(u, v);
+        z = z > 0 ? z + noise(rng) : 2.0f + 0.5f * float(v) / float(height);
+      }
+    int n_phys = 0;
+    while (!model.is_virtual_joint(n_phys)) ++n_phys;
+    auto head = [&](int j) { return model.joint_name(j).rfind("head", 0) == 0; };
+    for (int j = n_phys - 1; j >= 0; --j)
+      if (!head(j)) blocks.push_back({model.joint_name(j), {j}});
+    for (int j = n_phys - 1; j >= 0; --j)
+      if (head(j)) blocks.push_back({model.joint_name(j), {j}});
+    for (int j = n_phys; j < model.num_joints(); ++j) blocks.push_back({model.joint_name(j), {j}});
+    prior_mean.assign(home.data(), home.data() + home.size());
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const std::string& name = model.joint_name(j);
+      prior_std.push_back(!model.is_virtual_joint(j) ? (name.rfind("head", 0) == 0 ? 1 : 3) * deg
+                          : j < n_phys + 3           ? 0.01
+                                                     : 0.5 * deg);
+    }
+  }
+};
+
+// One particle-filter block: the evaluation of all particles after block k
+// was perturbed (args: width, height, block, particles; one worker). The
+// earlier blocks run untimed; manual time = CPU time of the calling thread
+// during block k (one worker: all the work, and unlike wall time it does not
+// grow when other jobs share the cores).
+// Block 0 is a wrist (cached: draws the hand), 6 a shoulder (cached: the
+// whole arm), 9 a wrist of the other arm (cached), 14 the head tilt and 16
+// a camera offset (full renders).
+void BM_CpfBlock(benchmark::State& bench) {
+  const ImageUpdateFixture f(int(bench.range(0)), int(bench.range(1)));
+  const int timed_block = int(bench.range(2));
+  DepthModelParams params;
+  params.width = f.camera.width;
+  params.height = f.camera.height;
+  DepthLikelihood likelihood(params);
+  likelihood.set_observation(f.observed);
+  HypothesisEvaluator evaluator(f.model, f.blocks);
+  struct Timed : LogLikelihoodEvaluator {
+    HypothesisEvaluator* inner;
+    int block;
+    double seconds = 0;
+    static double thread_cpu_s() {
+      timespec t;
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+      return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+    }
+    void evaluate(const ParticleBatch& batch, std::span<double> out, WorkerPool& pool) override {
+      const double start = thread_cpu_s();
+      inner->evaluate(batch, out, pool);
+      if (batch.block == block) seconds = thread_cpu_s() - start;
+    }
+  } timed;
+  timed.inner = &evaluator;
+  timed.block = timed_block;
+  CoordinateParticleFilterParams cpf_params;
+  cpf_params.num_particles = int(bench.range(3));
+  CoordinateParticleFilter cpf(f.model.num_joints(), f.blocks, cpf_params);
+  WorkerPool pool(1);
+  std::mt19937_64 rng(1);
+  for (auto _ : bench) {
+    evaluator.begin_run(f.camera, likelihood, f.prior_mean);
+    cpf.run(f.prior_mean, f.prior_std, timed, rng, pool);
+    bench.SetIterationTime(timed.seconds);
+  }
+  bench.SetLabel(f.blocks[timed_block].name +
+                 (evaluator.renders_fully(timed_block) ? " (full)" : " (cached)"));
+  bench.counters["us_per_particle"] = benchmark::Counter(
+      double(cpf_params.num_particles) * double(bench.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+}
+BENCHMARK(BM_CpfBlock)
+    ->Args({80, 60, 0, 46})
+    ->Args({80, 60, 6, 46})
+    ->Args({80, 60, 9, 46})
+    ->Args({80, 60, 14, 46})
+    ->Args({80, 60, 16, 46})
+    ->Args({160, 120, 0, 19})
+    ->Args({160, 120, 6, 19})
+    ->Args({160, 120, 16, 19})
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
+// A whole image update's particle filter (args: width, height, particles,
+// workers, cached): 22 blocks x particles evaluations.
+void BM_CpfImage(benchmark::State& bench) {
+  const ImageUpdateFixture f(int(bench.range(0)), int(bench.range(1)));
+  DepthModelParams params;
+  params.width = f.camera.width;
+  params.height = f.camera.height;
+  DepthLikelihood likelihood(params);
+  likelihood.set_observation(f.observed);
+  HypothesisEvaluator evaluator(
+      f.model, f.blocks,
+      bench.range(4) ? HypothesisEvaluator::Mode::kCached : HypothesisEvaluator::Mode::kReference);
+  CoordinateParticleFilterParams cpf_params;
+  cpf_params.num_particles = int(bench.range(2));
+  CoordinateParticleFilter cpf(f.model.num_joints(), f.blocks, cpf_params);
+  WorkerPool pool(int(bench.range(3)));
+  std::mt19937_64 rng(1);
+  for (auto _ : bench) {
+    evaluator.begin_run(f.camera, likelihood, f.prior_mean);
+    cpf.run(f.prior_mean, f.prior_std, evaluator, rng, pool);
+  }
+  bench.counters["evaluations"] = cpf.num_evaluations();
+  bench.SetLabel(bench.range(4) ? "cached" : "reference");
+}
+BENCHMARK(BM_CpfImage)
+    ->Args({80, 60, 46, 1, 0})
+    ->Args({80, 60, 46, 1, 1})
+    ->Args({80, 60, 46, 2, 1})
+    ->Args({160, 120, 19, 1, 1})
+    ->Args({160, 120, 19, 2, 1})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace arttrack

@@ -15,8 +15,8 @@
 #include "arttrack/tracker/belief_buffer.h"
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
-#include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
 
@@ -48,53 +48,6 @@ void load_belief(std::span<const double> in, JointBelief& b) {
   std::copy(in.begin() + 3 * n, in.begin() + 4 * n, b.cov_ab.begin());
   std::copy(in.begin() + 4 * n, in.begin() + 5 * n, b.var_b.begin());
 }
-
-// Renders the robot for each particle and scores it against the observed image.
-class RenderEvaluator final : public PerParticleEvaluator {
- public:
-  RenderEvaluator(const RobotModel& model, int num_workers)
-      : model_(model), workspaces_(num_workers) {
-    for (auto& w : workspaces_) {
-      w.q = Eigen::VectorXd::Zero(model.num_joints());
-      w.kinematics = KinematicsState(model);
-    }
-  }
-
-  // Sets the camera at the likelihood's resolution (renderers are rebuilt
-  // only when it changes) and the likelihood of the current image.
-  void prepare(const CameraIntrinsics& camera, const DepthLikelihood& likelihood) {
-    likelihood_ = &likelihood;
-    if (camera == camera_ && workspaces_[0].renderer) return;
-    camera_ = camera;
-    for (auto& w : workspaces_) {
-      w.renderer = std::make_unique<DepthRenderer>(model_, camera);
-      w.image = DepthImage(camera.width, camera.height);
-    }
-  }
-
-  double log_likelihood(const ParticleBatch& batch, int particle, int worker) override {
-    Workspace& w = workspaces_[worker];
-    const auto x = batch.particle(particle);
-    for (int j = 0; j < batch.dimension; ++j) w.q[j] = x[j];
-    forward_kinematics(model_, w.q, w.kinematics);
-    const PixelRect rect = w.renderer->render(w.kinematics, w.image);
-    if (rect.empty()) return 0;
-    return likelihood_->log_ratio(
-        w.image.depth_m.data() + size_t(rect.v0) * w.image.width + rect.u0, w.image.width, rect);
-  }
-
- private:
-  struct Workspace {
-    Eigen::VectorXd q;
-    KinematicsState kinematics;
-    std::unique_ptr<DepthRenderer> renderer;
-    DepthImage image;
-  };
-  const RobotModel& model_;
-  std::vector<Workspace> workspaces_;
-  CameraIntrinsics camera_;
-  const DepthLikelihood* likelihood_ = nullptr;
-};
 
 struct PendingImage {
   double apply_time_s;  // stamp minus the camera delay
@@ -141,7 +94,7 @@ struct Tracker::Impl {
   // Image update machinery (one update at a time).
   std::unique_ptr<WorkerPool> pool;
   std::unique_ptr<CoordinateParticleFilter> cpf;
-  std::unique_ptr<RenderEvaluator> evaluator;
+  std::unique_ptr<HypothesisEvaluator> evaluator;
   DepthLikelihood likelihood;
   std::mt19937_64 rng;
   std::vector<double> prior_std;
@@ -247,7 +200,16 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       // camera block settles in local optima (a roll and pitch that mimic a
       // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
       // which coordinate-wise sampling avoids.
-      for (int j = n_phys - 1; j >= 0; --j) blocks.push_back({model->joint_name(j), {j}});
+      // Joints that move the camera (the head) come after the other physical
+      // joints: until then the camera is the same for all particles, so the
+      // links a block does not move are common to all particles and drawn
+      // once per block (hypothesis_evaluator.h).
+      const int camera = model->camera_link();
+      auto moves_camera = [&](int j) { return bool(model->links_moved_by(j)[camera]); };
+      for (int j = n_phys - 1; j >= 0; --j)
+        if (!moves_camera(j)) blocks.push_back({model->joint_name(j), {j}});
+      for (int j = n_phys - 1; j >= 0; --j)
+        if (moves_camera(j)) blocks.push_back({model->joint_name(j), {j}});
       for (int j = n_phys; j < n; ++j) blocks.push_back({model->joint_name(j), {j}});
     }
     if (config.method == TrackingMethod::kCameraOffsetOnly) {
@@ -258,7 +220,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     }
     pool = std::make_unique<WorkerPool>(config.threads);
     cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), config.particle_filter);
-    evaluator = std::make_unique<RenderEvaluator>(*model, pool->num_workers());
+    evaluator = std::make_unique<HypothesisEvaluator>(*model, cpf->blocks());
     prior_std.assign(n, 0.0);
     if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
@@ -319,7 +281,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   for (int j = 0; j < n; ++j) prior_std[j] = std::sqrt(std::max(0.0, prior.var_a[j]));
   if (config.asynchronous) lock.unlock();
   likelihood.set_observation(image.image);
-  evaluator->prepare(image.camera.scaled_to(likelihood.width(), likelihood.height()), likelihood);
+  evaluator->begin_run(image.camera.scaled_to(likelihood.width(), likelihood.height()), likelihood,
+                       prior.mean_a);
   cpf->run(prior.mean_a, prior_std, *evaluator, rng, *pool);
   fold_angle_posteriors(cpf->mean(), cpf->variance(), prior);
   if (config.asynchronous) lock.lock();

@@ -1,0 +1,244 @@
+// The cached hypothesis evaluator against brute force: every particle of
+// real particle-filter runs on the project robot is also rendered from
+// scratch and scored with the exact likelihood.
+#include "arttrack/tracker/hypothesis_evaluator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <numbers>
+#include <random>
+#include <string>
+
+namespace arttrack {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+const RobotModel& robot() {
+  static const RobotModel model =
+      RobotModel::from_urdf_file(std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm.urdf");
+  return model;
+}
+
+// The documented home pose of models/dual_arm.urdf.
+Eigen::VectorXd home_pose(const RobotModel& model) {
+  const std::pair<const char*, double> home_deg[] = {
+      {"head_tilt_joint", 40},    {"left_arm_joint_1", -10}, {"left_arm_joint_2", 90},
+      {"left_arm_joint_3", 65},   {"left_arm_joint_4", 90},  {"left_arm_joint_5", -45},
+      {"left_arm_joint_6", -35},  {"right_arm_joint_1", 10}, {"right_arm_joint_2", 90},
+      {"right_arm_joint_3", -65}, {"right_arm_joint_4", 90}, {"right_arm_joint_5", 45},
+      {"right_arm_joint_6", -35}};
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+  for (const auto& [name, deg] : home_deg) q[model.joint_index(name)] = deg * kDeg;
+  return q;
+}
+
+const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kDeg);
+
+// What a camera sees: the robot a little away from the home pose and the
+// camera a little off, a wall behind it, a box occluding part of one arm,
+// some pixels without return.
+DepthImage observation(const RobotModel& model) {
+  Eigen::VectorXd q = home_pose(model);
+  for (int j = 0; j < model.num_joints(); ++j)
+    if (!model.is_virtual_joint(j)) q[j] += (j % 3 - 1) * 2 * kDeg;
+  q[model.joint_index("camera_offset_x")] = 0.005;
+  q[model.joint_index("camera_offset_pitch")] = 0.3 * kDeg;
+  KinematicsState state(model);
+  forward_kinematics(model, q, state);
+  DepthRenderer renderer(model, kCamera);
+  DepthImage image;
+  renderer.render(state, image);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<float> noise(0.f, 0.003f);
+  for (int v = 0; v < image.height; ++v)
+    for (int u = 0; u < image.width; ++u) {
+      float& z = image.at(u, v);
+      z = z > 0 ? z + noise(rng) : 2.0f + 0.01f * v;
+      if (u >= 20 && u < 30 && v >= 30 && v < 42) z = 0.45f;  // occluder
+      if ((u * 7 + v * 13) % 31 == 0) z = 0;                  // no return
+    }
+  return image;
+}
+
+// One block per physical joint from the hand to the root, the head's after
+// the arms', then one per camera joint: the tracker's default.
+std::vector<SamplingBlock> default_blocks(const RobotModel& model) {
+  std::vector<SamplingBlock> blocks;
+  const int n = model.num_joints();
+  int n_phys = 0;
+  while (n_phys < n && !model.is_virtual_joint(n_phys)) ++n_phys;
+  auto head = [&](int j) { return model.joint_name(j).rfind("head", 0) == 0; };
+  for (int j = n_phys - 1; j >= 0; --j)
+    if (!head(j)) blocks.push_back({model.joint_name(j), {j}});
+  for (int j = n_phys - 1; j >= 0; --j)
+    if (head(j)) blocks.push_back({model.joint_name(j), {j}});
+  for (int j = n_phys; j < n; ++j) blocks.push_back({model.joint_name(j), {j}});
+  return blocks;
+}
+
+// Hands the fast evaluator's values to the filter and checks each against
+// the reference evaluator, within 3e-7 (DepthLikelihood::ratios' bound) per
+// covered valid pixel of the particle's brute-force render.
+class Comparing : public LogLikelihoodEvaluator {
+ public:
+  Comparing(HypothesisEvaluator& fast, HypothesisEvaluator& reference, const DepthImage& observed)
+      : fast_(fast), reference_(reference), observed_(observed), renderer_(robot(), kCamera) {}
+
+  void evaluate(const ParticleBatch& batch, std::span<double> out, WorkerPool& pool) override {
+    fast_.evaluate(batch, out, pool);
+    std::vector<double> ref(out.size());
+    reference_.evaluate(batch, ref, pool);
+    for (int l = 0; l < batch.num_particles; ++l) {
+      const auto x = batch.particle(l);
+      const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
+      forward_kinematics(robot(), q, state_);
+      renderer_.render(state_, image_);
+      int covered = 0;
+      for (size_t i = 0; i < image_.depth_m.size(); ++i)
+        covered += image_.depth_m[i] > 0 && observed_.depth_m[i] > 0;
+      const double bound = 3e-7 * covered + 1e-9;
+      EXPECT_NEAR(out[l], ref[l], bound) << "block " << batch.block << " particle " << l;
+      worst_ = std::max(worst_, std::abs(out[l] - ref[l]) / bound);
+      ++compared_;
+    }
+  }
+  double worst_fraction_of_bound() const { return worst_; }
+  int compared() const { return compared_; }
+
+ private:
+  HypothesisEvaluator &fast_, &reference_;
+  const DepthImage& observed_;
+  DepthRenderer renderer_;
+  KinematicsState state_{robot()};
+  DepthImage image_;
+  double worst_ = 0;
+  int compared_ = 0;
+};
+
+struct Prior {
+  std::vector<double> mean, std;
+};
+
+Prior prior_around_home(const RobotModel& model, double arm_std) {
+  Prior p;
+  const Eigen::VectorXd home = home_pose(model);
+  p.mean.assign(home.data(), home.data() + home.size());
+  for (int j = 0; j < model.num_joints(); ++j) {
+    const std::string& name = model.joint_name(j);
+    const bool translation =
+        name == "camera_offset_x" || name == "camera_offset_y" || name == "camera_offset_z";
+    p.std.push_back(model.is_virtual_joint(j)    ? (translation ? 0.01 : 0.5 * kDeg)
+                    : name.rfind("head", 0) == 0 ? 1 * kDeg
+                                                 : arm_std);
+  }
+  return p;
+}
+
+// Runs the filter `runs` times with the cached evaluator, each particle
+// checked against brute force.
+void check_against_reference(const std::vector<SamplingBlock>& blocks, int particles, double max_kl,
+                             int workers, int runs) {
+  const RobotModel& model = robot();
+  const DepthImage observed = observation(model);
+  DepthModelParams params;
+  DepthLikelihood likelihood(params);
+  likelihood.set_observation(observed);
+  HypothesisEvaluator fast(model, blocks),
+      reference(model, blocks, HypothesisEvaluator::Mode::kReference);
+  Comparing comparing(fast, reference, observed);
+  CoordinateParticleFilterParams cpf_params;
+  cpf_params.num_particles = particles;
+  cpf_params.max_kl_divergence = max_kl;
+  CoordinateParticleFilter cpf(model.num_joints(), blocks, cpf_params);
+  WorkerPool pool(workers);
+  std::mt19937_64 rng(11);
+  Prior prior = prior_around_home(model, 3 * kDeg);
+  for (int run = 0; run < runs; ++run) {
+    fast.begin_run(kCamera, likelihood, prior.mean);
+    reference.begin_run(kCamera, likelihood, prior.mean);
+    cpf.run(prior.mean, prior.std, comparing, rng, pool);
+    // The next run starts from this one's posterior (as the tracker's next image would).
+    for (int j = 0; j < model.num_joints(); ++j) prior.mean[j] = cpf.mean()[j];
+  }
+  EXPECT_EQ(comparing.compared(), runs * particles * int(blocks.size()));
+  ::testing::Test::RecordProperty("worst_error_over_bound",
+                                  std::to_string(comparing.worst_fraction_of_bound()));
+  std::cout << "worst |fast - reference| / bound: " << comparing.worst_fraction_of_bound() << "\n";
+}
+
+TEST(HypothesisEvaluator, DefaultBlocksCacheTheArmsAndRenderTheCameraBlocksFully) {
+  const RobotModel& model = robot();
+  const std::vector<SamplingBlock> blocks = default_blocks(model);
+  HypothesisEvaluator fast(model, blocks);
+  for (int k = 0; k < int(blocks.size()); ++k) {
+    const int j = blocks[k].coordinates[0];
+    const bool moves_camera = model.is_virtual_joint(j) ||
+                              model.joint_name(j) == "head_pan_joint" ||
+                              model.joint_name(j) == "head_tilt_joint";
+    EXPECT_EQ(fast.renders_fully(k), moves_camera) << blocks[k].name;
+  }
+  HypothesisEvaluator reference(model, blocks, HypothesisEvaluator::Mode::kReference);
+  for (int k = 0; k < int(blocks.size()); ++k) EXPECT_TRUE(reference.renders_fully(k));
+}
+
+TEST(HypothesisEvaluator, DefaultBlocksMatchBruteForce) {
+  check_against_reference(default_blocks(robot()), 12, 0.69314718055994531, 2, 3);
+}
+
+TEST(HypothesisEvaluator, ResamplingAfterEveryBlockMatchesBruteForce) {
+  check_against_reference(default_blocks(robot()), 9, 0.0, 1, 2);
+}
+
+// Blocks in an order the cache is not made for: the camera first (then every
+// link differs per particle), joints of both arms in one block, an arm from
+// the root to the hand, some joints not sampled at all.
+TEST(HypothesisEvaluator, UnusualBlockOrdersMatchBruteForce) {
+  const RobotModel& model = robot();
+  auto j = [&](const char* name) { return model.joint_index(name); };
+  const std::vector<SamplingBlock> blocks = {
+      {"camera_xyz", {j("camera_offset_x"), j("camera_offset_y"), j("camera_offset_z")}},
+      {"left_1", {j("left_arm_joint_1")}},
+      {"left_4", {j("left_arm_joint_4")}},
+      {"left_7", {j("left_arm_joint_7")}},
+      {"both_wrists", {j("left_arm_joint_6"), j("right_arm_joint_6")}},
+      {"right_2", {j("right_arm_joint_2")}},
+      {"head_tilt", {j("head_tilt_joint")}},
+      {"right_5", {j("right_arm_joint_5")}},
+      {"left_2", {j("left_arm_joint_2")}},
+  };
+  check_against_reference(blocks, 10, 0.69314718055994531, 2, 2);
+  check_against_reference(blocks, 7, 0.0, 2, 1);
+}
+
+// Per-particle work only: the numbers cannot depend on the number of workers.
+TEST(HypothesisEvaluator, ResultsDoNotDependOnTheWorkers) {
+  const RobotModel& model = robot();
+  const std::vector<SamplingBlock> blocks = default_blocks(model);
+  DepthLikelihood likelihood{DepthModelParams{}};
+  likelihood.set_observation(observation(model));
+  const Prior prior = prior_around_home(model, 3 * kDeg);
+  std::vector<std::vector<double>> means;
+  for (int workers : {1, 2, 3}) {
+    HypothesisEvaluator fast(model, blocks);
+    CoordinateParticleFilterParams params;
+    params.num_particles = 10;
+    CoordinateParticleFilter cpf(model.num_joints(), blocks, params);
+    WorkerPool pool(workers);
+    std::mt19937_64 rng(5);
+    for (int run = 0; run < 2; ++run) {
+      fast.begin_run(kCamera, likelihood, prior.mean);
+      cpf.run(prior.mean, prior.std, fast, rng, pool);
+    }
+    means.emplace_back(cpf.mean().begin(), cpf.mean().end());
+    EXPECT_GT(fast.stats().cached_evaluations, 0);
+    EXPECT_GT(fast.stats().full_evaluations, 0);
+  }
+  EXPECT_EQ(means[0], means[1]);
+  EXPECT_EQ(means[0], means[2]);
+}
+
+}  // namespace
+}  // namespace arttrack
