@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   arttrack::cli::register_tune(app);
   arttrack::cli::register_export(app);
   arttrack::cli::register_track(app);
+  arttrack::cli::register_bench(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

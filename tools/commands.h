@@ -13,5 +13,6 @@ void register_merge(CLI::App& app);
 void register_tune(CLI::App& app);
 void register_export(CLI::App& app);
 void register_track(CLI::App& app);
+void register_bench(CLI::App& app);
 
 }  // namespace arttrack::cli

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <random>
+#include <thread>
 
 #include "arttrack/sim/dataset.h"
 #include "arttrack/sim/depth_camera.h"
@@ -158,7 +159,7 @@ class Run {
       config.source = sc.tracker_file.string();
       config.method = setup.methods[i];
       config.seed = stream_seed(seed, kTracker);
-      config.asynchronous = false;
+      config.asynchronous = options.realtime;
       trackers_.push_back(std::make_unique<Tracker>(setup.robot, config, m.joint_names));
       if (setup.methods[i] == TrackingMethod::kVisionOnly) {
         // Vision only starts from the true configuration ("given").
@@ -190,9 +191,13 @@ class Run {
     std::size_t next_frame = 0;
     GroundTruth truth;
     DepthImage exact, robot_alone;
+    wall_start_ = Clock::now();
 
     for (long n = 0; n <= steps; ++n) {
       const double t = double(n) * period;
+      if (options_.realtime)
+        std::this_thread::sleep_until(wall_start_ + std::chrono::duration_cast<Clock::duration>(
+                                                        std::chrono::duration<double>(t)));
       if (n > 0) advance_physics(target);
       sim_.ground_truth(truth);
 
@@ -243,8 +248,22 @@ class Run {
       if (options_.progress && n % progress_every == 0 && n > 0)
         options_.progress({result_.run, 0, t, sc_.duration_s});
     }
-    for (std::size_t i = 0; i < trackers_.size(); ++i)
+    for (std::size_t i = 0; i < trackers_.size(); ++i) {
+      trackers_[i]->wait_until_idle();  // asynchronous: the last image
       result_.methods[i].stats = trackers_[i]->stats();
+      if (!options_.realtime) continue;
+      // End to end: from capture to delivery (the scenario's latency, and any
+      // lag of the simulation behind the wall clock), then inside the tracker.
+      const TrackerStats& st = result_.methods[i].stats;
+      for (std::size_t k = 0; k < st.image_stamp_s.size(); ++k) {
+        const auto it = std::lower_bound(
+            delivered_.begin(), delivered_.end(), st.image_stamp_s[k],
+            [](const std::pair<double, double>& d, double stamp) { return d.first < stamp; });
+        if (it == delivered_.end() || it->first != st.image_stamp_s[k]) continue;
+        result_.methods[i].image_latency_ms.push_back(1e3 * (it->second - it->first) +
+                                                      st.image_latency_ms[k]);
+      }
+    }
     return std::move(result_);
   }
 
@@ -278,6 +297,9 @@ class Run {
 
   void deliver(const InFlight& frame, double now) {
     const CameraIntrinsics& K = camera_.intrinsics();
+    if (options_.realtime)
+      delivered_.emplace_back(frame.stamp_s,
+                              std::chrono::duration<double>(Clock::now() - wall_start_).count());
     for (auto& tracker : trackers_) tracker->add_depth_image(frame.stamp_s, frame.image, K);
     if (options_.sink) options_.sink->image(result_.run, frame.stamp_s, now, frame.image);
     ++result_.frames_delivered;
@@ -360,6 +382,9 @@ class Run {
   std::vector<double> keep_times_;
   int estimate_method_ = -1;
   RunResult result_;
+  Clock::time_point wall_start_;
+  // Real time: (stamp, wall time of delivery since wall_start_) per delivered image, in order.
+  std::vector<std::pair<double, double>> delivered_;
 };
 
 }  // namespace
@@ -423,10 +448,11 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
     MethodResult r{result.methods[i], scores[i], {}, {}};
     r.summary =
         scores[i].summary(sc.scoring.options, reference == &scores[i] ? nullptr : reference);
-    std::vector<double> joint_us, image_ms;
+    std::vector<double> joint_us, image_ms, latency_ms;
     long long evaluations = 0, images = 0;
     for (const RunResult& run : result.runs) {
       const MethodRun& mr = run.methods[i];
+      latency_ms.insert(latency_ms.end(), mr.image_latency_ms.begin(), mr.image_latency_ms.end());
       joint_us.insert(joint_us.end(), mr.joint_update_us.begin(), mr.joint_update_us.end());
       image_ms.insert(image_ms.end(), mr.stats.image_update_ms.begin(),
                       mr.stats.image_update_ms.end());
@@ -436,6 +462,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
     r.timing.joint_update_us = percentiles(joint_us);
     r.timing.image_update_ms = percentiles(image_ms);
     r.timing.evaluations_per_image = images ? double(evaluations) / double(images) : 0.0;
+    if (options.realtime) r.timing.image_latency_ms = percentiles(latency_ms);
     result.method_results.push_back(std::move(r));
   }
   return result;

@@ -50,9 +50,11 @@ void load_belief(std::span<const double> in, JointBelief& b) {
 }
 
 struct PendingImage {
+  double stamp_s;
   double apply_time_s;  // stamp minus the camera delay
   DepthImage image;
   CameraIntrinsics camera;
+  Clock::time_point received;  // add_depth_image was called
 };
 
 }  // namespace
@@ -315,6 +317,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   stats.likelihood_evaluations += cpf->num_evaluations();
   stats.refilter_ms.push_back(ms_since(refilter_start));
   stats.image_update_ms.push_back(ms_since(start));
+  stats.image_stamp_s.push_back(image.stamp_s);
+  stats.image_latency_ms.push_back(ms_since(image.received));
 }
 
 void Tracker::Impl::worker_loop() {
@@ -398,6 +402,7 @@ void Tracker::add_joint_measurement(double time_s, std::span<const double> angle
 
 void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
                               const CameraIntrinsics& camera) {
+  const auto received = Clock::now();
   Impl& s = *impl_;
   std::ostringstream where;
   where.precision(9);
@@ -432,7 +437,7 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   s.last_stamp_s = stamp_s;
   ++s.stats.images_received;
   if (!s.use_images) return;
-  s.pending.push_back({stamp_s - s.config.camera_delay_s, image, camera});
+  s.pending.push_back({stamp_s, stamp_s - s.config.camera_delay_s, image, camera, received});
   while (int(s.pending.size()) > s.config.max_pending_images) {
     s.pending.pop_front();
     ++s.stats.images_dropped_backlog;

@@ -87,6 +87,13 @@ struct RunOptions {
   // (quantise_depth_mm in dataset.h): a run then equals tracking its
   // exported dataset.
   bool quantise_depth_mm = false;
+  // Real time: each joint step waits until its simulated time has passed on
+  // the wall clock since the run started, and the trackers are asynchronous
+  // (TrackerConfig::asynchronous): image updates run on their own threads
+  // while joint readings go on, as on a robot; images that arrive while an
+  // update runs wait or are dropped (TrackerStats). Image latencies are
+  // then measured (MethodRun::image_latency_ms).
+  bool realtime = false;
 };
 
 // The seed of run k of a scenario with seed `seed`: a SplitMix64 mix (so
@@ -133,6 +140,9 @@ struct MethodRun {
   std::vector<double> joint_update_us;
   // The tracker's counters, image update times among them.
   TrackerStats stats;
+  // Real time only: per applied image, wall time from its capture (its stamp
+  // on the run's wall clock) until the estimate included it, ms.
+  std::vector<double> image_latency_ms;
 };
 
 // One run.
@@ -162,6 +172,8 @@ struct MethodTiming {
   Percentiles image_update_ms;
   // Likelihood evaluations per applied image (mean; 0 without images).
   double evaluations_per_image = 0;
+  // Real time only (else empty): MethodRun::image_latency_ms pooled over runs.
+  Percentiles image_latency_ms;
 };
 
 // Everything about one method over all runs.

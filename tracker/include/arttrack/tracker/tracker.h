@@ -58,6 +58,10 @@ struct TrackerStats {
   int last_evaluations_per_image = 0;
   std::vector<double> image_update_ms;  // wall time of each applied image update
   std::vector<double> refilter_ms;      // of which: re-filtering the buffered joints
+  // Per applied image, same order: its time stamp, and the wall time from its
+  // add_depth_image call until the estimate includes it (waiting included).
+  std::vector<double> image_stamp_s;
+  std::vector<double> image_latency_ms;
 };
 
 class Tracker {

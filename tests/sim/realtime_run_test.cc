@@ -1,0 +1,82 @@
+// RunOptions::realtime: the simulation is paced by the wall clock, the
+// trackers run asynchronously, and every applied image gets an end-to-end
+// latency (capture to estimate) that covers its delivery delay and its
+// update. Timing assertions are lower bounds only (a loaded machine can be
+// slower, never faster).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "arttrack/sim/scenario_runner.h"
+#include "scenario_test_robot.h"
+
+namespace arttrack::sim {
+namespace {
+
+// Images arrive 50 ms after capture; the tracker is small (5 particles).
+constexpr char kScenario[] = R"(
+scene: scene.yaml
+duration_s: 1.5
+seed: 3
+methods: [encoders_only, full_fusion]
+motion:
+  sinusoids:
+    - {joints: [left_arm_joint_1], amplitude_deg: 10, frequency_hz: 0.5}
+camera: {latency_s: 0.05}
+tracker_overrides: {particle_filter.particles: 5}
+scoring: {converged_after_s: 0.5, end_effectors: [left_ee]}
+)";
+
+TEST(RealtimeRun, PacesTheSimulationAndMeasuresTheLatencyOfEveryAppliedImage) {
+  const test::TestDir dir("realtime_run");
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario));
+  RunOptions options;
+  options.realtime = true;
+  const auto start = std::chrono::steady_clock::now();
+  const ScenarioResult r = run_scenario(scenario, options);
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(wall_s, 1.5);  // paced: never faster than the wall clock
+
+  const RunResult& run = r.runs.at(0);
+  const MethodRun& fusion = run.methods.at(1);
+  ASSERT_EQ(fusion.method, "full_fusion");
+  const TrackerStats& s = fusion.stats;
+  EXPECT_EQ(s.images_received, run.frames_delivered);
+  EXPECT_EQ(s.images_applied + s.images_dropped_too_old + s.images_dropped_backlog +
+                s.images_dropped_busy,
+            s.images_received);
+  EXPECT_GT(s.images_applied, 0);
+  ASSERT_EQ(s.image_stamp_s.size(), std::size_t(s.images_applied));
+  ASSERT_EQ(s.image_latency_ms.size(), std::size_t(s.images_applied));
+  ASSERT_EQ(fusion.image_latency_ms.size(), std::size_t(s.images_applied));
+  EXPECT_TRUE(std::is_sorted(s.image_stamp_s.begin(), s.image_stamp_s.end()));
+  for (std::size_t k = 0; k < fusion.image_latency_ms.size(); ++k) {
+    // Inside the tracker: at least the update itself.
+    EXPECT_GE(s.image_latency_ms[k], s.image_update_ms[k]);
+    // End to end: at least the 50 ms delivery delay plus the tracker's part.
+    EXPECT_GE(fusion.image_latency_ms[k], 50.0 + s.image_latency_ms[k] - 1e-6);
+  }
+  const MethodResult* m = r.method("full_fusion");
+  ASSERT_NE(m, nullptr);
+  EXPECT_EQ(m->timing.image_latency_ms.count, fusion.image_latency_ms.size());
+  EXPECT_GE(m->timing.image_latency_ms.p50, 50.0);
+  // Encoders only takes no images.
+  EXPECT_TRUE(run.methods.at(0).image_latency_ms.empty());
+}
+
+TEST(RealtimeRun, OffByDefaultWithoutLatencies) {
+  const test::TestDir dir("realtime_off");
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario));
+  const ScenarioResult r = run_scenario(scenario);
+  const MethodRun& fusion = r.runs.at(0).methods.at(1);
+  EXPECT_TRUE(fusion.image_latency_ms.empty());
+  EXPECT_EQ(r.method("full_fusion")->timing.image_latency_ms.count, 0u);
+  // The tracker's own per-image figures are there in either mode.
+  EXPECT_EQ(fusion.stats.image_stamp_s.size(), std::size_t(fusion.stats.images_applied));
+  EXPECT_EQ(fusion.stats.image_latency_ms.size(), std::size_t(fusion.stats.images_applied));
+}
+
+}  // namespace
+}  // namespace arttrack::sim

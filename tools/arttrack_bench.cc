@@ -1,0 +1,294 @@
+// arttrack bench [SCENARIO.yaml] [--evaluations N] [--resolution WxH] [--json FILE]
+//                [--seed S] [--set k=v ...] [--threads T]
+//                [--cylinder-segments C] [--sphere-segments S]
+//
+// How fast the full-fusion tracker runs on a scenario's measurement stream
+// (default: scenarios/default.yaml). The scenario runner simulates run 0 and
+// hands every encoder reading and depth image, as a tracker receives them,
+// to one synchronous full-fusion tracker, which processes each at once: only
+// the tracker's calls are timed, the simulation is not. Prints and writes
+// (--json) the joint update time, the image update and re-filtering times
+// (the tracker's own timings), likelihood evaluations per image, and the
+// realtime factor: stream duration / total (wall) time in the tracker's
+// calls. Also the CPU time of those calls, all threads: on a machine shared
+// with other jobs, the work the tracker did (wall time grows with the load).
+// Also scores the tracker's end-effector error against the ground truth at
+// the scenario's scored instants (all samples and converged ones).
+//
+// --evaluations N sets particles = ceil(N / blocks) (the default blocks: one
+// per joint); --resolution sets the likelihood resolution (images are
+// subsampled to it). --cylinder-segments/--sphere-segments tessellate the
+// tracker's robot model's URDF primitives differently (the renderer's cost
+// per hypothesis scales with the triangles).
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "arttrack/sim/scenario.h"
+#include "arttrack/sim/scenario_runner.h"
+#include "arttrack/sim/scoring.h"
+#include "arttrack/tracker/error.h"
+#include "arttrack/tracker/tracker.h"
+#include "commands.h"
+
+namespace arttrack::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using Json = nlohmann::ordered_json;
+
+struct BenchArgs {
+  std::string scenario;
+  int evaluations = 0;
+  std::string resolution;
+  std::string json_path;
+  long long seed = -1;
+  std::vector<std::string> overrides;
+  int threads = -1;
+  int cylinder_segments = 0;
+  int sphere_segments = 0;
+};
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// CPU time of the whole process (all threads), s.
+double process_cpu_s() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// Feeds the stream to one full-fusion tracker, timing its calls, and scores
+// its estimate at every scored instant.
+class BenchSink : public sim::MeasurementSink {
+ public:
+  BenchSink(std::shared_ptr<const RobotModel> robot, TrackerConfig config)
+      : robot_(std::move(robot)), config_(std::move(config)) {}
+
+  void begin_run(const sim::RunStart& start) override {
+    config_.seed = start.tracker_seed;
+    tracker_ = std::make_unique<Tracker>(robot_, config_, start.encoder_joints);
+    camera_ = start.camera;
+  }
+
+  void joints(int, double time_s, std::span<const double> readings_rad) override {
+    const double cpu = process_cpu_s();
+    const auto start = Clock::now();
+    tracker_->add_joint_measurement(time_s, readings_rad);
+    const double s = seconds_since(start);
+    joint_update_us_.push_back(1e6 * s);
+    processing_s_ += s;
+    cpu_s_ += process_cpu_s() - cpu;
+  }
+
+  void image(int, double stamp_s, double, const DepthImage& image) override {
+    const double cpu = process_cpu_s();
+    const auto start = Clock::now();
+    tracker_->add_depth_image(stamp_s, image, camera_);
+    processing_s_ += seconds_since(start);
+    cpu_s_ += process_cpu_s() - cpu;
+  }
+
+  void truth(int, const sim::TruthSample& truth) override {
+    const TrackerEstimate e = tracker_->estimate();
+    for (std::size_t k = 0; k < truth.T_camera_ee.size(); ++k)
+      trace_.add(truth.time_s, sim::pose_error(e.T_camera_ee[k], truth.T_camera_ee[k]));
+  }
+
+  const Tracker& tracker() const { return *tracker_; }
+  const std::vector<double>& joint_update_us() const { return joint_update_us_; }
+  double processing_s() const { return processing_s_; }
+  double cpu_s() const { return cpu_s_; }
+  const sim::ErrorTrace& trace() const { return trace_; }
+
+ private:
+  std::shared_ptr<const RobotModel> robot_;
+  TrackerConfig config_;
+  std::unique_ptr<Tracker> tracker_;
+  CameraIntrinsics camera_;
+  std::vector<double> joint_update_us_;
+  double processing_s_ = 0, cpu_s_ = 0;
+  sim::ErrorTrace trace_;
+};
+
+Json p50_p99(const sim::Percentiles& p) { return Json{{"p50", p.p50}, {"p99", p.p99}}; }
+
+Json all_percentiles(const sim::Percentiles& p) {
+  return Json{{"count", p.count}, {"p01", p.p01}, {"p25", p.p25},  {"p50", p.p50},
+              {"p75", p.p75},     {"p99", p.p99}, {"mean", p.mean}};
+}
+
+void run_bench(const BenchArgs& args) {
+  const fs::path path =
+      args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
+  sim::Scenario scenario = sim::load_scenario(path, args.overrides);
+  if (args.seed < -1) throw InputError("--seed must be >= 0");
+  if (args.evaluations < 0) throw InputError("--evaluations must be >= 1");
+  if (args.threads < -1) throw InputError("--threads must be >= 0");
+  if (args.cylinder_segments < 0 || (args.cylinder_segments > 0 && args.cylinder_segments < 3))
+    throw InputError("--cylinder-segments must be >= 3");
+  if (args.sphere_segments < 0 || (args.sphere_segments > 0 && args.sphere_segments < 4))
+    throw InputError("--sphere-segments must be >= 4");
+
+  TrackerConfig config = scenario.tracker;
+  config.source = scenario.tracker_file.string();
+  config.method = TrackingMethod::kFullFusion;
+  config.asynchronous = false;
+  if (args.threads >= 0) config.threads = args.threads;
+  if (!args.resolution.empty()) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    std::istringstream in(args.resolution);
+    if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w <= 0 || h <= 0)
+      throw InputError("--resolution '" + args.resolution + "': expected WIDTHxHEIGHT, e.g. 80x60");
+    config.depth_model.width = w;
+    config.depth_model.height = h;
+  }
+
+  // The tracker's nominal robot, as the runner builds it.
+  RobotModelOptions ro;
+  ro.camera_frame = scenario.scene.camera_link;
+  for (const auto& [name, dir] : scenario.scene.package_paths) ro.mesh_search_paths.push_back(dir);
+  if (args.cylinder_segments > 0) ro.cylinder_segments = args.cylinder_segments;
+  if (args.sphere_segments > 0) ro.sphere_segments = args.sphere_segments;
+  auto robot = std::make_shared<const RobotModel>(
+      RobotModel::from_urdf_file(scenario.scene.urdf_path.string(), ro));
+  // Default blocks: one per joint, virtual ones included.
+  const int blocks = config.blocks.empty() ? robot->num_joints() : int(config.blocks.size());
+  if (args.evaluations > 0)
+    config.particle_filter.num_particles = (args.evaluations + blocks - 1) / blocks;
+  config.validate(config.source);
+
+  BenchSink sink(robot, config);
+  sim::RunOptions options;
+  options.runs = 1;
+  options.seed = args.seed;
+  options.methods = {method_name(TrackingMethod::kEncodersOnly)};  // the runner's own: cheap
+  options.frames_to_keep = 0;
+  options.sink = &sink;
+  const auto start = Clock::now();
+  auto last = start;
+  options.progress = [&](const sim::RunProgress& p) {
+    if (Clock::now() - last < std::chrono::seconds(5)) return;
+    last = Clock::now();
+    std::cerr << "arttrack bench: " << std::fixed << std::setprecision(1) << p.time_s << "/"
+              << p.duration_s << " s simulated, " << seconds_since(start) << " s elapsed\n";
+    std::cerr.unsetf(std::ios::floatfield);
+  };
+  const sim::ScenarioResult result = sim::run_scenario(scenario, options);
+
+  const TrackerStats stats = sink.tracker().stats();
+  const sim::Percentiles joint_us = sim::percentiles(sink.joint_update_us());
+  const sim::Percentiles image_ms = sim::percentiles(stats.image_update_ms);
+  const sim::Percentiles refilter_ms = sim::percentiles(stats.refilter_ms);
+  sim::MethodScores scores(method_name(TrackingMethod::kFullFusion), {});
+  scores.add_run(sink.trace());
+  const sim::MethodSummary summary = scores.summary(scenario.scoring.options);
+  const double realtime_factor = result.duration_s / sink.processing_s();
+  const double evaluations_per_image =
+      stats.images_applied ? double(stats.likelihood_evaluations) / stats.images_applied : 0.0;
+  const std::string resolution =
+      std::to_string(config.depth_model.width) + "x" + std::to_string(config.depth_model.height);
+  const int threads =
+      config.threads > 0 ? config.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+
+  Json j;
+  j["scenario"] = scenario.name;
+  j["source"] = scenario.source;
+  j["duration_s"] = result.duration_s;
+  j["run_seed"] = result.seeds.at(0);
+  j["resolution"] = resolution;
+  j["particles"] = config.particle_filter.num_particles;
+  j["blocks"] = blocks;
+  j["evaluations_per_image"] = evaluations_per_image;
+  j["threads"] = threads;
+  j["cylinder_segments"] = ro.cylinder_segments;
+  j["sphere_segments"] = ro.sphere_segments;
+  j["joint_measurements"] = stats.joint_measurements;
+  j["images"] = {{"received", stats.images_received},
+                 {"applied", stats.images_applied},
+                 {"dropped_too_old", stats.images_dropped_too_old},
+                 {"dropped_backlog", stats.images_dropped_backlog},
+                 {"dropped_busy", stats.images_dropped_busy}};
+  j["joint_update_us"] = p50_p99(joint_us);
+  j["refilter_ms"] = p50_p99(refilter_ms);
+  j["image_update_ms"] = p50_p99(image_ms);
+  j["processing_s"] = sink.processing_s();
+  j["processing_cpu_s"] = sink.cpu_s();
+  j["realtime_factor"] = realtime_factor;
+  j["error"] = {{"converged_after_s", scenario.scoring.options.converged_after_s},
+                {"translation_m", all_percentiles(summary.all.translation_m)},
+                {"converged_translation_m", all_percentiles(summary.converged.translation_m)},
+                {"converged_rotation_rad", all_percentiles(summary.converged.rotation_rad)}};
+
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "arttrack bench: " << scenario.name << ", " << result.duration_s
+            << " s of stream, full fusion at " << resolution << ", "
+            << config.particle_filter.num_particles << " particles x " << blocks
+            << " blocks = " << evaluations_per_image << " evaluations per image, " << threads
+            << " threads\n";
+  std::cout << "  joint update     p50 " << joint_us.p50 << " us, p99 " << joint_us.p99 << " us ("
+            << stats.joint_measurements << ")\n";
+  std::cout << "  image update     p50 " << image_ms.p50 << " ms, p99 " << image_ms.p99 << " ms ("
+            << stats.images_applied << " of " << stats.images_received << " applied)\n";
+  std::cout << "  of which refilter p50 " << refilter_ms.p50 << " ms, p99 " << refilter_ms.p99
+            << " ms\n";
+  std::cout << "  realtime factor  " << std::setprecision(2) << realtime_factor << " ("
+            << std::setprecision(3) << sink.processing_s() << " s in the tracker for "
+            << result.duration_s << " s of data; " << sink.cpu_s() << " s of CPU)\n";
+  std::cout << "  ee translation error: all p50 " << 1e3 * summary.all.translation_m.p50
+            << " mm; after " << scenario.scoring.options.converged_after_s << " s p25 "
+            << 1e3 * summary.converged.translation_m.p25 << ", p50 "
+            << 1e3 * summary.converged.translation_m.p50 << ", p75 "
+            << 1e3 * summary.converged.translation_m.p75 << ", p99 "
+            << 1e3 * summary.converged.translation_m.p99 << " mm\n";
+  if (!args.json_path.empty()) {
+    std::ofstream out(args.json_path);
+    if (!out) throw InputError(args.json_path + ": cannot open for writing");
+    out << j.dump(2) << "\n";
+    if (!out) throw InputError(args.json_path + ": write failed");
+    std::cout << "wrote " << args.json_path << "\n";
+  }
+}
+
+}  // namespace
+
+void register_bench(CLI::App& app) {
+  auto args = std::make_shared<BenchArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "bench", "Time the full-fusion tracker on a scenario's measurement stream");
+  cmd->add_option("scenario", args->scenario, "Scenario YAML (default: scenarios/default.yaml)");
+  cmd->add_option("--evaluations", args->evaluations,
+                  "Likelihood evaluations per image: particles = ceil(N / blocks) "
+                  "(default: the tracker configuration's particles)");
+  cmd->add_option("--resolution", args->resolution,
+                  "Likelihood resolution WIDTHxHEIGHT (default: the tracker configuration's)");
+  cmd->add_option("--json", args->json_path, "Also write the figures to this JSON file");
+  cmd->add_option("--seed", args->seed, "Scenario seed (default: the scenario's)");
+  cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
+      ->allow_extra_args(false);
+  cmd->add_option("--threads", args->threads,
+                  "Image update worker threads, 0 = one per core (default: the configuration's)");
+  cmd->add_option("--cylinder-segments", args->cylinder_segments,
+                  "Sides of the tracker model's URDF cylinders (default 32)");
+  cmd->add_option("--sphere-segments", args->sphere_segments,
+                  "Meridians of the tracker model's URDF spheres (default 16)");
+  cmd->callback([args] { run_bench(*args); });
+}
+
+}  // namespace arttrack::cli
