@@ -52,7 +52,7 @@ void load_belief(std::span<const double> in, JointBelief& b) {
 struct PendingImage {
   double stamp_s;
   double apply_time_s;  // stamp minus the camera delay
-  DepthImage image;
+  DepthImage image;     // subsampled to the likelihood's resolution
   CameraIntrinsics camera;
   Clock::time_point received;  // add_depth_image was called
 };
@@ -96,6 +96,7 @@ struct Tracker::Impl {
   // Image update machinery (one update at a time).
   std::unique_ptr<WorkerPool> pool;
   std::unique_ptr<CoordinateParticleFilter> cpf;
+  std::shared_ptr<const RobotModel> render_model;  // the model, or it with coarser meshes
   std::unique_ptr<HypothesisEvaluator> evaluator;
   DepthLikelihood likelihood;
   std::mt19937_64 rng;
@@ -222,7 +223,17 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     }
     pool = std::make_unique<WorkerPool>(config.threads);
     cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), config.particle_filter);
-    evaluator = std::make_unique<HypothesisEvaluator>(*model, cpf->blocks());
+    // Hypotheses may be rendered with a coarser tessellation of the same URDF.
+    render_model = model;
+    RobotModelOptions render_options = model->options();
+    if (config.render_cylinder_segments > 0)
+      render_options.cylinder_segments = config.render_cylinder_segments;
+    if (config.render_sphere_segments > 0)
+      render_options.sphere_segments = config.render_sphere_segments;
+    if (render_options.cylinder_segments != model->options().cylinder_segments ||
+        render_options.sphere_segments != model->options().sphere_segments)
+      render_model = std::make_shared<const RobotModel>(model->rebuilt(render_options));
+    evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
     prior_std.assign(n, 0.0);
     if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
@@ -415,7 +426,13 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
                      std::to_string(camera.width) + "x" + std::to_string(camera.height));
   if (!(camera.fx > 0 && camera.fy > 0))
     throw InputError(where.str() + ": focal lengths must be positive");
-  for (int v = 0; v < image.height; ++v)
+  // One branch-free pass over the pixels (it vectorises), then the first bad
+  // pixel for the message only when there is one.
+  int valid = 1;
+  const float* depth = image.depth_m.data();
+  for (std::size_t i = 0; i < image.depth_m.size(); ++i)
+    valid &= int(depth[i] >= 0.f) & int(depth[i] <= std::numeric_limits<float>::max());
+  for (int v = 0; v < image.height && !valid; ++v)
     for (int u = 0; u < image.width; ++u) {
       const float z = image.at(u, v);
       if (!(z >= 0) || !std::isfinite(z)) {
@@ -425,6 +442,12 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
         throw InputError(os.str());
       }
     }
+  // Only the likelihood's resolution is kept: the likelihood would subsample
+  // to it anyway, and a 640x480 copy per image is 64 times the memory.
+  const int W = s.likelihood.width(), H = s.likelihood.height();
+  DepthImage kept;
+  if (s.use_images)
+    kept = image.width == W && image.height == H ? image : subsample_depth(image, W, H);
 
   std::unique_lock lock(s.mutex);
   if (stamp_s < s.last_stamp_s) {
@@ -437,7 +460,8 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   s.last_stamp_s = stamp_s;
   ++s.stats.images_received;
   if (!s.use_images) return;
-  s.pending.push_back({stamp_s, stamp_s - s.config.camera_delay_s, image, camera, received});
+  s.pending.push_back(
+      {stamp_s, stamp_s - s.config.camera_delay_s, std::move(kept), camera, received});
   while (int(s.pending.size()) > s.config.max_pending_images) {
     s.pending.pop_front();
     ++s.stats.images_dropped_backlog;

@@ -73,6 +73,10 @@ void TrackerConfig::validate(const std::string& context) const {
   if (max_pending_images < 1) fail("timing.max_pending_images must be at least 1");
   if (!(vision_only_angle_diffusion_rad_per_sqrt_s >= 0))
     fail("vision_only.angle_diffusion_deg_per_sqrt_s < 0");
+  if (render_cylinder_segments != 0 && !(render_cylinder_segments >= 3))
+    fail("render.cylinder_segments must be 0 (the model's) or at least 3");
+  if (render_sphere_segments != 0 && !(render_sphere_segments >= 4))
+    fail("render.sphere_segments must be 0 (the model's) or at least 4");
   for (const auto& b : blocks) {
     if (b.name.empty()) fail("particle_filter.blocks: a block has no name");
     if (b.joints.empty()) fail("particle_filter.blocks: block '" + b.name + "' has no joints");
@@ -123,6 +127,12 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   d.occlusion_prior = dm.number("occlusion_prior", d.occlusion_prior, 0, 1);
   d.width = int(dm.number("width", d.width, 4, 4096));
   d.height = int(dm.number("height", d.height, 3, 4096));
+
+  const ConfigNode render = root.child("render");
+  c.render_cylinder_segments =
+      int(render.number("cylinder_segments", c.render_cylinder_segments, 0, 1024));
+  c.render_sphere_segments =
+      int(render.number("sphere_segments", c.render_sphere_segments, 0, 1024));
 
   const ConfigNode pf = root.child("particle_filter");
   c.particle_filter.num_particles =

@@ -110,6 +110,12 @@ class RobotModel {
   const std::vector<int>& links_with_geometry() const { return geometry_links_; }
   // Where the model came from ("URDF file 'x'" or "URDF string"), for messages.
   const std::string& source() const { return source_; }
+  // The options it was built with.
+  const RobotModelOptions& options() const { return options_; }
+  // The same URDF built again with other options, e.g. a coarser
+  // tessellation of its cylinders and spheres to render many hypotheses at a
+  // low resolution (the same links, joints and frames; other meshes).
+  RobotModel rebuilt(const RobotModelOptions& options) const;
 
  private:
   RobotModel() = default;
@@ -117,6 +123,8 @@ class RobotModel {
                           const std::string& source, const RobotModelOptions& options);
 
   std::string source_;
+  std::string urdf_xml_, base_dir_;  // for rebuilt()
+  RobotModelOptions options_;
   std::vector<Link> links_;
   std::vector<std::string> dof_names_;
   std::vector<int> dof_link_;

@@ -56,12 +56,20 @@ struct TrackerConfig {
   double vision_only_initial_std_rad = 0.02;
 
   DepthModelParams depth_model;
+  // Tessellation of the URDF cylinders (sides) and spheres (meridians) in
+  // the model hypotheses are rendered with (RobotModel::rebuilt); 0: the
+  // given model's. At the likelihood's resolution a coarser polygon differs
+  // from a fine one by a fraction of a pixel, and rendering costs about in
+  // proportion to the triangles.
+  int render_cylinder_segments = 0;
+  int render_sphere_segments = 0;
   CoordinateParticleFilterParams particle_filter;
   // Sampling blocks: named lists of joint names. Empty: one block per physical
   // joint (ordered from the hand towards the root, so that the links a block
-  // does not move are the same for all particles within a chain), then one
-  // per virtual camera joint (a joint six-dimensional camera block finds
-  // local optima). camera_offset_only samples only the virtual joints.
+  // does not move are the same for all particles within a chain; joints that
+  // move the camera after the others), then one per virtual camera joint (a
+  // joint six-dimensional camera block finds local optima).
+  // camera_offset_only samples only the virtual joints.
   struct Block {
     std::string name;
     std::vector<std::string> joints;
