@@ -17,9 +17,10 @@
 //
 // --evaluations N sets particles = ceil(N / blocks) (the default blocks: one
 // per joint); --resolution sets the likelihood resolution (images are
-// subsampled to it). --cylinder-segments/--sphere-segments tessellate the
-// tracker's robot model's URDF primitives differently (the renderer's cost
-// per hypothesis scales with the triangles).
+// subsampled to it). --cylinder-segments/--sphere-segments set the
+// tessellation hypotheses are rendered with (the tracker configuration's
+// render section; the renderer's cost per hypothesis scales with the
+// triangles).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -164,8 +165,8 @@ void run_bench(const BenchArgs& args) {
   RobotModelOptions ro;
   ro.camera_frame = scenario.scene.camera_link;
   for (const auto& [name, dir] : scenario.scene.package_paths) ro.mesh_search_paths.push_back(dir);
-  if (args.cylinder_segments > 0) ro.cylinder_segments = args.cylinder_segments;
-  if (args.sphere_segments > 0) ro.sphere_segments = args.sphere_segments;
+  if (args.cylinder_segments > 0) config.render_cylinder_segments = args.cylinder_segments;
+  if (args.sphere_segments > 0) config.render_sphere_segments = args.sphere_segments;
   auto robot = std::make_shared<const RobotModel>(
       RobotModel::from_urdf_file(scenario.scene.urdf_path.string(), ro));
   // Default blocks: one per joint, virtual ones included.
@@ -217,8 +218,11 @@ void run_bench(const BenchArgs& args) {
   j["blocks"] = blocks;
   j["evaluations_per_image"] = evaluations_per_image;
   j["threads"] = threads;
-  j["cylinder_segments"] = ro.cylinder_segments;
-  j["sphere_segments"] = ro.sphere_segments;
+  // Tessellation the hypotheses are rendered with.
+  j["cylinder_segments"] =
+      config.render_cylinder_segments > 0 ? config.render_cylinder_segments : ro.cylinder_segments;
+  j["sphere_segments"] =
+      config.render_sphere_segments > 0 ? config.render_sphere_segments : ro.sphere_segments;
   j["joint_measurements"] = stats.joint_measurements;
   j["images"] = {{"received", stats.images_received},
                  {"applied", stats.images_applied},
@@ -231,10 +235,15 @@ void run_bench(const BenchArgs& args) {
   j["processing_s"] = sink.processing_s();
   j["processing_cpu_s"] = sink.cpu_s();
   j["realtime_factor"] = realtime_factor;
-  j["error"] = {{"converged_after_s", scenario.scoring.options.converged_after_s},
-                {"translation_m", all_percentiles(summary.all.translation_m)},
-                {"converged_translation_m", all_percentiles(summary.converged.translation_m)},
-                {"converged_rotation_rad", all_percentiles(summary.converged.rotation_rad)}};
+  j["error"] = {
+      {"converged_after_s", scenario.scoring.options.converged_after_s},
+      {"translation_m", all_percentiles(summary.all.translation_m)},
+      {"converged_translation_m", all_percentiles(summary.converged.translation_m)},
+      {"converged_rotation_rad", all_percentiles(summary.converged.rotation_rad)},
+      {"convergence_threshold_m", scenario.scoring.options.convergence_threshold_m},
+      // First time after which the error stays below the threshold (null: never).
+      {"time_to_converge_s",
+       summary.time_to_converge_s.at(0) ? Json(*summary.time_to_converge_s.at(0)) : Json(nullptr)}};
 
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "arttrack bench: " << scenario.name << ", " << result.duration_s
@@ -256,7 +265,12 @@ void run_bench(const BenchArgs& args) {
             << 1e3 * summary.converged.translation_m.p25 << ", p50 "
             << 1e3 * summary.converged.translation_m.p50 << ", p75 "
             << 1e3 * summary.converged.translation_m.p75 << ", p99 "
-            << 1e3 * summary.converged.translation_m.p99 << " mm\n";
+            << 1e3 * summary.converged.translation_m.p99 << " mm; below "
+            << 1e3 * scenario.scoring.options.convergence_threshold_m << " mm from "
+            << (summary.time_to_converge_s.at(0)
+                    ? std::to_string(*summary.time_to_converge_s.at(0)) + " s on"
+                    : std::string("never"))
+            << "\n";
   if (!args.json_path.empty()) {
     std::ofstream out(args.json_path);
     if (!out) throw InputError(args.json_path + ": cannot open for writing");
@@ -285,9 +299,11 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--threads", args->threads,
                   "Image update worker threads, 0 = one per core (default: the configuration's)");
   cmd->add_option("--cylinder-segments", args->cylinder_segments,
-                  "Sides of the tracker model's URDF cylinders (default 32)");
+                  "Sides of URDF cylinders in the hypotheses' model (default: the configuration's "
+                  "render.cylinder_segments, else the model's)");
   cmd->add_option("--sphere-segments", args->sphere_segments,
-                  "Meridians of the tracker model's URDF spheres (default 16)");
+                  "Meridians of URDF spheres in the hypotheses' model (default: the "
+                  "configuration's render.sphere_segments, else the model's)");
   cmd->callback([args] { run_bench(*args); });
 }
 
