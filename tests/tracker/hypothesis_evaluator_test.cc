@@ -63,18 +63,15 @@ DepthImage observation(const RobotModel& model) {
   return image;
 }
 
-// One block per physical joint from the hand to the root, the head's after
-// the arms', then one per camera joint: the tracker's default.
+// One block per physical joint from the hand to the root (in the reverse
+// of the model's depth-first order: right arm, head, left arm), then one per
+// camera joint: the tracker's default.
 std::vector<SamplingBlock> default_blocks(const RobotModel& model) {
   std::vector<SamplingBlock> blocks;
   const int n = model.num_joints();
   int n_phys = 0;
   while (n_phys < n && !model.is_virtual_joint(n_phys)) ++n_phys;
-  auto head = [&](int j) { return model.joint_name(j).rfind("head", 0) == 0; };
-  for (int j = n_phys - 1; j >= 0; --j)
-    if (!head(j)) blocks.push_back({model.joint_name(j), {j}});
-  for (int j = n_phys - 1; j >= 0; --j)
-    if (head(j)) blocks.push_back({model.joint_name(j), {j}});
+  for (int j = n_phys - 1; j >= 0; --j) blocks.push_back({model.joint_name(j), {j}});
   for (int j = n_phys; j < n; ++j) blocks.push_back({model.joint_name(j), {j}});
   return blocks;
 }

@@ -203,16 +203,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       // camera block settles in local optima (a roll and pitch that mimic a
       // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
       // which coordinate-wise sampling avoids.
-      // Joints that move the camera (the head) come after the other physical
-      // joints: until then the camera is the same for all particles, so the
-      // links a block does not move are common to all particles and drawn
-      // once per block (hypothesis_evaluator.h).
-      const int camera = model->camera_link();
-      auto moves_camera = [&](int j) { return bool(model->links_moved_by(j)[camera]); };
-      for (int j = n_phys - 1; j >= 0; --j)
-        if (!moves_camera(j)) blocks.push_back({model->joint_name(j), {j}});
-      for (int j = n_phys - 1; j >= 0; --j)
-        if (moves_camera(j)) blocks.push_back({model->joint_name(j), {j}});
+      for (int j = n_phys - 1; j >= 0; --j) blocks.push_back({model->joint_name(j), {j}});
       for (int j = n_phys; j < n; ++j) blocks.push_back({model->joint_name(j), {j}});
     }
     if (config.method == TrackingMethod::kCameraOffsetOnly) {

@@ -66,10 +66,9 @@ struct TrackerConfig {
   CoordinateParticleFilterParams particle_filter;
   // Sampling blocks: named lists of joint names. Empty: one block per physical
   // joint (ordered from the hand towards the root, so that the links a block
-  // does not move are the same for all particles within a chain; joints that
-  // move the camera after the others), then one per virtual camera joint (a
-  // joint six-dimensional camera block finds local optima).
-  // camera_offset_only samples only the virtual joints.
+  // does not move are the same for all particles within a chain), then one
+  // per virtual camera joint (a joint six-dimensional camera block finds
+  // local optima). camera_offset_only samples only the virtual joints.
   struct Block {
     std::string name;
     std::vector<std::string> joints;
