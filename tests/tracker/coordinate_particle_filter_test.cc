@@ -146,12 +146,12 @@ TEST(CoordinateParticleFilter, SameSeedSameNumbersWhateverTheThreadCount) {
             std::vector<double>(results[0].begin(), results[0].begin() + problem.n));
 }
 
-TEST(CoordinateParticleFilter, ConstantLikelihoodReturnsThePrior) {
+TEST(CoordinateParticleFilter, ConstantLikelihoodReturnsThePriorExactly) {
   struct Flat : PerParticleEvaluator {
     double log_likelihood(const ParticleBatch&, int, int) override { return -3.0; }
   } flat;
   CoordinateParticleFilterParams params;
-  params.num_particles = 20000;
+  params.num_particles = 50;
   params.max_kl_divergence = 0;  // would resample at any non-uniformity
   // Coordinate 3 is in no block.
   CoordinateParticleFilter cpf(4, {{"a", {0, 2}}, {"b", {1}}}, params);
@@ -160,15 +160,41 @@ TEST(CoordinateParticleFilter, ConstantLikelihoodReturnsThePrior) {
   const std::vector<double> m = {1.0, -2.0, 0.5, 0.25}, s = {0.1, 0.2, 0.3, 0.4};
   cpf.run(m, s, flat, rng, pool);
   EXPECT_EQ(cpf.num_resamplings(), 0);  // weights stay exactly uniform
-  EXPECT_NEAR(cpf.effective_sample_size(), 20000, 1e-6);
-  for (int c = 0; c < 3; ++c) {
-    const double se_mean = s[c] / std::sqrt(20000.0);
-    const double se_var = s[c] * s[c] * std::sqrt(2.0 / 20000);
-    EXPECT_NEAR(cpf.mean()[c], m[c], 4.5 * se_mean);
-    EXPECT_NEAR(cpf.variance()[c], s[c] * s[c], 4.5 * se_var);
+  EXPECT_NEAR(cpf.effective_sample_size(), 50, 1e-9);
+  // No evidence: not the sample moments of 50 draws, the prior itself.
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(cpf.mean()[c], m[c]) << c;
+    EXPECT_DOUBLE_EQ(cpf.variance()[c], s[c] * s[c]) << c;
+    EXPECT_EQ(cpf.informed()[c], 0) << c;
   }
-  EXPECT_EQ(cpf.mean()[3], 0.25);
-  EXPECT_DOUBLE_EQ(cpf.variance()[3], 0.4 * 0.4);
+}
+
+// A likelihood that depends on coordinate 0 only (block "a"): block "b" saw
+// no evidence and keeps its prior exactly, even though the weights it ends
+// with are far from uniform; block "a" matches the closed-form posterior.
+TEST(CoordinateParticleFilter, BlockWithoutEvidenceKeepsItsPrior) {
+  struct OnlyFirst : PerParticleEvaluator {
+    double log_likelihood(const ParticleBatch& batch, int l, int) override {
+      const double r = (batch.particle(l)[0] - 0.4) / 0.1;
+      return -0.5 * r * r;
+    }
+  } only_first;
+  CoordinateParticleFilterParams params;
+  params.num_particles = 4000;
+  CoordinateParticleFilter cpf(2, {{"a", {0}}, {"b", {1}}}, params);
+  WorkerPool pool(2);
+  std::mt19937_64 rng(11);
+  const std::vector<double> m = {0.0, 1.0}, s = {0.2, 0.3};
+  cpf.run(m, s, only_first, rng, pool);
+  EXPECT_EQ(cpf.informed()[0], 1);
+  EXPECT_EQ(cpf.informed()[1], 0);
+  EXPECT_EQ(cpf.mean()[1], 1.0);
+  EXPECT_DOUBLE_EQ(cpf.variance()[1], 0.09);
+  // Closed form: precision 1/0.04 + 1/0.01 = 125, mean 0.4 * 100 / 125.
+  const double post_var = 1.0 / 125, post_mean = 0.4 * 100 / 125;
+  const double ess = cpf.effective_sample_size();
+  EXPECT_NEAR(cpf.mean()[0], post_mean, 4.5 * std::sqrt(post_var / ess));
+  EXPECT_NEAR(cpf.variance()[0], post_var, 4.5 * post_var * std::sqrt(2 / ess));
 }
 
 TEST(CoordinateParticleFilter, KlDivergenceFromUniform) {
@@ -360,6 +386,9 @@ TEST(CoordinateParticleFilter, RejectsBadBlocks) {
   CoordinateParticleFilterParams bad;
   bad.num_particles = 0;
   EXPECT_THROW(CoordinateParticleFilter(1, {{"a", {0}}}, bad), InputError);
+  CoordinateParticleFilterParams negative;
+  negative.no_evidence_nats = -1;
+  EXPECT_THROW(CoordinateParticleFilter(1, {{"a", {0}}}, negative), InputError);
 }
 
 }  // namespace

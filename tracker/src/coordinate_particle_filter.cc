@@ -127,6 +127,10 @@ CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<Sa
     throw InputError("particle filter: proposal_scale = " + std::to_string(params_.proposal_scale) +
                      " must be positive");
   }
+  if (!(params_.no_evidence_nats >= 0)) {
+    throw InputError("particle filter: no_evidence_nats = " +
+                     std::to_string(params_.no_evidence_nats) + " must be >= 0");
+  }
   if (blocks_.empty()) throw InputError("particle filter: no sampling blocks");
   sampled_.assign(dimension_, false);
   for (const SamplingBlock& b : blocks_) {
@@ -157,6 +161,7 @@ CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<Sa
   parents_.resize(num_particles_);
   mean_.resize(dimension_);
   variance_.resize(dimension_);
+  informed_.resize(dimension_);
 }
 
 void CoordinateParticleFilter::normalise_weights() {
@@ -209,6 +214,7 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
   std::fill(log_likelihood_.begin(), log_likelihood_.end(), 0.0);
   std::iota(parents_.begin(), parents_.end(), 0);
   num_evaluations_ = num_resamplings_ = num_degenerate_ = 0;
+  std::fill(informed_.begin(), informed_.end(), 0);
   std::normal_distribution<double> normal(0.0, 1.0);  // fresh: no cached draw from a past run
 
   for (int step = 0; step < int(blocks_.size()); ++step) {
@@ -235,23 +241,34 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     num_evaluations_ += L;
 
     // Weight by the likelihood ratio: log w += log p(I | x new) - log p(I | x old).
-    // An impossible particle stays impossible.
+    // An impossible particle stays impossible. The spread of the ratios over
+    // the particles that were possible tells whether the block saw evidence.
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double lowest_ratio = kInf, highest_ratio = -kInf;
     for (int l = 0; l < L; ++l) {
       double ll = new_log_likelihood_[l];
-      if (!std::isfinite(ll)) ll = -std::numeric_limits<double>::infinity();
-      if (std::isfinite(log_likelihood_[l])) {
-        log_weights_[l] += ll - log_likelihood_[l];
+      if (!std::isfinite(ll)) ll = -kInf;
+      if (std::isfinite(log_likelihood_[l]) && std::isfinite(log_weights_[l])) {
+        const double ratio = ll - log_likelihood_[l];
+        log_weights_[l] += ratio;
+        lowest_ratio = std::min(lowest_ratio, ratio);
+        highest_ratio = std::max(highest_ratio, ratio);
       } else {
-        log_weights_[l] = -std::numeric_limits<double>::infinity();
+        log_weights_[l] = -kInf;
       }
       log_likelihood_[l] = ll;
     }
+    bool evidence = highest_ratio - lowest_ratio > params_.no_evidence_nats;
     if (!std::isfinite(*std::max_element(log_weights_.begin(), log_weights_.end()))) {
       // No particle explains the image at all: keep the particles, ignore
       // this block's evidence. Log-likelihoods restart at a common 0.
       std::fill(log_weights_.begin(), log_weights_.end(), 0.0);
       std::fill(log_likelihood_.begin(), log_likelihood_.end(), 0.0);
       ++num_degenerate_;
+      evidence = false;
+    }
+    if (evidence) {
+      for (int c : block.coordinates) informed_[c] = 1;
     }
     normalise_weights();
     std::iota(parents_.begin(), parents_.end(), 0);
@@ -269,7 +286,7 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     for (int c = 0; c < n; ++c) variance_[c] += weights_[l] * (x[c] - mean_[c]) * (x[c] - mean_[c]);
   }
   for (int c = 0; c < n; ++c) {
-    if (!sampled_[c]) {
+    if (!informed_[c]) {  // in no block, or its block saw no evidence
       mean_[c] = prior_mean[c];
       variance_[c] = prior_std[c] * prior_std[c];
     }

@@ -19,6 +19,12 @@
 //        log-likelihood to its log-weight.
 //   3. Moment-match: weighted mean and variance of every coordinate (Eqs.
 //      (15)-(16), with weights instead of a final resampling).
+// A block whose likelihood ratios were all equal (within no_evidence_nats:
+// e.g. a joint whose every hypothesis leaves the arm out of view) has seen
+// no evidence; its coordinates keep their prior mean and variance exactly.
+// Moment-matching them instead would replace the prior by a sample of L
+// draws, a random walk of about s / sqrt(L) per image that the joint filters
+// would read as evidence about the encoder bias.
 // Why this is exact in the limit: after block k the particles target
 // p(x_1..k) p(image | x_1..k, m_k+1..n); proposing block k+1 from its prior
 // and weighting by the likelihood ratio is the importance weight between two
@@ -154,6 +160,9 @@ struct CoordinateParticleFilterParams {
   double max_kl_divergence = 0.69314718055994531;
   // Factor on the prior standard deviations when perturbing (see top).
   double proposal_scale = 1.0;
+  // A block whose log-likelihood ratios span at most this, nats, over the
+  // possible particles has seen no evidence (see top).
+  double no_evidence_nats = 1e-6;
 };
 
 // One CPF over a fixed dimension and block layout; keeps its particles and
@@ -179,6 +188,9 @@ class CoordinateParticleFilter {
   // Results of the last run: weighted mean and variance per coordinate.
   std::span<const double> mean() const { return mean_; }
   std::span<const double> variance() const { return variance_; }
+  // Per coordinate: 1 when its block saw evidence in the last run, 0 when
+  // it kept its prior (no evidence, or in no block).
+  std::span<const unsigned char> informed() const { return informed_; }
   // Likelihood evaluations (particles x blocks), resamplings, and blocks
   // after which every particle was impossible (weights were then reset to
   // uniform, i.e. that block's image evidence ignored).
@@ -206,6 +218,7 @@ class CoordinateParticleFilter {
   std::vector<double> log_likelihood_, new_log_likelihood_, scratch_log_likelihood_;
   std::vector<int> parents_;
   std::vector<double> mean_, variance_;
+  std::vector<unsigned char> informed_;
   int num_evaluations_ = 0;
   int num_resamplings_ = 0;
   int num_degenerate_ = 0;
