@@ -7,9 +7,8 @@
 //     error; full fusion reaches millimetres once converged, and follows the
 //     time-varying bias;
 //   - without bias, estimating the camera offset fixes the head error;
-//   - out of view, full fusion is never worse than encoders only, and
-//     recovers when the arm is back in view (under heavy occlusion it is
-//     worse for now: that test is disabled, see there);
+//   - out of view and under heavy occlusion, full fusion is never much worse
+//     than encoders only, and recovers when the arm is back in view;
 //   - vision only loses track where the paper says it does: occlusion, out of
 //     view, fast motion.
 //
@@ -150,26 +149,27 @@ TEST(PaperFindings, OcclusionVisionOnlyLosesTrack) {
 
 // The paper's finding under occlusion: full fusion "stays at least as
 // accurate as the encoders-only method, even when the visual information is
-// not reliable", and accurate. It does NOT hold for this tracker yet, so the
-// test is disabled (run it with --gtest_also_run_disabled_tests): as soon as
-// the panel covers the forearm and hand, the hidden joints' bias estimates
-// run away (elbow and wrist by 30-50 degrees within 8 s) and the hand
-// estimate drifts decimetres off, further than the encoders' own error,
-// with and without bias, with 40 particles, with occlusion prior 0.5 and
-// with other seeds. Hidden robot pixels score 1 / (1 - exp(-lambda r)), about
-// +0.8 in log per pixel, so hypotheses that hide more of the arm behind the
-// occluder win, and a bias diffusion of 3.2 deg/sqrt(s) lets them move; at
-// 1.0 deg/sqrt(s) it holds (p99 79 mm).
-TEST(PaperFindings, DISABLED_OcclusionFullFusionNeverMuchWorseThanEncoders) {
-  const ScenarioResult r =
-      run_paper("occlusion__constant_bias", 17, {"encoders_only", "full_fusion"});
-  const Percentiles encoders = window(r, "encoders_only", 12, 17);
-  const Percentiles fusion = window(r, "full_fusion", 12, 17);
-  // Measured from 12 to 17 s: encoders only p50 251.4 mm, p99 266.5 mm; full
-  // fusion p50 219.0 mm, p99 300.4 mm (before the panel: 5 mm). Without bias
-  // (occlusion__no_bias): encoders only p99 34.7 mm, full fusion 301.2 mm.
-  EXPECT_LT(fusion.p99, encoders.p99 + 20 * kMm);
-  EXPECT_LT(fusion.p50, 20 * kMm);
+// not reliable", and accurate, with the constant bias and without bias. With
+// the paper's truncated occluder density (depth_model.occluder_model:
+// truncated) it does not hold: hidden robot pixels score log 1 / (1 -
+// exp(-lambda r)), about +0.8 each, hypotheses that tuck the arm behind the
+// panel win, and the hidden joints' biases run away (constant bias, 12 to 17
+// s: full fusion p50 237.4 mm, p99 286.4 mm, worse than encoders only).
+TEST(PaperFindings, OcclusionFullFusionNeverMuchWorseThanEncoders) {
+  for (const char* variant : {"occlusion__constant_bias", "occlusion__no_bias"}) {
+    SCOPED_TRACE(variant);
+    const ScenarioResult r = run_paper(variant, 17, {"encoders_only", "full_fusion"});
+    const Percentiles encoders = window(r, "encoders_only", 12, 17);
+    const Percentiles fusion = window(r, "full_fusion", 12, 17);
+    // Measured from 12 to 17 s (seed 1, [seed 2], [seed 3]): constant bias,
+    // encoders only p50 251.4 mm [249.1] [250.8], p99 266.5 mm; full fusion
+    // p50 12.3 mm [6.3] [7.4], p99 72.8 mm [29.9] [32.5]. No bias, encoders
+    // only p50 33.0 mm [33.3], p99 34.7 mm [34.5]; full fusion p50 12.3 mm
+    // [6.8], p99 53.2 mm [25.2]: better most of the time, up to 2 cm worse
+    // in its worst moments (the panel's arrival).
+    EXPECT_LT(fusion.p99, encoders.p99 + 25 * kMm);
+    EXPECT_LT(fusion.p50, 25 * kMm);
+  }
 }
 
 }  // namespace

@@ -13,8 +13,11 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// The model written down literally as in method.md, in linear space: the
-// independent reference where its numbers are representable.
+constexpr OccluderModel kModels[] = {OccluderModel::kTruncated, OccluderModel::kIndependent};
+
+// The model written down literally as in method.md (kTruncated) or the
+// header (kIndependent), in linear space: the independent reference where
+// its numbers are representable.
 double naive_density(const DepthModelParams& p, double z, double r) {
   const double w = p.outlier_weight, Z = p.max_range_m, l = p.occluder_decay_per_m;
   const double s = p.noise_std_m + p.noise_quadratic_per_m * z * z;
@@ -23,6 +26,11 @@ double naive_density(const DepthModelParams& p, double z, double r) {
   double p_occ;
   if (std::isinf(r)) {
     p_occ = w / Z + (1 - w) * l * std::exp(-l * z + l * l * s * s / 2);
+  } else if (p.occluder_model == OccluderModel::kIndependent) {
+    const double po = p.occlusion_prior;
+    const double occluder = l * std::exp(-l * z + l * l * s * s / 2) *
+                            (1 + std::erf((r - z + l * s * s) / (std::sqrt(2.0) * s))) / 2;
+    return w / Z + (1 - w) * ((1 - po + po * std::exp(-l * r)) * gauss + po * occluder);
   } else {
     p_occ = w / Z + (1 - w) * l * std::exp(l * (r - z) + l * l * s * s / 2) *
                         (1 + std::erf((r - z + l * s * s) / (std::sqrt(2.0) * s))) /
@@ -48,42 +56,46 @@ double integrate_density(const DepthLikelihood& lik, double r) {
 }
 
 TEST(DepthLikelihood, DensityIntegratesToOneOverTheSensorRange) {
-  for (double po : {0.0, 0.25, 0.5, 0.9}) {
-    DepthModelParams p;
-    p.occlusion_prior = po;
-    const DepthLikelihood lik(p);
-    for (double r : {0.3, 0.7, 1.5, 3.0, 5.0}) {
-      EXPECT_NEAR(integrate_density(lik, r), 1.0, 1e-3) << "p_o " << po << " r " << r;
+  for (double po : {0.0, 0.25, 0.5, 0.9})
+    for (OccluderModel model : kModels) {
+      DepthModelParams p;
+      p.occluder_model = model;
+      p.occlusion_prior = po;
+      const DepthLikelihood lik(p);
+      for (double r : {0.3, 0.7, 1.5, 3.0, 5.0}) {
+        EXPECT_NEAR(integrate_density(lik, r), 1.0, 1e-3) << "p_o " << po << " r " << r;
+      }
     }
-  }
 }
 
 TEST(DepthLikelihood, LogSpaceEqualsNaiveEvaluation) {
   std::mt19937_64 rng(1);
   for (double s1 : {0.0, 0.002}) {
-    for (double po : {0.0, 0.25, 1.0}) {
-      DepthModelParams p;
-      p.noise_quadratic_per_m = s1;
-      p.occlusion_prior = po;
-      const DepthLikelihood lik(p);
-      std::uniform_real_distribution<double> depth(0.05, p.max_range_m);
-      int compared = 0;
-      for (int i = 0; i < 20000; ++i) {
-        const double z = depth(rng);
-        // r near z often (where the Gaussian and erf matter), else anywhere.
-        const double r = i % 2 ? z + std::normal_distribution<double>(0, 0.02)(rng) : depth(rng);
-        if (r <= 0) continue;
-        for (double rr : {r, kInf}) {
-          const double naive = naive_density(p, z, rr);
-          if (!std::isnormal(naive)) continue;
-          const double ref = std::log(naive);
-          EXPECT_NEAR(lik.log_likelihood_pixel(z, rr), ref, 1e-9 * std::max(1.0, std::abs(ref)))
-              << "z " << z << " r " << rr;
-          ++compared;
+    for (double po : {0.0, 0.25, 1.0})
+      for (OccluderModel model : kModels) {
+        DepthModelParams p;
+        p.occluder_model = model;
+        p.noise_quadratic_per_m = s1;
+        p.occlusion_prior = po;
+        const DepthLikelihood lik(p);
+        std::uniform_real_distribution<double> depth(0.05, p.max_range_m);
+        int compared = 0;
+        for (int i = 0; i < 20000; ++i) {
+          const double z = depth(rng);
+          // r near z often (where the Gaussian and erf matter), else anywhere.
+          const double r = i % 2 ? z + std::normal_distribution<double>(0, 0.02)(rng) : depth(rng);
+          if (r <= 0) continue;
+          for (double rr : {r, kInf}) {
+            const double naive = naive_density(p, z, rr);
+            if (!std::isnormal(naive)) continue;
+            const double ref = std::log(naive);
+            EXPECT_NEAR(lik.log_likelihood_pixel(z, rr), ref, 1e-9 * std::max(1.0, std::abs(ref)))
+                << "z " << z << " r " << rr;
+            ++compared;
+          }
         }
+        EXPECT_GT(compared, 30000);
       }
-      EXPECT_GT(compared, 30000);
-    }
   }
 }
 
@@ -92,28 +104,30 @@ TEST(DepthLikelihood, FiniteEverywhereIncludingExtremes) {
   const double rs[] = {1e-9, 1e-6, 1e-3, 0.01, 0.5, 1.0, 3.0, 5.999, 6.0, kInf};
   for (double sigma : {1e-6, 1e-4, 0.003, 0.1}) {
     for (double w : {1e-9, 0.01, 1.0}) {
-      for (double po : {0.0, 0.25, 1.0}) {
-        DepthModelParams p;
-        p.noise_std_m = sigma;
-        p.outlier_weight = w;
-        p.occlusion_prior = po;
-        DepthLikelihood lik(p);
-        DepthImage observed(p.width, p.height), rendered(p.width, p.height);
-        int i = 0;
-        for (double z : zs) {
-          for (double r : rs) {
-            const double ll = lik.log_likelihood_pixel(z, r);
-            const double lr = lik.log_ratio_pixel(z, r);
-            ASSERT_TRUE(std::isfinite(ll)) << z << " " << r << " sigma " << sigma << " w " << w;
-            ASSERT_TRUE(std::isfinite(lr)) << z << " " << r << " sigma " << sigma << " w " << w;
-            observed.depth_m[i] = float(z);
-            rendered.depth_m[i] = float(r);
-            ++i;
+      for (double po : {0.0, 0.25, 1.0})
+        for (OccluderModel model : kModels) {
+          DepthModelParams p;
+          p.occluder_model = model;
+          p.noise_std_m = sigma;
+          p.outlier_weight = w;
+          p.occlusion_prior = po;
+          DepthLikelihood lik(p);
+          DepthImage observed(p.width, p.height), rendered(p.width, p.height);
+          int i = 0;
+          for (double z : zs) {
+            for (double r : rs) {
+              const double ll = lik.log_likelihood_pixel(z, r);
+              const double lr = lik.log_ratio_pixel(z, r);
+              ASSERT_TRUE(std::isfinite(ll)) << z << " " << r << " sigma " << sigma << " w " << w;
+              ASSERT_TRUE(std::isfinite(lr)) << z << " " << r << " sigma " << sigma << " w " << w;
+              observed.depth_m[i] = float(z);
+              rendered.depth_m[i] = float(r);
+              ++i;
+            }
           }
+          lik.set_observation(observed);
+          ASSERT_TRUE(std::isfinite(lik.log_ratio(rendered)));
         }
-        lik.set_observation(observed);
-        ASSERT_TRUE(std::isfinite(lik.log_ratio(rendered)));
-      }
     }
   }
 }
@@ -174,8 +188,9 @@ TEST(DepthLikelihood, InvalidObservedPixelsAreSkipped) {
 // rectangle version.
 TEST(DepthLikelihood, ImageScoreEqualsSumOfReferencePixels) {
   std::mt19937_64 rng(4);
-  for (int trial = 0; trial < 12; ++trial) {
+  for (int trial = 0; trial < 24; ++trial) {
     DepthModelParams p;
+    p.occluder_model = kModels[trial / 12];
     p.noise_std_m = trial % 3 == 0 ? 0.003 : trial % 3 == 1 ? 1e-5 : 0.02;
     p.noise_quadratic_per_m = trial % 2 ? 0.0 : 0.0015;
     p.occlusion_prior = trial % 4 == 0 ? 0.0 : 0.25 * (trial % 4);
@@ -248,6 +263,29 @@ TEST(DepthLikelihood, FavoursTheObservedDepthAndToleratesOcclusion) {
   // And seeing the background far behind where the robot is rendered
   // counts against the hypothesis.
   EXPECT_LT(lik.log_ratio_pixel(r + 0.3, r), -1.0);
+}
+
+// A robot pixel rendered well behind the observed surface (hidden by an
+// occluder): the paper's truncated occluder density pays log 1 / (1 -
+// exp(-lambda r)) for it, the independent model nothing, as for a pixel the
+// hypothesis does not cover. A visible match is supported by both alike.
+TEST(DepthLikelihood, HidingTheRobotPaysOnlyUnderTheTruncatedModel) {
+  DepthModelParams p;
+  p.occluder_model = OccluderModel::kTruncated;
+  const DepthLikelihood truncated(p);
+  p.occluder_model = OccluderModel::kIndependent;
+  const DepthLikelihood independent(p);
+  const double lambda = p.occluder_decay_per_m;
+  for (double r : {0.5, 1.0, 1.5, 3.0}) {
+    const double z = r - 0.3;  // the occluder, 30 cm in front
+    const double pays = -std::log(-std::expm1(-lambda * r));
+    EXPECT_NEAR(truncated.log_ratio_pixel(z, r), pays, 0.01) << r;
+    EXPECT_GT(pays, 0.05);
+    EXPECT_NEAR(independent.log_ratio_pixel(z, r), 0.0, 1e-6) << r;
+    EXPECT_GT(independent.log_ratio_pixel(r, r), 5.0) << r;
+    EXPECT_NEAR(independent.log_ratio_pixel(r, r), truncated.log_ratio_pixel(r, r), 1.0) << r;
+    EXPECT_LT(independent.log_ratio_pixel(r + 0.3, r), -1.0) << r;
+  }
 }
 
 TEST(DepthLikelihood, SubsamplesLargerObservations) {

@@ -73,46 +73,49 @@ TEST(FastMath, PixelRatiosMatchTheExactLikelihood) {
   for (double s1 : {0.0, 0.002}) {
     for (double po : {0.0, 0.25, 1.0}) {
       for (double lambda : {0.001, 0.693, 50.0}) {
-        DepthModelParams p;
-        p.width = 64;
-        p.height = 64;
-        p.noise_quadratic_per_m = s1;
-        p.occlusion_prior = po;
-        p.occluder_decay_per_m = lambda;
-        if (lambda * (p.noise_std_m + s1 * 36) > 1) p.max_range_m = 2;
-        DepthLikelihood lik(p);
-        std::uniform_real_distribution<double> depth(0.02, p.max_range_m);
-        DepthImage observed(p.width, p.height);
-        for (float& z : observed.depth_m) z = float(depth(rng));
-        observed.depth_m[5] = 0;  // no return: ratio exactly 1
-        lik.set_observation(observed);
-        std::vector<int> pixel;
-        std::vector<float> rendered;
-        for (int i = 0; i < p.width * p.height; ++i) {
-          const double z = observed.depth_m[i];
-          // Near the observation (the Gaussian and erfc matter), in front
-          // (occlusion), far behind, and tiny depths.
-          const double pick[] = {z + std::normal_distribution<double>(0, 0.01)(rng), z - 0.3,
-                                 z + 1.0, 1e-7, depth(rng)};
-          const double r = pick[i % 5];
-          if (r <= 0) continue;
-          pixel.push_back(i);
-          rendered.push_back(float(r));
-        }
-        std::vector<float> ratio(pixel.size());
-        lik.ratios(pixel.data(), rendered.data(), int(pixel.size()), ratio.data());
-        for (size_t k = 0; k < pixel.size(); ++k) {
-          const double z = observed.depth_m[pixel[k]];
-          if (z == 0) {
-            EXPECT_EQ(ratio[k], 1.f);
-            continue;
+        for (OccluderModel model : {OccluderModel::kTruncated, OccluderModel::kIndependent}) {
+          DepthModelParams p;
+          p.occluder_model = model;
+          p.width = 64;
+          p.height = 64;
+          p.noise_quadratic_per_m = s1;
+          p.occlusion_prior = po;
+          p.occluder_decay_per_m = lambda;
+          if (lambda * (p.noise_std_m + s1 * 36) > 1) p.max_range_m = 2;
+          DepthLikelihood lik(p);
+          std::uniform_real_distribution<double> depth(0.02, p.max_range_m);
+          DepthImage observed(p.width, p.height);
+          for (float& z : observed.depth_m) z = float(depth(rng));
+          observed.depth_m[5] = 0;  // no return: ratio exactly 1
+          lik.set_observation(observed);
+          std::vector<int> pixel;
+          std::vector<float> rendered;
+          for (int i = 0; i < p.width * p.height; ++i) {
+            const double z = observed.depth_m[i];
+            // Near the observation (the Gaussian and erfc matter), in front
+            // (occlusion), far behind, and tiny depths.
+            const double pick[] = {z + std::normal_distribution<double>(0, 0.01)(rng), z - 0.3,
+                                   z + 1.0, 1e-7, depth(rng)};
+            const double r = pick[i % 5];
+            if (r <= 0) continue;
+            pixel.push_back(i);
+            rendered.push_back(float(r));
           }
-          const double exact = std::exp(lik.log_ratio_pixel(z, rendered[k]));
-          if (!std::isnormal(exact)) continue;
-          const double err = std::abs(ratio[k] / exact - 1);
-          worst = std::max(worst, err);
-          EXPECT_LT(err, 3e-7) << "z " << z << " r " << rendered[k] << " p_o " << po << " lambda "
-                               << lambda << " s1 " << s1;
+          std::vector<float> ratio(pixel.size());
+          lik.ratios(pixel.data(), rendered.data(), int(pixel.size()), ratio.data());
+          for (size_t k = 0; k < pixel.size(); ++k) {
+            const double z = observed.depth_m[pixel[k]];
+            if (z == 0) {
+              EXPECT_EQ(ratio[k], 1.f);
+              continue;
+            }
+            const double exact = std::exp(lik.log_ratio_pixel(z, rendered[k]));
+            if (!std::isnormal(exact)) continue;
+            const double err = std::abs(ratio[k] / exact - 1);
+            worst = std::max(worst, err);
+            EXPECT_LT(err, 3e-7) << "z " << z << " r " << rendered[k] << " p_o " << po << " lambda "
+                                 << lambda << " s1 " << s1 << " model " << int(model);
+          }
         }
       }
     }

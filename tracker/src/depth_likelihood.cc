@@ -98,8 +98,14 @@ double DepthLikelihood::log_likelihood_pixel(double z_m, double r_m) const {
   // exp(lambda (r - z)) / (exp(lambda r) - 1) = exp(-lambda z) / (1 - exp(-lambda r)),
   // with expm1 for small lambda r; (1 + erf(x)) / 2 = erfc(-x) / 2.
   const double x = (r - z_m + lambda * sigma * sigma) / (kSqrt2 * sigma);
-  const double log_occ = log_occ_base + log_erfc(-x) - kLog2 - std::log(-std::expm1(-lambda * r));
-  return log_sum_exp(log_out, log_vis, log_occ);
+  const double log_occ = log_occ_base + log_erfc(-x) - kLog2;
+  if (params_.occluder_model == OccluderModel::kTruncated) {
+    return log_sum_exp(log_out, log_vis, log_occ - std::log(-std::expm1(-lambda * r)));
+  }
+  // Seen unless an occluder lies in front: 1 - p_o + p_o exp(-lambda r).
+  const double log_seen = log_weight((1 - w) * (1 - po * -std::expm1(-lambda * r))) - 0.5 * d * d -
+                          std::log(sigma) - kLogSqrt2Pi;
+  return log_sum_exp(log_out, log_seen, log_occ);
 }
 
 double DepthLikelihood::log_ratio_pixel(double z_m, double r_m) const {
@@ -118,7 +124,9 @@ void DepthLikelihood::set_observation(const DepthImage& observed) {
   const double w = params_.outlier_weight;
   const double po = params_.occlusion_prior;
   const double lambda = params_.occluder_decay_per_m;
-  const double k_vis = (1 - w) * (1 - po) / std::sqrt(2 * M_PI);
+  // kIndependent scales the Gaussian per rendered depth (log_ratio()).
+  const double seen = params_.occluder_model == OccluderModel::kTruncated ? 1 - po : 1;
+  const double k_vis = (1 - w) * seen / std::sqrt(2 * M_PI);
   const double k_occ = (1 - w) * po * lambda * 0.5;
   num_valid_ = 0;
   for (size_t i = 0; i < pixels_.size(); ++i) {
@@ -162,6 +170,8 @@ double DepthLikelihood::log_ratio(const float* rendered_m, std::ptrdiff_t row_st
   assert(rect.u0 >= 0 && rect.v0 >= 0 && rect.u1 <= params_.width && rect.v1 <= params_.height);
   const double lambda = params_.occluder_decay_per_m;
   const double floor = outlier_density_;
+  const bool truncated = params_.occluder_model == OccluderModel::kTruncated;
+  const double po = params_.occlusion_prior;
   double product = 1;
   long exponent = 0;
   int pending = 0;
@@ -176,17 +186,22 @@ double DepthLikelihood::log_ratio(const float* rendered_m, std::ptrdiff_t row_st
       if (t.inv_p_inf == 0) continue;  // invalid observed pixel
       const double r = std::max(double(rf), kMinRenderedDepthM);
       const double e = (r - t.z) * t.inv_s;
+      // 1 - exp(-lambda r); exp is as accurate as expm1 once it is >= 0.39.
+      const double lr = lambda * r;
+      const double one_minus = lr >= 0.5 ? 1 - std::exp(-lr) : -std::expm1(-lr);
       double p = floor;
       // Beyond e2_max the Gaussian is under half an ulp of p: skipping its
       // exp changes nothing (and avoids libm's slow underflow path).
-      if (e * e < t.e2_max) p += t.k_vis * std::exp(-e * e);
-      // Occluded part: k_occ erfc(-x) / (1 - exp(-lambda r)). erfc(-x) is 2
-      // to double precision for x > 6 and below 1e-320 for x < -27.
+      // (kIndependent's factor 1 - p_o (1 - exp(-lambda r)) <= 1 keeps that so.)
+      if (e * e < t.e2_max) {
+        const double gauss = t.k_vis * std::exp(-e * e);
+        p += truncated ? gauss : gauss * (1 - po * one_minus);
+      }
+      // Occluded part: k_occ erfc(-x), over 1 - exp(-lambda r) when truncated.
+      // erfc(-x) is 2 to double precision for x > 6 and below 1e-320 for x < -27.
       const double x = e + t.shift;
       if (x > -27) {
-        // exp is cheaper than expm1 and as accurate once 1 - exp(-lambda r) >= 0.39.
-        const double lr = lambda * r;
-        const double scale = t.k_occ / (lr >= 0.5 ? 1 - std::exp(-lr) : -std::expm1(-lr));
+        const double scale = truncated ? t.k_occ / one_minus : t.k_occ;
         if (x > 6) {
           p += 2 * scale;
         } else if (x > -6.5 || scale * kErfc6_5 > 0x1p-60 * p) {
@@ -239,9 +254,11 @@ constexpr int kLanes = 8;
 // Ratios of the first n (a multiple of kLanes) pixels of the chunk. Eight
 // lanes: one AVX-512 register, or two independent AVX2 / four SSE2 chains
 // that hide each other's latency.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void chunk_ratios(RatioChunk& c, int n,
-                                                                               double lambda,
-                                                                               double floor) {
+// truncated_flag is 1 for kTruncated, 0 for kIndependent, seen_po is p_o for
+// kIndependent and 0 for kTruncated: the factors they select multiply or
+// divide by exactly 1 where they do not apply.
+__attribute__((target_clones("avx512f", "avx2", "default"))) void chunk_ratios(
+    RatioChunk& c, int n, double lambda, double floor, double truncated_flag, double seen_po) {
   for (int k = 0; k < n; k += kLanes) {
     const V r = load(c.r + k);
     const V e = (r - load(c.z + k)) * load(c.inv_s + k);
@@ -249,9 +266,11 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void chunk_ratios(R
     const V lr = lambda * r;
     const V series = lr * (1.0 - lr * (0.5 - lr * (1.0 / 6 - lr * (1.0 / 24))));
     const V one_minus = lr < 0.01 ? series : 1.0 - fast_exp(-lr);
-    const V occ = load(c.k_occ + k) / one_minus * fast_erfc(-(e + load(c.shift + k)));
+    const V occ_divisor = one_minus * truncated_flag + (1.0 - truncated_flag);
+    const V occ = load(c.k_occ + k) / occ_divisor * fast_erfc(-(e + load(c.shift + k)));
+    const V seen = 1.0 - seen_po * one_minus;
     const V inv_p_inf = load(c.inv_p_inf + k);
-    const V ratio = (floor + gauss + occ) * inv_p_inf;
+    const V ratio = (floor + gauss * seen + occ) * inv_p_inf;
     const V result = inv_p_inf == 0.0 ? broadcast<V>(1.0) : ratio;
     std::memcpy(c.ratio + k, &result, sizeof result);
   }
@@ -262,6 +281,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void chunk_ratios(R
 void DepthLikelihood::ratios(const int* pixels, const float* rendered_m, int n,
                              float* ratios) const {
   const double lambda = params_.occluder_decay_per_m;
+  const bool truncated = params_.occluder_model == OccluderModel::kTruncated;
   RatioChunk c;
   for (int begin = 0; begin < n; begin += kChunk) {
     const int m = std::min(kChunk, n - begin);
@@ -280,7 +300,8 @@ void DepthLikelihood::ratios(const int* pixels, const float* rendered_m, int n,
       c.r[k] = c.z[k] = 1;
       c.inv_s[k] = c.shift[k] = c.k_vis[k] = c.k_occ[k] = c.inv_p_inf[k] = 0;
     }
-    chunk_ratios(c, padded, lambda, outlier_density_);
+    chunk_ratios(c, padded, lambda, outlier_density_, truncated ? 1.0 : 0.0,
+                 truncated ? 0.0 : params_.occlusion_prior);
     for (int k = 0; k < m; ++k) ratios[begin + k] = float(c.ratio[k]);
   }
 }

@@ -119,6 +119,12 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
 
   const ConfigNode dm = root.child("depth_model");
   DepthModelParams& d = c.depth_model;
+  d.occluder_model =
+      dm.choice("occluder_model",
+                d.occluder_model == OccluderModel::kTruncated ? "truncated" : "independent",
+                {"independent", "truncated"}) == "truncated"
+          ? OccluderModel::kTruncated
+          : OccluderModel::kIndependent;
   d.outlier_weight = dm.number("outlier_weight", d.outlier_weight, 1e-9, 1);
   d.noise_std_m = dm.number("noise_std_m", d.noise_std_m, 1e-6, 1);
   d.noise_quadratic_per_m = dm.number("noise_quadratic_per_m", d.noise_quadratic_per_m, 0, 1);
