@@ -276,6 +276,9 @@ class Run {
       const double now = sim_.time_s();
       trajectory_->position(now, std::span<double>(target.data(), std::size_t(target.size())));
       sim_.set_targets(target);
+      // Loads add up: several may hang on one link (a held load and one not
+      // picked up yet, at weight 0).
+      for (int b : load_body_) std::fill_n(d->xfrc_applied + 6 * b, 6, 0.0);
       for (std::size_t i = 0; i < sc_.loads.size(); ++i) {
         // MuJoCo applies xfrc_applied at the body's centre of mass (xipos),
         // which for a massless link frame is not the frame; the torque term
@@ -287,8 +290,8 @@ class Run {
                                       Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
         const Eigen::Vector3d torque = lever.cross(f);
         for (int a = 0; a < 3; ++a) {
-          d->xfrc_applied[6 * b + a] = f[a];
-          d->xfrc_applied[6 * b + 3 + a] = torque[a];
+          d->xfrc_applied[6 * b + a] += f[a];
+          d->xfrc_applied[6 * b + 3 + a] += torque[a];
         }
       }
       sim_.step();

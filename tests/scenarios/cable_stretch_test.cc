@@ -94,11 +94,10 @@ TEST(CableStretch, LoadStretchesTheCables) {
 }
 
 // The same for the first lift (the load held from 4.5 s to 17.5 s, lifted
-// from 8 s to 12 s). Disabled: it fails (measured change: exactly 0 deg)
-// because the scenario runner sets xfrc_applied per load, so the second
-// load on the same link (weight 0 until 29.5 s) overwrites the first one's
-// force; run it with --gtest_also_run_disabled_tests once loads add up.
-TEST(CableStretch, DISABLED_EveryLoadStretchesTheCables) {
+// from 8 s to 12 s), with a second load on the same link not picked up yet
+// (weight 0 until 29.5 s): loads on one link add up. (When the runner set
+// each load's force instead, the second overwrote the first: change 0 deg.)
+TEST(CableStretch, EveryLoadStretchesTheCables) {
   const ScenarioResult loaded =
       run_short("cable_stretch/pick_and_place", 12, {"encoders_only"}, {"camera.rate_hz=5"});
   const ScenarioResult empty = run_short("cable_stretch/pick_and_place", 12, {"encoders_only"},
