@@ -14,6 +14,7 @@
 
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
+#include "text_format.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -82,31 +83,6 @@ bool write_png_rows(int width, int height, png_bytep* rows, PngSink* sink) {
 }
 
 // ---------------------------------------------------------------- text
-
-// Escapes text for HTML element content and attribute values.
-std::string esc(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 // Fixed-point number; "∞" for +infinity (a lost estimate counts as one), "–" for NaN.
 std::string fixed(double v, int decimals) {
@@ -247,10 +223,11 @@ struct Frame {
 
 void svg_open(std::ostringstream& o, const Frame& f, const std::string& id,
               const std::string& title) {
-  o << "<svg class=\"chart\" data-chart=\"" << esc(id) << "\" viewBox=\"0 0 " << px(f.width) << ' '
-    << px(f.height) << "\" width=\"" << px(f.width) << "\" height=\"" << px(f.height)
-    << "\" role=\"img\"><title>" << esc(title) << "</title>\n";
-  o << "<text class=\"ct\" x=\"" << px(f.left) << "\" y=\"18\">" << esc(title) << "</text>\n";
+  o << "<svg class=\"chart\" data-chart=\"" << text::html_escape(id) << "\" viewBox=\"0 0 "
+    << px(f.width) << ' ' << px(f.height) << "\" width=\"" << px(f.width) << "\" height=\""
+    << px(f.height) << "\" role=\"img\"><title>" << text::html_escape(title) << "</title>\n";
+  o << "<text class=\"ct\" x=\"" << px(f.left) << "\" y=\"18\">" << text::html_escape(title)
+    << "</text>\n";
 }
 
 void y_axis(std::ostringstream& o, const Frame& f, const Axis& a, const std::string& label) {
@@ -262,8 +239,8 @@ void y_axis(std::ostringstream& o, const Frame& f, const Axis& a, const std::str
   }
   const double ym = 0.5 * (f.y0() + f.y1());
   o << "<text class=\"al\" transform=\"translate(13," << px(ym)
-    << ") rotate(-90)\" text-anchor=\"middle\">" << esc(label) << (a.log ? " (log scale)" : "")
-    << "</text>\n";
+    << ") rotate(-90)\" text-anchor=\"middle\">" << text::html_escape(label)
+    << (a.log ? " (log scale)" : "") << "</text>\n";
   o << "<line class=\"axis\" x1=\"" << px(f.x0()) << "\" x2=\"" << px(f.x0()) << "\" y1=\""
     << px(f.y0()) << "\" y2=\"" << px(f.y1()) << "\"/>\n";
 }
@@ -279,7 +256,7 @@ void x_axis(std::ostringstream& o, const Frame& f, const Axis& a, const std::str
     << px(f.y0()) << "\" y2=\"" << px(f.y0()) << "\"/>\n";
   if (!label.empty())
     o << "<text class=\"al\" x=\"" << px(0.5 * (f.x0() + f.x1())) << "\" y=\"" << px(f.height - 6)
-      << "\" text-anchor=\"middle\">" << esc(label) << "</text>\n";
+      << "\" text-anchor=\"middle\">" << text::html_escape(label) << "</text>\n";
 }
 
 // One box of a box plot, in display units.
@@ -314,7 +291,7 @@ void box_plot(std::ostringstream& o, const std::string& id, const std::string& t
     const double xc = f.x0() + (i + 0.5) * slot;
     const double half = std::min(28.0, 0.22 * slot);
     o << "<text class=\"tl\" x=\"" << px(xc) << "\" y=\"" << px(f.y0() + 16)
-      << "\" text-anchor=\"middle\">" << esc(b.name) << "</text>\n";
+      << "\" text-anchor=\"middle\">" << text::html_escape(b.name) << "</text>\n";
     if (b.p.count == 0 || std::isnan(b.p.p50)) {
       o << "<text class=\"note\" x=\"" << px(xc) << "\" y=\"" << px(0.5 * (f.y0() + f.y1()))
         << "\" text-anchor=\"middle\">no samples</text>\n";
@@ -425,18 +402,19 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
     o << "<line class=\"mark\" x1=\"" << px(X) << "\" x2=\"" << px(X) << "\" y1=\"" << px(f.y0())
       << "\" y2=\"" << px(f.y1()) << "\"/>\n";
     labels << "<text class=\"note\" x=\"" << px(X + 3) << "\" y=\"" << px(f.y1() + 11) << "\">"
-           << esc(text) << "</text>\n";
+           << text::html_escape(text) << "</text>\n";
   }
   for (const auto& [y, text] : c.y_marks) {
     const double Y = ya.map(y);
     o << "<line class=\"mark\" x1=\"" << px(f.x0()) << "\" x2=\"" << px(f.x1()) << "\" y1=\""
       << px(Y) << "\" y2=\"" << px(Y) << "\"/>\n";
     labels << "<text class=\"note\" x=\"" << px(f.x1() - 3) << "\" y=\"" << px(Y - 3)
-           << "\" text-anchor=\"end\">" << esc(text) << "</text>\n";
+           << "\" text-anchor=\"end\">" << text::html_escape(text) << "</text>\n";
   }
-  o << "<clipPath id=\"clip-" << esc(c.id) << "\"><rect x=\"" << px(f.x0()) << "\" y=\""
-    << px(f.y1()) << "\" width=\"" << px(f.x1() - f.x0()) << "\" height=\"" << px(f.y0() - f.y1())
-    << "\"/></clipPath><g clip-path=\"url(#clip-" << esc(c.id) << ")\">\n";
+  o << "<clipPath id=\"clip-" << text::html_escape(c.id) << "\"><rect x=\"" << px(f.x0())
+    << "\" y=\"" << px(f.y1()) << "\" width=\"" << px(f.x1() - f.x0()) << "\" height=\""
+    << px(f.y0() - f.y1()) << "\"/></clipPath><g clip-path=\"url(#clip-" << text::html_escape(c.id)
+    << ")\">\n";
   // Bands first, lines over them.
   for (const Series& s : c.series) {
     if (s.band_lo.empty()) continue;
@@ -483,7 +461,7 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
     for (const Series& s : c.series) {
       o << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + 18) << "\" y1=\"14\" y2=\"14\" stroke=\""
         << s.colour << "\" stroke-width=\"3\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "")
-        << "/><text class=\"tl\" x=\"" << px(x + 22) << "\" y=\"18\">" << esc(s.name)
+        << "/><text class=\"tl\" x=\"" << px(x + 22) << "\" y=\"18\">" << text::html_escape(s.name)
         << "</text>\n";
       x += 32 + 7.0 * s.name.size();
     }
@@ -499,18 +477,6 @@ double mean_translation_m(const EstimateSample& s) {
   double sum = 0;
   for (const PoseError& e : s.ee_error) sum += e.translation_m;
   return sum / double(s.ee_error.size());
-}
-
-// Median over runs of the convergence time, never converging = +inf (as summary.json).
-double median_convergence_s(const MethodSummary& s) {
-  std::vector<double> t;
-  for (const auto& c : s.time_to_converge_s) t.push_back(c ? *c : kInf);
-  std::sort(t.begin(), t.end());
-  if (t.empty()) return kInf;
-  const std::size_t n = t.size();
-  if (n % 2) return t[n / 2];
-  if (!std::isfinite(t[n / 2])) return kInf;
-  return 0.5 * (t[n / 2 - 1] + t[n / 2]);
 }
 
 double median_of(std::vector<double> v) {
@@ -609,10 +575,10 @@ void colour_bar(std::ostringstream& o, const std::string& id, double near_m, dou
   f.right = 20;
   f.top = 6;
   f.bottom = 30;
-  o << "<svg class=\"bar\" data-chart=\"" << esc(id) << "\" viewBox=\"0 0 " << px(f.width) << ' '
-    << px(f.height) << "\" width=\"" << px(f.width) << "\" height=\"" << px(f.height)
-    << "\" role=\"img\"><title>depth colours, m</title>"
-    << "<defs><linearGradient id=\"g-" << esc(id) << "\">";
+  o << "<svg class=\"bar\" data-chart=\"" << text::html_escape(id) << "\" viewBox=\"0 0 "
+    << px(f.width) << ' ' << px(f.height) << "\" width=\"" << px(f.width) << "\" height=\""
+    << px(f.height) << "\" role=\"img\"><title>depth colours, m</title>"
+    << "<defs><linearGradient id=\"g-" << text::html_escape(id) << "\">";
   for (int i = 0; i <= 8; ++i) {
     std::uint8_t c[3];
     jet(1.0 - i / 8.0, c);
@@ -621,7 +587,8 @@ void colour_bar(std::ostringstream& o, const std::string& id, double near_m, dou
     o << "<stop offset=\"" << px(i * 12.5) << "%\" stop-color=\"" << hex << "\"/>";
   }
   o << "</linearGradient></defs><rect x=\"" << px(f.x0()) << "\" y=\"" << px(f.top) << "\" width=\""
-    << px(f.x1() - f.x0()) << "\" height=\"14\" fill=\"url(#g-" << esc(id) << ")\"/>\n";
+    << px(f.x1() - f.x0()) << "\" height=\"14\" fill=\"url(#g-" << text::html_escape(id)
+    << ")\"/>\n";
   Axis a = linear_axis(near_m, far_m, 8);
   a.px_lo = f.x0();
   a.px_hi = f.x1();
@@ -667,18 +634,18 @@ pre{font-size:11px;background:#f8f8f8;padding:6px;overflow:auto}
 )";
 
 void header(std::ostringstream& o, const ScenarioResult& r) {
-  o << "<h1>arttrack run: " << esc(r.scenario) << "</h1>\n<dl class=\"meta\">";
-  o << "<dt>scenario file</dt><dd>" << esc(r.source) << "</dd>";
+  o << "<h1>arttrack run: " << text::html_escape(r.scenario) << "</h1>\n<dl class=\"meta\">";
+  o << "<dt>scenario file</dt><dd>" << text::html_escape(r.source) << "</dd>";
   o << "<dt>duration</dt><dd>" << fixed(r.duration_s, 1) << " s simulated per run</dd>";
   o << "<dt>runs</dt><dd>" << r.runs.size() << "</dd><dt>seeds</dt><dd>";
   for (std::size_t i = 0; i < r.seeds.size(); ++i) o << (i ? ", " : "") << r.seeds[i];
   o << "</dd><dt>methods</dt><dd>";
   for (std::size_t i = 0; i < r.methods.size(); ++i)
     o << "<span class=\"key\" style=\"background:" << method_colour(r.methods[i], i) << "\"></span>"
-      << esc(r.methods[i]);
+      << text::html_escape(r.methods[i]);
   o << "</dd><dt>scored end effectors</dt><dd>";
   for (std::size_t i = 0; i < r.end_effectors.size(); ++i)
-    o << (i ? ", " : "") << esc(r.end_effectors[i]);
+    o << (i ? ", " : "") << text::html_escape(r.end_effectors[i]);
   int captured = 0, delivered = 0;
   for (const RunResult& run : r.runs)
     captured += run.frames_captured, delivered += run.frames_delivered;
@@ -867,7 +834,7 @@ void camera_section(std::ostringstream& o, const ScenarioResult& r) {
        "camera frame's axes) as each method estimates them:";
   for (const auto& [i, m] : methods)
     o << "<span class=\"key\" style=\"background:" << method_colour(m->method, i) << "\"></span>"
-      << esc(m->method);
+      << text::html_escape(m->method);
   o << ". The true offset is the scenario's miscalibration (not part of the run's results).</p>\n";
   const char* names[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
   o << "<div class=\"three\">\n";
@@ -928,7 +895,7 @@ void frames_section(std::ostringstream& o, const ScenarioResult& r) {
     o << "<figcaption>Frame " << i << ": captured at t = " << fixed(k.stamp_s, 2)
       << " s, reached the trackers at " << fixed(k.arrival_s, 2) << " s (run " << k.run << "); "
       << (k.estimate.empty() ? std::string("no estimate rendered")
-                             : "white: the " + esc(k.estimate_method) + " estimate")
+                             : "white: the " + text::html_escape(k.estimate_method) + " estimate")
       << ".</figcaption></figure>\n";
   }
   o << "</div>\n";
@@ -954,7 +921,7 @@ void table_section(std::ostringstream& o, const ScenarioResult& r) {
     o << "</tr>\n";
     for (const MethodResult& m : r.method_results) {
       const ErrorStats& s = part ? m.summary.converged : m.summary.all;
-      o << "<tr><td class=\"m\">" << esc(m.method) << "</td>";
+      o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td>";
       const Percentiles& t = s.translation_m;
       for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99})
         o << "<td>" << fixed(v * kMm, 2) << "</td>";
@@ -990,11 +957,12 @@ void table_section(std::ostringstream& o, const ScenarioResult& r) {
                    mr->stats.images_dropped_busy;
       }
     const MethodTiming& t = m.timing;
-    o << "<tr><td class=\"m\">" << esc(m.method) << "</td><td>" << fixed(t.joint_update_us.p50, 2)
-      << "</td><td>" << fixed(t.joint_update_us.p99, 2) << "</td><td>"
-      << fixed(t.image_update_ms.p50, 2) << "</td><td>" << fixed(t.image_update_ms.p99, 2)
-      << "</td><td>" << fixed(t.evaluations_per_image, 0) << "</td><td>" << received << "</td><td>"
-      << applied << "</td><td>" << dropped << "</td></tr>\n";
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td><td>"
+      << fixed(t.joint_update_us.p50, 2) << "</td><td>" << fixed(t.joint_update_us.p99, 2)
+      << "</td><td>" << fixed(t.image_update_ms.p50, 2) << "</td><td>"
+      << fixed(t.image_update_ms.p99, 2) << "</td><td>" << fixed(t.evaluations_per_image, 0)
+      << "</td><td>" << received << "</td><td>" << applied << "</td><td>" << dropped
+      << "</td></tr>\n";
   }
   o << "</table>\n";
   // The JSON itself, folded (no script needed): its text has no & < >.
@@ -1073,7 +1041,7 @@ std::string report_html(const ScenarioResult& r) {
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
-    << "<title>arttrack: " << esc(r.scenario) << "</title>\n"
+    << "<title>arttrack: " << text::html_escape(r.scenario) << "</title>\n"
     << kStyle << "</head><body><main>\n";
   header(o, r);
   box_section(o, r);

@@ -2,25 +2,21 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <iomanip>
-#include <limits>
 #include <sstream>
 
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/report.h"
 #include "arttrack/tracker/error.h"
+#include "text_format.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
@@ -32,30 +28,10 @@ Json five(const Percentiles& p) {
               {"p99", number(p.p99)}};
 }
 
-// Median over runs of the convergence time, never converging = +inf.
-double median_convergence_s(const MethodSummary& s) {
-  std::vector<double> t;
-  for (const auto& c : s.time_to_converge_s) t.push_back(c ? *c : kInf);
-  std::sort(t.begin(), t.end());
-  if (t.empty()) return kInf;
-  const std::size_t n = t.size();
-  if (n % 2) return t[n / 2];
-  if (!std::isfinite(t[n / 2])) return kInf;
-  return 0.5 * (t[n / 2 - 1] + t[n / 2]);
-}
-
 // The method whose timings are reported: full fusion, else the first.
 const MethodResult* timing_method(const ScenarioResult& r) {
   if (const MethodResult* m = r.method("full_fusion")) return m;
   return r.method_results.empty() ? nullptr : &r.method_results.front();
-}
-
-std::string csv_number(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.17g", v);
-  return buf;
 }
 
 }  // namespace
@@ -102,14 +78,16 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
       const TruthSample& truth = run.truth[i];
       for (const MethodRun& m : run.methods) {
         const EstimateSample& s = m.samples[i];
-        out << csv_number(truth.time_s) << ',' << run.run << ',' << m.method << ','
-            << (truth.camera_frame ? 1 : 0) << ',' << csv_number(truth.occluded_fraction);
+        out << text::csv_number(truth.time_s) << ',' << run.run << ',' << m.method << ','
+            << (truth.camera_frame ? 1 : 0) << ',' << text::csv_number(truth.occluded_fraction);
         for (const PoseError& e : s.ee_error)
-          out << ',' << csv_number(e.translation_m) << ',' << csv_number(e.rotation_rad);
+          out << ',' << text::csv_number(e.translation_m) << ','
+              << text::csv_number(e.rotation_rad);
         for (Eigen::Index j = 0; j < truth.angle_rad.size(); ++j)
-          out << ',' << csv_number(truth.angle_rad[j]) << ',' << csv_number(s.angle_rad[j]) << ','
-              << csv_number(truth.bias_rad[j]) << ',' << csv_number(s.bias_rad[j]);
-        for (int k = 0; k < 6; ++k) out << ',' << csv_number(s.camera_offset[k]);
+          out << ',' << text::csv_number(truth.angle_rad[j]) << ','
+              << text::csv_number(s.angle_rad[j]) << ',' << text::csv_number(truth.bias_rad[j])
+              << ',' << text::csv_number(s.bias_rad[j]);
+        for (int k = 0; k < 6; ++k) out << ',' << text::csv_number(s.camera_offset[k]);
         out << '\n';
       }
     }

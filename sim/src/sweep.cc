@@ -16,6 +16,7 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/yaml_config.h"
+#include "text_format.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -26,51 +27,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kMaxAxisValues = 10000;
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t");
-  return s.substr(b, e - b + 1);
-}
-
-// A whole string as a finite number, else nullopt-like false.
-bool parse_number(const std::string& text, double& out) {
-  const std::string t = trim(text);
-  if (t.empty()) return false;
-  char* end = nullptr;
-  out = std::strtod(t.c_str(), &end);
-  return end == t.c_str() + t.size() && std::isfinite(out);
-}
-
-std::string format_g(double v, int digits) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
-  return buf;
-}
-
-std::string csv_number(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  return format_g(v, 17);
-}
-
-// Messages go into one CSV field and one HTML line.
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-  return s;
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 
 // Splits one CSV line (RFC 4180 quoting, no embedded newlines).
 bool split_csv(const std::string& line, std::vector<std::string>& fields) {
@@ -145,18 +101,6 @@ double pick(const Percentiles& p, int percentile) {
     default:
       return p.p99;
   }
-}
-
-// Median over runs of the convergence time (never = +inf), as summary.json.
-double median_convergence_s(const MethodSummary& s) {
-  std::vector<double> t;
-  for (const auto& c : s.time_to_converge_s) t.push_back(c ? *c : kInf);
-  if (t.empty()) return kInf;
-  std::sort(t.begin(), t.end());
-  const std::size_t n = t.size();
-  if (n % 2) return t[n / 2];
-  if (!std::isfinite(t[n / 2])) return kInf;
-  return 0.5 * (t[n / 2 - 1] + t[n / 2]);
 }
 
 // ---- keys with list indices ----
@@ -289,29 +233,6 @@ std::vector<std::string> expand_indexed(const fs::path& path,
 
 // ---- HTML helpers ----
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 // Viridis through five anchors, t in [0, 1].
 std::string colour(double t) {
   static const double anchors[5][3] = {
@@ -342,8 +263,8 @@ std::string short_value(double v) {
   if (std::isnan(v)) return "-";
   if (std::isinf(v)) return v > 0 ? "never" : "-inf";
   if (std::fabs(v) < 5e-4) return "0";
-  if (std::fabs(v) >= 100) return format_g(std::round(v), 6);
-  return format_g(v, 3);
+  if (std::fabs(v) >= 100) return text::format_g(std::round(v), 6);
+  return text::format_g(v, 3);
 }
 
 // Colour scale of one statistic over all methods and cells.
@@ -403,12 +324,12 @@ GridAxis parse_grid_axis(const std::string& spec) {
     throw InputError(context + ": expected key=start:stop:step or key=v1,v2,...");
   GridAxis axis;
   axis.spec = spec;
-  axis.key = trim(spec.substr(0, eq));
+  axis.key = text::trim(spec.substr(0, eq));
   if (axis.key.find_first_of(" \t=") != std::string::npos)
     throw InputError(context + ": the key '" + axis.key + "' contains a space");
   parse_key_path(axis.key, context);
   const std::string rhs = spec.substr(eq + 1);
-  if (trim(rhs).empty()) throw InputError(context + ": no values after '='");
+  if (text::trim(rhs).empty()) throw InputError(context + ": no values after '='");
 
   if (rhs.find(':') != std::string::npos) {
     std::vector<std::string> parts;
@@ -419,20 +340,21 @@ GridAxis parse_grid_axis(const std::string& spec) {
     double v[3];
     const char* names[3] = {"start", "stop", "step"};
     for (int i = 0; i < 3; ++i)
-      if (!parse_number(parts[i], v[i]))
-        throw InputError(context + ": " + names[i] + " '" + trim(parts[i]) +
+      if (!text::parse_number(parts[i], v[i]))
+        throw InputError(context + ": " + names[i] + " '" + text::trim(parts[i]) +
                          "' is not a finite number");
     const double start = v[0], stop = v[1], step = v[2];
-    if (!(step > 0)) throw InputError(context + ": step must be > 0, not " + trim(parts[2]));
+    if (!(step > 0)) throw InputError(context + ": step must be > 0, not " + text::trim(parts[2]));
     if (stop < start)
-      throw InputError(context + ": stop " + trim(parts[1]) + " is below start " + trim(parts[0]));
+      throw InputError(context + ": stop " + text::trim(parts[1]) + " is below start " +
+                       text::trim(parts[0]));
     const double count = std::floor((stop - start) / step + 1e-6) + 1;
     if (count > double(kMaxAxisValues))
-      throw InputError(context + ": gives " + format_g(count, 6) + " values, more than " +
+      throw InputError(context + ": gives " + text::format_g(count, 6) + " values, more than " +
                        std::to_string(kMaxAxisValues));
     for (long i = 0; i < long(count); ++i) {
       // Twelve digits drop the float noise of start + i step (0.30000000000000004).
-      std::string text = format_g(start + double(i) * step, 12);
+      std::string text = text::format_g(start + double(i) * step, 12);
       if (!axis.values.empty() && text == axis.values.back())
         throw InputError(context + ": step is too small to tell values apart");
       axis.values.push_back(text);
@@ -443,7 +365,7 @@ GridAxis parse_grid_axis(const std::string& spec) {
   std::stringstream in(rhs);
   std::set<std::string> seen;
   for (std::string item; std::getline(in, item, ',');) {
-    item = trim(item);
+    item = text::trim(item);
     if (item.empty()) throw InputError(context + ": an empty value in the list");
     try {
       YAML::Load(item);
@@ -462,8 +384,8 @@ Shard parse_shard(const std::string& text) {
   const auto slash = text.find('/');
   const std::string context = "--shard '" + text + "'";
   double i = 0, n = 0;
-  if (slash == std::string::npos || !parse_number(text.substr(0, slash), i) ||
-      !parse_number(text.substr(slash + 1), n) || i != std::floor(i) || n != std::floor(n))
+  if (slash == std::string::npos || !text::parse_number(text.substr(0, slash), i) ||
+      !text::parse_number(text.substr(slash + 1), n) || i != std::floor(i) || n != std::floor(n))
     throw InputError(context + ": expected I/N with whole numbers, e.g. 0/4");
   if (n < 1 || n > 1e6) throw InputError(context + ": N must be in 1..1000000");
   if (i < 0 || i >= n)
@@ -584,7 +506,7 @@ CellResult run_sweep_cell(const SweepSpec& spec, std::size_t cell,
     }
   } catch (const std::exception& e) {
     r.failed = true;
-    r.message = one_line(e.what());
+    r.message = text::one_line(e.what());
     if (r.message.empty()) r.message = "unknown error";
     for (auto& row : r.stats) std::fill(row.begin(), row.end(), kNaN);
   }
@@ -597,7 +519,7 @@ namespace {
 
 std::string csv_header(const SweepSpec& spec) {
   std::string h = "cell";
-  for (const GridAxis& a : spec.axes) h += "," + csv_field(a.key);
+  for (const GridAxis& a : spec.axes) h += "," + text::csv_field(a.key);
   return h + ",method,statistic,value,seed,runs,status,message";
 }
 
@@ -612,18 +534,18 @@ void write_sweep_csv(std::ostream& out, const SweepSpec& spec,
     std::string prefix = std::to_string(c.cell);
     for (std::size_t a = 0; a < spec.axes.size(); ++a) {
       prefix += ',';
-      prefix += csv_field(spec.axes[a].values[coord[a]]);
+      prefix += text::csv_field(spec.axes[a].values[coord[a]]);
     }
     std::string suffix = ",";
     suffix += std::to_string(c.seed);
     suffix += ',';
     suffix += std::to_string(spec.runs);
     suffix += c.failed ? ",failed," : ",ok,";
-    if (c.failed) suffix += csv_field(c.message);
+    if (c.failed) suffix += text::csv_field(c.message);
     for (std::size_t m = 0; m < spec.methods.size(); ++m)
       for (std::size_t s = 0; s < stats.size(); ++s)
         out << prefix << ',' << spec.methods[m] << ',' << stats[s] << ','
-            << csv_number(c.stats[m][s]) << suffix << '\n';
+            << text::csv_number(c.stats[m][s]) << suffix << '\n';
   }
 }
 
@@ -646,7 +568,7 @@ std::vector<CellResult> read_sweep_csv(const fs::path& path, const SweepSpec& sp
     if (!split_csv(line, f) || f.size() != na + 8)
       throw fail("expected " + std::to_string(na + 8) + " fields");
     double cell_d = 0;
-    if (!parse_number(f[0], cell_d) || cell_d < 0 || cell_d != std::floor(cell_d) ||
+    if (!text::parse_number(f[0], cell_d) || cell_d < 0 || cell_d != std::floor(cell_d) ||
         cell_d >= double(spec.cell_count()))
       throw fail("bad cell index '" + f[0] + "'");
     const std::size_t cell = std::size_t(cell_d);
@@ -667,7 +589,7 @@ std::vector<CellResult> read_sweep_csv(const fs::path& path, const SweepSpec& sp
       value = kInf;
     else if (v == "-inf")
       value = -kInf;
-    else if (!parse_number(v, value))
+    else if (!text::parse_number(v, value))
       throw fail("bad value '" + v + "'");
     const std::string& status = f[na + 6];
     if (status != "ok" && status != "failed") throw fail("status must be ok or failed");
@@ -758,13 +680,13 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
       if (!c) {
         o << "<rect x=\"" << X << "\" y=\"" << Y << "\" width=\"" << cw << "\" height=\"" << ch
           << "\" fill=\"#fff\" stroke=\"#ccc\" stroke-dasharray=\"2,2\"><title>"
-          << html_escape(tip + "\nnot run in this part") << "</title></rect>";
+          << text::html_escape(tip + "\nnot run in this part") << "</title></rect>";
         continue;
       }
       if (c->failed) {
         o << "<rect x=\"" << X << "\" y=\"" << Y << "\" width=\"" << cw << "\" height=\"" << ch
           << "\" fill=\"#bbb\" stroke=\"#fff\"><title>"
-          << html_escape(tip + "\nFAILED: " + c->message) << "</title></rect>"
+          << text::html_escape(tip + "\nFAILED: " + c->message) << "</title></rect>"
           << "<path d=\"M" << X + 3 << ' ' << Y + 3 << "L" << X + cw - 3 << ' ' << Y + ch - 3 << "M"
           << X + cw - 3 << ' ' << Y + 3 << "L" << X + 3 << ' ' << Y + ch - 3
           << "\" stroke=\"#666\" stroke-width=\"1.2\"/>";
@@ -783,11 +705,11 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
       const std::string shown = short_value(v * disp.scale);
       o << "<rect x=\"" << X << "\" y=\"" << Y << "\" width=\"" << cw << "\" height=\"" << ch
         << "\" fill=\"" << fill << "\" stroke=\"#fff\" stroke-width=\"0.5\"><title>"
-        << html_escape(tip + "\n" + shown + " " + disp.unit) << "</title></rect>";
+        << text::html_escape(tip + "\n" + shown + " " + disp.unit) << "</title></rect>";
       if (cw >= 30 && ch >= 14)
         o << "<text x=\"" << X + cw / 2 << "\" y=\"" << Y + ch / 2 + 3
           << "\" text-anchor=\"middle\" fill=\"" << (fill == "#eee" || t > 0.6 ? "#000" : "#fff")
-          << "\">" << html_escape(shown) << "</text>";
+          << "\">" << text::html_escape(shown) << "</text>";
     }
   }
   // Cells where the method fails, outlined; the boundary between failing and
@@ -819,12 +741,12 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
       std::max<std::size_t>(1, std::size_t(std::ceil(double(longest) * 5.5 / cw)));
   for (std::size_t x = 0; x < nx; x += every)
     o << "<text x=\"" << px(x) + cw / 2 << "\" y=\"" << top + ch * double(ny) + 12
-      << "\" text-anchor=\"middle\">" << html_escape(ax.values[x]) << "</text>";
+      << "\" text-anchor=\"middle\">" << text::html_escape(ax.values[x]) << "</text>";
   if (spec.axes.size() > 1) {
     const std::size_t every_y = std::max<std::size_t>(1, std::size_t(std::ceil(11.0 / ch)));
     for (std::size_t y = 0; y < ny; y += every_y)
       o << "<text x=\"" << left - 4 << "\" y=\"" << py(y) + ch / 2 + 3 << "\" text-anchor=\"end\">"
-        << html_escape(spec.axes[1].values[y]) << "</text>";
+        << text::html_escape(spec.axes[1].values[y]) << "</text>";
   }
   o << "</svg>";
 }
@@ -857,16 +779,17 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
 
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Sweep: "
-    << html_escape(spec.scenario_name) << "</title>\n<style>"
+    << text::html_escape(spec.scenario_name) << "</title>\n<style>"
     << "body{font-family:sans-serif;margin:1.5em;max-width:1400px}"
     << "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px "
        "6px;font-size:13px}"
     << ".maps{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}.m{font-size:13px}"
     << ".fail{color:#c00}summary{font-weight:bold;cursor:pointer;margin-top:.6em}"
     << "</style></head><body>\n";
-  o << "<h1>Sweep: " << html_escape(spec.scenario_name) << "</h1>\n<p>Scenario <code>"
-    << html_escape(spec.scenario.string()) << "</code>";
-  for (const std::string& ov : spec.overrides) o << " <code>--set " << html_escape(ov) << "</code>";
+  o << "<h1>Sweep: " << text::html_escape(spec.scenario_name) << "</h1>\n<p>Scenario <code>"
+    << text::html_escape(spec.scenario.string()) << "</code>";
+  for (const std::string& ov : spec.overrides)
+    o << " <code>--set " << text::html_escape(ov) << "</code>";
   o << "; " << spec.runs << " run(s) per cell, seeds from each cell's overrides and the scenario "
     << "seed " << spec.scenario_seed << ". " << cells.size() << " of " << n_cells
     << " cells in these results, " << n_failed << " failed to run.</p>\n<table><tr><th>axis</th>"
@@ -874,11 +797,11 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
   const char* axis_role[] = {"x (across)", "y (up)"};
   for (std::size_t a = 0; a < spec.axes.size(); ++a)
     o << "<tr><td>" << (a < 2 ? axis_role[a] : ("panel " + std::to_string(a - 1)).c_str())
-      << "</td><td><code>" << html_escape(spec.axes[a].key) << "</code></td><td>"
-      << html_escape(axis_values_text(spec.axes[a])) << "</td></tr>";
+      << "</td><td><code>" << text::html_escape(spec.axes[a].key) << "</code></td><td>"
+      << text::html_escape(axis_values_text(spec.axes[a])) << "</td></tr>";
   o << "</table>\n<p>A method <b>fails</b> in a cell where its <code>"
-    << html_escape(spec.fail_statistic) << "</code> exceeds "
-    << format_g(spec.fail_threshold_m * 1e3, 6)
+    << text::html_escape(spec.fail_statistic) << "</code> exceeds "
+    << text::format_g(spec.fail_threshold_m * 1e3, 6)
     << " mm: outlined in red on every map of that method; a thick black line separates failing "
        "cells from holding neighbours.</p>\n";
 
@@ -887,17 +810,17 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
   std::size_t rows = n_cells / a0.values.size();
   o << "<h2>Where each method breaks</h2>\n<table><tr><th>";
   for (std::size_t a = 1; a < spec.axes.size(); ++a)
-    o << (a > 1 ? ", " : "") << "<code>" << html_escape(spec.axes[a].key) << "</code>";
+    o << (a > 1 ? ", " : "") << "<code>" << text::html_escape(spec.axes[a].key) << "</code>";
   if (spec.axes.size() == 1) o << "&nbsp;";
   o << "</th>";
-  for (const std::string& m : spec.methods) o << "<th>" << html_escape(m) << "</th>";
+  for (const std::string& m : spec.methods) o << "<th>" << text::html_escape(m) << "</th>";
   o << "</tr>\n";
   for (std::size_t r = 0; r < rows; ++r) {
     // Cells of this row: axis 0 varies slowest, so stride `rows`.
     const std::vector<std::size_t> coord = spec.cell_coordinates(r);
     o << "<tr><td>";
     for (std::size_t a = 1; a < spec.axes.size(); ++a)
-      o << (a > 1 ? ", " : "") << html_escape(spec.axes[a].values[coord[a]]);
+      o << (a > 1 ? ", " : "") << text::html_escape(spec.axes[a].values[coord[a]]);
     if (spec.axes.size() == 1) o << "all";
     o << "</td>";
     for (std::size_t m = 0; m < spec.methods.size(); ++m) {
@@ -924,7 +847,7 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
         for (std::size_t i = 0; i < failing.size(); ++i)
           text += (i ? ", " : "") + a0.values[failing[i]];
       }
-      o << "<td" << (failing.empty() ? "" : " class=\"fail\"") << ">" << html_escape(text)
+      o << "<td" << (failing.empty() ? "" : " class=\"fail\"") << ">" << text::html_escape(text)
         << "</td>";
     }
     o << "</tr>\n";
@@ -938,8 +861,8 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
       if (!c.failed) continue;
       std::string ov;
       for (const std::string& s : spec.cell_overrides(c.cell)) ov += (ov.empty() ? "" : " ") + s;
-      o << "<tr><td>" << c.cell << "</td><td><code>" << html_escape(ov) << "</code></td><td>"
-        << html_escape(c.message) << "</td></tr>\n";
+      o << "<tr><td>" << c.cell << "</td><td><code>" << text::html_escape(ov) << "</code></td><td>"
+        << text::html_escape(c.message) << "</td></tr>\n";
     }
     o << "</table>\n";
   }
@@ -947,8 +870,8 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
   // Panels: every combination of the axes after the first two.
   std::size_t panels = 1;
   for (std::size_t a = 2; a < spec.axes.size(); ++a) panels *= spec.axes[a].values.size();
-  o << "<h2>Heat maps</h2>\n<p>Across: <code>" << html_escape(a0.key) << "</code>";
-  if (spec.axes.size() > 1) o << "; up: <code>" << html_escape(spec.axes[1].key) << "</code>";
+  o << "<h2>Heat maps</h2>\n<p>Across: <code>" << text::html_escape(a0.key) << "</code>";
+  if (spec.axes.size() > 1) o << "; up: <code>" << text::html_escape(spec.axes[1].key) << "</code>";
   if (panels > 1) o << "; one small map per value of the other axes";
   o << ". Hover a cell for its overrides and value.</p>\n";
   const std::set<std::string> open = {"p50_translation_m", "converged_p50_translation_m",
@@ -979,7 +902,7 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
     legend_svg(o, scale, disp);
     o << "\n";
     for (std::size_t m = 0; m < spec.methods.size(); ++m) {
-      o << "<div class=\"m\"><b>" << html_escape(spec.methods[m])
+      o << "<div class=\"m\"><b>" << text::html_escape(spec.methods[m])
         << "</b></div><div class=\"maps\">";
       for (std::size_t p = 0; p < panels; ++p) {
         std::vector<std::size_t> rest(spec.axes.size() > 2 ? spec.axes.size() - 2 : 0);
@@ -992,8 +915,8 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
         if (panels > 1) {
           o << "<div class=\"m\">";
           for (std::size_t a = 2; a < spec.axes.size(); ++a)
-            o << (a > 2 ? ", " : "") << html_escape(spec.axes[a].key) << " = "
-              << html_escape(spec.axes[a].values[rest[a - 2]]);
+            o << (a > 2 ? ", " : "") << text::html_escape(spec.axes[a].key) << " = "
+              << text::html_escape(spec.axes[a].values[rest[a - 2]]);
           o << "</div>";
         }
         heat_map_svg(o, spec, by_cell, m, s, scale, rest);
@@ -1046,13 +969,6 @@ SweepSpec spec_from_json(const Json& j) {
   return s;
 }
 
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) throw InputError(path.string() + ": cannot write file");
-}
-
 }  // namespace
 
 std::string sweep_manifest_json(const SweepSpec& spec, const Shard& shard,
@@ -1074,9 +990,9 @@ void write_sweep_outputs(const fs::path& dir, const SweepSpec& spec, const Shard
   if (ec) throw InputError(dir.string() + ": cannot create folder: " + ec.message());
   std::ostringstream csv;
   write_sweep_csv(csv, spec, cells);
-  write_text(dir / "sweep.csv", csv.str());
-  write_text(dir / "sweep.html", sweep_html(spec, cells));
-  write_text(dir / "sweep.json", sweep_manifest_json(spec, shard, cells));
+  text::write_text(dir / "sweep.csv", csv.str());
+  text::write_text(dir / "sweep.html", sweep_html(spec, cells));
+  text::write_text(dir / "sweep.json", sweep_manifest_json(spec, shard, cells));
 }
 
 void merge_sweep_parts(const std::vector<fs::path>& parts, const fs::path& out) {

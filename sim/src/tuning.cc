@@ -20,6 +20,7 @@
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config.h"
+#include "text_format.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -27,71 +28,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string format_g(double v, int digits) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
-  return buf;
-}
-
-std::string csv_number(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  return format_g(v, 17);
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
-}
-
-bool parse_number(const std::string& text, double& out) {
-  const std::string t = trim(text);
-  if (t.empty()) return false;
-  char* end = nullptr;
-  out = std::strtod(t.c_str(), &end);
-  return end == t.c_str() + t.size() && std::isfinite(out);
-}
-
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-  return s;
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
-
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 // A path as a single-quoted YAML scalar.
 std::string yaml_quoted(const std::string& s) {
@@ -101,13 +37,6 @@ std::string yaml_quoted(const std::string& s) {
     out += c;
   }
   return out + "'";
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) throw InputError(path.string() + ": cannot write file");
 }
 
 bool is_integer_key(const std::string& key) {
@@ -262,7 +191,7 @@ double TuningParameter::value_at(double u) const {
   const double v = lo + std::clamp(u, 0.0, 1.0) * (hi - lo);
   if (integer) return std::clamp(std::round(v), lo, hi);
   // The value written to YAML, exactly.
-  return std::strtod(format_g(v, 10).c_str(), nullptr);
+  return std::strtod(text::format_g(v, 10).c_str(), nullptr);
 }
 
 double TuningParameter::unit_of(double value) const {
@@ -271,7 +200,7 @@ double TuningParameter::unit_of(double value) const {
 
 std::string TuningParameter::text(double value) const {
   if (integer) return std::to_string((long long)std::llround(value));
-  return format_g(value, 10);
+  return text::format_g(value, 10);
 }
 
 std::vector<TuningParameter> parse_tuning_parameters(const std::vector<std::string>& specs,
@@ -280,17 +209,17 @@ std::vector<TuningParameter> parse_tuning_parameters(const std::vector<std::stri
   for (const std::string& joined : specs) {
     std::stringstream in(joined);
     for (std::string spec; std::getline(in, spec, ',');) {
-      spec = trim(spec);
+      spec = text::trim(spec);
       const std::string context = "--params '" + spec + "'";
       if (spec.empty()) throw InputError("--params '" + joined + "': an empty parameter");
       const auto eq = spec.find('=');
       if (eq == std::string::npos || eq == 0)
         throw InputError(context + ": expected key=lo:hi (or key=lo:hi:int)");
       TuningParameter p;
-      p.key = trim(spec.substr(0, eq));
+      p.key = text::trim(spec.substr(0, eq));
       std::vector<std::string> parts;
       std::stringstream r(spec.substr(eq + 1));
-      for (std::string part; std::getline(r, part, ':');) parts.push_back(trim(part));
+      for (std::string part; std::getline(r, part, ':');) parts.push_back(text::trim(part));
       if (parts.size() == 3 && parts[2] == "int") {
         p.integer = true;
         parts.pop_back();
@@ -300,9 +229,9 @@ std::vector<TuningParameter> parse_tuning_parameters(const std::vector<std::stri
         p.integer = is_integer_key(p.key);
       }
       if (parts.size() != 2) throw InputError(context + ": expected key=lo:hi (or key=lo:hi:int)");
-      if (!parse_number(parts[0], p.lo))
+      if (!text::parse_number(parts[0], p.lo))
         throw InputError(context + ": lo '" + parts[0] + "' is not a finite number");
-      if (!parse_number(parts[1], p.hi))
+      if (!text::parse_number(parts[1], p.hi))
         throw InputError(context + ": hi '" + parts[1] + "' is not a finite number");
       if (!(p.lo < p.hi)) throw InputError(context + ": lo must be below hi");
       if (p.integer && (p.lo != std::floor(p.lo) || p.hi != std::floor(p.hi)))
@@ -357,7 +286,7 @@ bool document_number(const YamlDocument& doc, const std::string& key, double& va
     if (!node.IsMap() || !node[part]) return false;
     chain.push_back(node[part]);
   }
-  return chain.back().IsScalar() && parse_number(chain.back().Scalar(), value);
+  return chain.back().IsScalar() && text::parse_number(chain.back().Scalar(), value);
 }
 
 YamlDocument candidate_document(const YamlDocument& base,
@@ -423,7 +352,7 @@ ScenarioOutcome evaluate_scenario(const fs::path& scenario,
       o.objective_statistic = o.duration_s;
   } catch (const std::exception& e) {
     o.failed = true;
-    o.message = one_line(e.what());
+    o.message = text::one_line(e.what());
     std::fill(o.stats.begin(), o.stats.end(), kNaN);
     o.objective_statistic = kFailedStatistic;
   }
@@ -467,8 +396,8 @@ std::string eval_file_name(int index) {
 void write_outputs(const TuningOptions& options, const TuningResult& result, bool final) {
   std::ostringstream csv;
   write_search_csv(csv, options, result);
-  write_text(options.out_dir / "search.csv", csv.str());
-  if (final) write_text(options.out_dir / "tuning.html", tuning_html(options, result));
+  text::write_text(options.out_dir / "search.csv", csv.str());
+  if (final) text::write_text(options.out_dir / "tuning.html", tuning_html(options, result));
 }
 
 }  // namespace
@@ -538,8 +467,8 @@ TuningResult tune(const TuningOptions& options) {
     } else {
       const fs::path file = options.out_dir / "candidates" / eval_file_name(ev.index);
       const YamlDocument doc = candidate_document(base, params, ev.values);
-      write_text(file, tracker_yaml_text(doc, "arttrack tune candidate " +
-                                                  std::to_string(ev.index) + ": " + key));
+      text::write_text(file, tracker_yaml_text(doc, "arttrack tune candidate " +
+                                                        std::to_string(ev.index) + ": " + key));
       for (const fs::path& s : options.scenarios)
         ev.outcomes.push_back(evaluate_scenario(s, options.scenario_overrides, file,
                                                 options.objective, options.runs));
@@ -555,9 +484,9 @@ TuningResult tune(const TuningOptions& options) {
     for (const ScenarioOutcome& o : ev.outcomes)
       if (o.failed) failed += " [" + o.name + " failed: " + o.message + "]";
     log("evaluation " + std::to_string(ev.index) + "/" + std::to_string(options.budget) + ": " +
-        key + " -> " + format_g(ev.objective, 6) + (ev.cached ? " (same as before)" : "") +
-        " (best " + format_g(best, 6) + "; " + format_g(elapsed, 3) + " s, at most " +
-        format_g(left, 3) + " s left)" + failed);
+        key + " -> " + text::format_g(ev.objective, 6) + (ev.cached ? " (same as before)" : "") +
+        " (best " + text::format_g(best, 6) + "; " + text::format_g(elapsed, 3) + " s, at most " +
+        text::format_g(left, 3) + " s left)" + failed);
     write_outputs(options, result, false);
     return ev.objective;
   };
@@ -568,16 +497,17 @@ TuningResult tune(const TuningOptions& options) {
   const Evaluation& best = result.history[result.best];
   result.tuned = candidate_document(base, params, best.values);
   const fs::path tuned_file = options.out_dir / "tuned.yaml";
-  write_text(tuned_file,
-             tracker_yaml_text(result.tuned,
-                               "Tracker configuration tuned by arttrack tune (" +
-                                   std::string(optimizer_name(options.optimizer)) + ", " +
-                                   std::to_string(result.history.size()) + " evaluations)\n" +
-                                   "base: " + options.base_config.string() + "\n" + "objective " +
-                                   options.objective.text() + " of " + options.objective.method +
-                                   ": " + format_g(best.objective, 6) + " (evaluation " +
-                                   std::to_string(best.index) + ")\n" +
-                                   "tuned: " + values_text(params, best.values)));
+  text::write_text(
+      tuned_file,
+      tracker_yaml_text(result.tuned,
+                        "Tracker configuration tuned by arttrack tune (" +
+                            std::string(optimizer_name(options.optimizer)) + ", " +
+                            std::to_string(result.history.size()) + " evaluations)\n" +
+                            "base: " + options.base_config.string() + "\n" + "objective " +
+                            options.objective.text() + " of " + options.objective.method + ": " +
+                            text::format_g(best.objective, 6) + " (evaluation " +
+                            std::to_string(best.index) + ")\n" +
+                            "tuned: " + values_text(params, best.values)));
 
   // Default against tuned on every scenario.
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -591,8 +521,8 @@ TuningResult tune(const TuningOptions& options) {
                    : best.outcomes[i]);
     log(std::string(validation ? "validation " : "tuning ") + result.compare_default.back().name +
         ": " + options.objective.statistic + " default " +
-        format_g(result.compare_default.back().objective_statistic, 6) + ", tuned " +
-        format_g(result.compare_tuned.back().objective_statistic, 6));
+        text::format_g(result.compare_default.back().objective_statistic, 6) + ", tuned " +
+        text::format_g(result.compare_tuned.back().objective_statistic, 6));
   }
   write_outputs(options, result, true);
   return result;
@@ -602,7 +532,7 @@ TuningResult tune(const TuningOptions& options) {
 
 void write_search_csv(std::ostream& out, const TuningOptions& options, const TuningResult& result) {
   out << "evaluation";
-  for (const TuningParameter& p : result.params) out << ',' << csv_field(p.key);
+  for (const TuningParameter& p : result.params) out << ',' << text::csv_field(p.key);
   out << ",objective,cached";
   std::vector<std::string> names;
   for (const fs::path& s : options.scenarios) {
@@ -613,20 +543,21 @@ void write_search_csv(std::ostream& out, const TuningOptions& options, const Tun
     names.push_back(n);
   }
   for (const std::string& n : names)
-    out << ',' << csv_field(n + ":" + options.objective.statistic) << ','
-        << csv_field(n + ":p50_image_update_ms");
+    out << ',' << text::csv_field(n + ":" + options.objective.statistic) << ','
+        << text::csv_field(n + ":p50_image_update_ms");
   out << ",status\n";
   for (const Evaluation& e : result.history) {
     out << e.index;
     for (std::size_t i = 0; i < e.values.size(); ++i)
       out << ',' << result.params[i].text(e.values[i]);
-    out << ',' << csv_number(e.objective) << ',' << (e.cached ? 1 : 0);
+    out << ',' << text::csv_number(e.objective) << ',' << (e.cached ? 1 : 0);
     std::string status;
     for (const ScenarioOutcome& o : e.outcomes) {
-      out << ',' << csv_number(o.objective_statistic) << ',' << csv_number(o.image_update_p50_ms);
+      out << ',' << text::csv_number(o.objective_statistic) << ','
+          << text::csv_number(o.image_update_p50_ms);
       if (o.failed) status += (status.empty() ? "" : "; ") + o.name + ": " + o.message;
     }
-    out << ',' << csv_field(status.empty() ? "ok" : status) << '\n';
+    out << ',' << text::csv_field(status.empty() ? "ok" : status) << '\n';
   }
 }
 
@@ -662,13 +593,13 @@ double outcome_stat(const ScenarioOutcome& o, const std::string& name) {
 std::string show(double v) {
   if (std::isnan(v)) return "-";
   if (std::isinf(v)) return "never";
-  return format_g(v, 4);
+  return text::format_g(v, 4);
 }
 
 std::string change(double a, double b) {
   if (!std::isfinite(a) || !std::isfinite(b) || a == 0) return "";
   const double pct = 100 * (b - a) / a;
-  return (pct > 0 ? "+" : "") + format_g(pct, 3) + "%";
+  return (pct > 0 ? "+" : "") + text::format_g(pct, 3) + "%";
 }
 
 // Grouped bars of the translation statistics, default (grey) vs tuned (blue).
@@ -689,7 +620,7 @@ void bar_chart(std::ostream& o, const ScenarioOutcome& d, const ScenarioOutcome&
     << "\" font-family=\"sans-serif\" font-size=\"10\">";
   o << "<line x1=\"" << left << "\" y1=\"10\" x2=\"" << left << "\" y2=\"" << 10 + plot_h
     << "\" stroke=\"#888\"/><text x=\"" << left - 4 << "\" y=\"14\" text-anchor=\"end\">"
-    << format_g(top, 3) << "</text><text x=\"" << left - 4 << "\" y=\"" << 10 + plot_h
+    << text::format_g(top, 3) << "</text><text x=\"" << left - 4 << "\" y=\"" << 10 + plot_h
     << "\" text-anchor=\"end\">0</text><text x=\"4\" y=\"" << 10 + plot_h / 2 << "\">mm</text>";
   for (std::size_t i = 0; i < bars.size(); ++i) {
     const double gx = left + group * double(i);
@@ -700,15 +631,16 @@ void bar_chart(std::ostream& o, const ScenarioOutcome& d, const ScenarioOutcome&
       const double bx = gx + 6 + k * (group - 12) / 2;
       o << "<rect x=\"" << bx << "\" y=\"" << 10 + plot_h - h << "\" width=\"" << (group - 14) / 2
         << "\" height=\"" << h << "\" fill=\"" << (k == 0 ? "#999" : "#1f77b4") << "\"><title>"
-        << (k == 0 ? "default " : "tuned ") << html_escape(bars[i]->label) << ": " << show(v)
+        << (k == 0 ? "default " : "tuned ") << text::html_escape(bars[i]->label) << ": " << show(v)
         << " mm</title></rect>";
       ++k;
     }
     o << "<text x=\"" << gx + group / 2 << "\" y=\"" << H - bottom + 14
       << "\" text-anchor=\"middle\">"
-      << html_escape(bars[i]->label.substr(0, bars[i]->label.find(' '))) << "</text><text x=\""
-      << gx + group / 2 << "\" y=\"" << H - bottom + 26 << "\" text-anchor=\"middle\">"
-      << html_escape(bars[i]->label.substr(bars[i]->label.find(' ') + 1)) << "</text>";
+      << text::html_escape(bars[i]->label.substr(0, bars[i]->label.find(' ')))
+      << "</text><text x=\"" << gx + group / 2 << "\" y=\"" << H - bottom + 26
+      << "\" text-anchor=\"middle\">"
+      << text::html_escape(bars[i]->label.substr(bars[i]->label.find(' ') + 1)) << "</text>";
   }
   o << "</svg>";
 }
@@ -740,18 +672,19 @@ void search_chart(std::ostream& o, const TuningResult& r) {
     << "\" font-family=\"sans-serif\" font-size=\"10\"><rect x=\"" << left << "\" y=\"" << top_m
     << "\" width=\"" << W - left - 10 << "\" height=\"" << H - bottom - top_m
     << "\" fill=\"none\" stroke=\"#ccc\"/><text x=\"" << left - 4 << "\" y=\"" << top_m + 8
-    << "\" text-anchor=\"end\">" << format_g(hi, 3) << "</text><text x=\"" << left - 4 << "\" y=\""
-    << H - bottom << "\" text-anchor=\"end\">" << format_g(lo, 3) << "</text><text x=\""
-    << (W + left) / 2 << "\" y=\"" << H - 6 << "\" text-anchor=\"middle\">evaluation"
-    << (log_y ? " (objective on a log scale)" : "") << "</text>";
+    << "\" text-anchor=\"end\">" << text::format_g(hi, 3) << "</text><text x=\"" << left - 4
+    << "\" y=\"" << H - bottom << "\" text-anchor=\"end\">" << text::format_g(lo, 3)
+    << "</text><text x=\"" << (W + left) / 2 << "\" y=\"" << H - 6
+    << "\" text-anchor=\"middle\">evaluation" << (log_y ? " (objective on a log scale)" : "")
+    << "</text>";
   std::string line;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < v.size(); ++i) {
     best = std::min(best, v[i]);
-    line += (i ? " L" : "M") + format_g(X(i), 6) + " " + format_g(Y(best), 6);
+    line += (i ? " L" : "M") + text::format_g(X(i), 6) + " " + text::format_g(Y(best), 6);
     o << "<circle cx=\"" << X(i) << "\" cy=\"" << Y(v[i]) << "\" r=\"3\" fill=\""
       << (i == r.best ? "#d62728" : "#1f77b4") << "\"><title>evaluation " << i + 1 << ": "
-      << format_g(v[i], 6) << "</title></circle>";
+      << text::format_g(v[i], 6) << "</title></circle>";
   }
   o << "<path d=\"" << line << "\" fill=\"none\" stroke=\"#2ca02c\" stroke-width=\"1.5\"/></svg>";
 }
@@ -765,37 +698,38 @@ std::string tuning_html(const TuningOptions& options, const TuningResult& r) {
     << "body{font-family:sans-serif;margin:1.5em;max-width:1100px}table{border-collapse:collapse;"
        "margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 8px;font-size:13px}"
        "td.n{text-align:right}.better{color:#070}.worse{color:#b00}"
-    << "</style></head><body>\n<h1>Tuning: " << html_escape(options.objective.text()) << " of "
-    << html_escape(options.objective.method) << "</h1>\n<p>";
+    << "</style></head><body>\n<h1>Tuning: " << text::html_escape(options.objective.text())
+    << " of " << text::html_escape(options.objective.method) << "</h1>\n<p>";
   o << "Minimised: the "
     << (options.objective.aggregate == Objective::Aggregate::kMean ? "mean" : "maximum")
-    << " over the tuning scenarios of <code>" << html_escape(options.objective.statistic)
+    << " over the tuning scenarios of <code>" << text::html_escape(options.objective.statistic)
     << "</code>";
   if (options.objective.time_penalty_per_ms > 0)
-    o << " plus " << format_g(options.objective.time_penalty_per_ms, 6)
+    o << " plus " << text::format_g(options.objective.time_penalty_per_ms, 6)
       << " per ms of the mean p50 image update time";
   o << ". Optimiser " << optimizer_name(options.optimizer) << ", budget " << options.budget << ", "
-    << r.history.size() << " evaluations (" << html_escape(r.optimizer.stop)
-    << "); base configuration <code>" << html_escape(options.base_config.string())
-    << "</code>. Best: evaluation " << best.index << ", objective " << format_g(best.objective, 6)
+    << r.history.size() << " evaluations (" << text::html_escape(r.optimizer.stop)
+    << "); base configuration <code>" << text::html_escape(options.base_config.string())
+    << "</code>. Best: evaluation " << best.index << ", objective "
+    << text::format_g(best.objective, 6)
     << ".</p>\n<h2>Parameters</h2>\n<table><tr><th>key</th><th>interval</th><th>default</th>"
        "<th>tuned</th></tr>\n";
   for (std::size_t i = 0; i < r.params.size(); ++i) {
     const TuningParameter& p = r.params[i];
-    o << "<tr><td><code>" << html_escape(p.key) << "</code></td><td>[" << p.text(p.lo) << ", "
+    o << "<tr><td><code>" << text::html_escape(p.key) << "</code></td><td>[" << p.text(p.lo) << ", "
       << p.text(p.hi) << "]" << (p.integer ? " whole" : "") << "</td><td class=\"n\">"
-      << (std::isnan(r.default_values[i]) ? "-" : format_g(r.default_values[i], 6))
+      << (std::isnan(r.default_values[i]) ? "-" : text::format_g(r.default_values[i], 6))
       << "</td><td class=\"n\"><b>" << p.text(best.values[i]) << "</b></td></tr>\n";
   }
   o << "</table>\n<h2>Search</h2>\n";
   search_chart(o, r);
   o << "\n<h2>Default against tuned</h2>\n<table><tr><th>scenario</th><th>role</th><th>"
-    << html_escape(options.objective.statistic)
+    << text::html_escape(options.objective.statistic)
     << " default</th><th>tuned</th><th>change</th></tr>\n";
   for (std::size_t i = 0; i < r.compare_default.size(); ++i) {
     const double a = r.compare_default[i].objective_statistic,
                  b = r.compare_tuned[i].objective_statistic;
-    o << "<tr><td>" << html_escape(r.compare_default[i].name) << "</td><td>"
+    o << "<tr><td>" << text::html_escape(r.compare_default[i].name) << "</td><td>"
       << (r.compare_is_validation[i] ? "validation" : "tuning") << "</td><td class=\"n\">"
       << show(a) << "</td><td class=\"n\">" << show(b) << "</td><td class=\"n "
       << (b < a   ? "better"
@@ -807,17 +741,17 @@ std::string tuning_html(const TuningOptions& options, const TuningResult& r) {
   for (std::size_t i = 0; i < r.compare_default.size(); ++i) {
     const ScenarioOutcome& d = r.compare_default[i];
     const ScenarioOutcome& t = r.compare_tuned[i];
-    o << "<h3>" << html_escape(d.name) << " ("
+    o << "<h3>" << text::html_escape(d.name) << " ("
       << (r.compare_is_validation[i] ? "validation" : "tuning") << ", <code>"
-      << html_escape(d.scenario.string()) << "</code>)</h3>\n";
+      << text::html_escape(d.scenario.string()) << "</code>)</h3>\n";
     for (const ScenarioOutcome* x : {&d, &t})
       if (x->failed)
         o << "<p class=\"worse\">" << (x == &d ? "default" : "tuned")
-          << " failed: " << html_escape(x->message) << "</p>\n";
+          << " failed: " << text::html_escape(x->message) << "</p>\n";
     o << "<table><tr><th>statistic</th><th>default</th><th>tuned</th><th>change</th></tr>\n";
     for (const Shown& s : shown_stats()) {
       const double a = outcome_stat(d, s.stat) * s.scale, b = outcome_stat(t, s.stat) * s.scale;
-      o << "<tr><td>" << html_escape(s.label) << " (" << s.unit << ")</td><td class=\"n\">"
+      o << "<tr><td>" << text::html_escape(s.label) << " (" << s.unit << ")</td><td class=\"n\">"
         << show(a) << "</td><td class=\"n\">" << show(b) << "</td><td class=\"n "
         << (b < a   ? "better"
             : b > a ? "worse"

@@ -1,0 +1,73 @@
+// Text helpers shared by the simulator's output writers (run outputs,
+// report, sweep, tuning): number formatting, CSV fields, HTML escaping,
+// whole-file writes. Internal to arttrack_sim; outputs depend on these
+// byte for byte, so change a behaviour only together with its callers.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "arttrack/sim/scoring.h"
+
+namespace arttrack::sim {
+namespace text {
+
+// ---- parsing ----
+
+// `s` without leading and trailing spaces and tabs (only ' ' and '\t'; a
+// '\r' or '\n' stays). All blank: "".
+std::string trim(const std::string& s);
+
+// Reads the whole of `text`, trimmed as by trim(), as one finite number
+// (std::strtod: decimal or hexadecimal, C locale). True if the trimmed text
+// is non-empty, strtod consumed all of it and the value is finite ("inf",
+// "nan" and overflowing values are false). `out` is written whenever the
+// trimmed text is non-empty, also when the result is false.
+bool parse_number(const std::string& text, double& out);
+
+// ---- numbers ----
+
+// printf "%.*g" with `digits` significant digits: 0.1 with 3 gives "0.1",
+// 1234567 with 3 gives "1.23e+06"; NaN "nan" or "-nan", infinities "inf" and
+// "-inf". At most 39 characters (enough for any digits <= 30).
+std::string format_g(double v, int digits);
+
+// A number for a CSV cell, exact on reading back: "%.17g" (format_g(v, 17)),
+// except NaN of either sign is "nan" and infinities are "inf" and "-inf".
+std::string csv_number(double v);
+
+// ---- CSV ----
+
+// `s` with every '\n', '\r' and '\t' replaced by one space (same length):
+// a message fit for one CSV field and one HTML line.
+std::string one_line(std::string s);
+
+// `s` as one CSV field (RFC 4180 quoting): unchanged unless it contains a
+// ',', '"' or '\n'; then enclosed in double quotes with each '"' doubled.
+// Nothing else ('\r', leading or trailing spaces) makes it quoted.
+std::string csv_field(const std::string& s);
+
+// ---- HTML ----
+
+// `s` escaped for HTML element content and double-quoted attribute values:
+// '&' -> "&amp;", '<' -> "&lt;", '>' -> "&gt;", '"' -> "&quot;"; every other
+// byte (also '\'' and non-ASCII UTF-8) unchanged.
+std::string html_escape(const std::string& s);
+
+// ---- files ----
+
+// Writes `text` to `path` in binary mode (no newline translation), replacing
+// the file. Failure to open or write: InputError "<path>: cannot write file".
+void write_text(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace text
+
+// ---- statistics shown in several outputs ----
+
+// Median over the runs of the convergence time, a run that never converged
+// counting as +inf: the middle value for an odd count, else the mean of the
+// two middle ones (+inf if the upper one is). No runs: +inf. As in
+// summary.json, the report and sweep cells.
+double median_convergence_s(const MethodSummary& s);
+
+}  // namespace arttrack::sim
