@@ -37,6 +37,13 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
   EXPECT_EQ(file.camera_translation.initial_std, code.camera_translation.initial_std);
   EXPECT_EQ(file.depth_model.width, code.depth_model.width);
   EXPECT_EQ(file.depth_model.occlusion_prior, code.depth_model.occlusion_prior);
+  EXPECT_EQ(file.depth_model.occluder_model, code.depth_model.occluder_model);
+  // Robot-specific, so only in the file: the dual-arm robot's head encoders
+  // are taken as exact (see the file for why).
+  EXPECT_TRUE(code.joint_overrides.empty());
+  ASSERT_EQ(file.joint_overrides.size(), 2u);
+  EXPECT_FALSE(file.joint_overrides.at("head_pan_joint").estimate_bias);
+  EXPECT_FALSE(file.joint_overrides.at("head_tilt_joint").estimate_bias);
   EXPECT_EQ(file.particle_filter.num_particles, code.particle_filter.num_particles);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);
@@ -59,6 +66,16 @@ TEST(TrackerConfigTest, ReadsDegreesAndPerJointOverrides) {
   EXPECT_EQ(c.blocks[0].joints.size(), 2u);
 }
 
+TEST(TrackerConfigTest, ReadsTheOccluderModel) {
+  const auto model = [](const std::string& name) {
+    return tracker_config_from_yaml(
+               load_yaml_string("depth_model: {occluder_model: " + name + "}\n", "t.yaml"))
+        .depth_model.occluder_model;
+  };
+  EXPECT_EQ(model("truncated"), OccluderModel::kTruncated);
+  EXPECT_EQ(model("independent"), OccluderModel::kIndependent);
+}
+
 TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
   EXPECT_NE(error_of("methd: full_fusion\n").find("'methd'"), std::string::npos);
   EXPECT_NE(error_of("method: fusion\n").find("not one of"), std::string::npos);
@@ -68,6 +85,9 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of("particle_filter: {particles: many}\n").find("particle_filter.particles"),
             std::string::npos);
+  EXPECT_NE(
+      error_of("depth_model: {occluder_model: exponential}\n").find("depth_model.occluder_model"),
+      std::string::npos);
   EXPECT_NE(
       error_of("joints: {per_joint: {elbow: {noise: 1}}}\n").find("joints.per_joint.elbow.noise"),
       std::string::npos);
