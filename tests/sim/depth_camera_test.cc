@@ -3,6 +3,7 @@
 #include "arttrack/sim/depth_camera.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -27,7 +28,8 @@ constexpr char kCameraUrdf[] = R"(<robot name="camera_only">
 </robot>)";
 
 fs::path write_file(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "arttrack_depth_camera_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_depth_camera_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / name) << text;
   return dir / name;

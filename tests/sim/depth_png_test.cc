@@ -3,6 +3,7 @@
 #include "arttrack/sim/depth_png.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <png.h>
 
@@ -18,7 +19,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path test_path(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "arttrack_depth_png_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_depth_png_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir / name;
 }

@@ -5,6 +5,7 @@
 #include "arttrack/sim/report.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <png.h>
 
@@ -404,7 +405,8 @@ TEST(Report, RoundTicks) {
 
 TEST(Report, WritesTheFileOrNamesIt) {
   const ScenarioResult r = synthetic_result();
-  const fs::path dir = fs::temp_directory_path() / "arttrack_report_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_report_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   write_report_html(dir / "report.html", r);
   std::ifstream in(dir / "report.html", std::ios::binary);

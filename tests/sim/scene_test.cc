@@ -4,6 +4,7 @@
 #include "arttrack/sim/scene.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -18,7 +19,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path test_dir() {
-  const fs::path dir = fs::temp_directory_path() / "arttrack_scene_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_scene_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }

@@ -5,6 +5,7 @@
 #include "arttrack/sim/sim_model.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -21,7 +22,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path test_dir() {
-  const fs::path dir = fs::temp_directory_path() / "arttrack_sim_model_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_sim_model_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }

@@ -4,6 +4,7 @@
 // real robot (primitive and mesh variants: the mesh variant also proves the
 // DAE/OBJ/STL conversion) and on a small inline robot.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -60,7 +61,8 @@ struct Robot {
 };
 
 Robot inline_robot() {
-  const fs::path dir = fs::temp_directory_path() / "arttrack_tracker_agreement_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("arttrack_tracker_agreement_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "inline.urdf") << kInlineRobot;
   return {"inline", dir / "inline.urdf", {}};

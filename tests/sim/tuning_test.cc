@@ -11,6 +11,7 @@
 #include "arttrack/sim/tuning.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -178,7 +179,8 @@ TEST(TuningCandidates, WrittenYamlLoadsWithItsValues) {
        "joints.defaults.bias_diffusion_deg_per_sqrt_s=0.5:10"},
       base);
   const YamlDocument doc = candidate_document(base, p, {0.3125, 33, 1.75});
-  const fs::path file = fs::temp_directory_path() / "arttrack_tuning_candidate.yaml";
+  const fs::path file = fs::temp_directory_path() /
+                        ("arttrack_tuning_candidate_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(file) << tracker_yaml_text(doc, "a comment\nof two lines");
   const TrackerConfig c = load_tracker_config(file.string());
   EXPECT_DOUBLE_EQ(c.depth_model.occlusion_prior, 0.3125);
