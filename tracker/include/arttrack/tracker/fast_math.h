@@ -24,22 +24,21 @@
 
 namespace arttrack {
 
-// exp(x) to 1e-13 relative for x in [-708, 709]; 0 for x < -708 (and NaN in, NaN out).
-inline double fast_exp(double x) {
-  constexpr double kLog2e = 1.4426950408889634;
-  constexpr double kLn2Hi = 0.693147180369123816490;  // ln 2 in 32 bits: n kLn2Hi is exact
-  constexpr double kLn2Lo = 1.90821492927058770002e-10;
-  constexpr double kShifter = 0x1.8p52;  // adding it rounds to an integer in the low bits
-  // Quiet comparisons and unconditional arithmetic: the compiler may turn
-  // the selects into blends and vectorise loops that call this.
-  const bool underflow = std::isless(x, -708.0);
-  const double xc = underflow ? -708.0 : (std::isgreater(x, 709.0) ? 709.0 : x);
-  const double shifted = xc * kLog2e + kShifter;
-  const double n = shifted - kShifter;  // round(x / ln 2)
-  const double r = (xc - n * kLn2Hi) - n * kLn2Lo;
-  // exp(r), |r| <= 0.347: Taylor to degree 10 (next term 0.347^11 / 11! < 1e-13).
-  double p = 1.0 / 3628800;
-  p = p * r + 1.0 / 362880;
+namespace fast_math_detail {
+
+constexpr double kLog2e = 1.4426950408889634;
+constexpr double kLn2Hi = 0.693147180369123816490;  // ln 2 in 32 bits: n kLn2Hi is exact
+constexpr double kLn2Lo = 1.90821492927058770002e-10;
+constexpr double kShifter = 0x1.8p52;  // adding it rounds to an integer in the low bits
+
+// The polynomials, written once for a double and for a GCC vector of them
+// (T times a double, plus a double, works lane-wise), so the scalar and
+// lane-wise functions compute the same operations.
+
+// exp(r), |r| <= 0.347: Taylor to degree 10 (next term 0.347^11 / 11! < 1e-13).
+template <class T>
+[[gnu::always_inline]] inline T exp_taylor(T r) {
+  T p = r * (1.0 / 3628800) + 1.0 / 362880;
   p = p * r + 1.0 / 40320;
   p = p * r + 1.0 / 5040;
   p = p * r + 1.0 / 720;
@@ -48,7 +47,36 @@ inline double fast_exp(double x) {
   p = p * r + 1.0 / 6;
   p = p * r + 0.5;
   p = p * r + 1.0;
-  p = p * r + 1.0;
+  return p * r + 1.0;
+}
+
+// The exponent of erfc(z) = t exp(-z^2 + poly(t)), t = 1 / (1 + z / 2).
+template <class T>
+[[gnu::always_inline]] inline T erfc_exponent_poly(T t) {
+  T p = t * 0.17087277 - 0.82215223;
+  p = p * t + 1.48851587;
+  p = p * t - 1.13520398;
+  p = p * t + 0.27886807;
+  p = p * t - 0.18628806;
+  p = p * t + 0.09678418;
+  p = p * t + 0.37409196;
+  p = p * t + 1.00002368;
+  return p * t - 1.26551223;
+}
+
+}  // namespace fast_math_detail
+
+// exp(x) to 1e-13 relative for x in [-708, 709]; 0 for x < -708 (and NaN in, NaN out).
+inline double fast_exp(double x) {
+  using namespace fast_math_detail;
+  // Quiet comparisons and unconditional arithmetic: the compiler may turn
+  // the selects into blends and vectorise loops that call this.
+  const bool underflow = std::isless(x, -708.0);
+  const double xc = underflow ? -708.0 : (std::isgreater(x, 709.0) ? 709.0 : x);
+  const double shifted = xc * kLog2e + kShifter;
+  const double n = shifted - kShifter;  // round(x / ln 2)
+  const double r = (xc - n * kLn2Hi) - n * kLn2Lo;
+  const double p = exp_taylor(r);
   // 2^n from the integer in the shifter's low bits (n in [-1022, 1023]).
   const std::int64_t ni =
       std::bit_cast<std::int64_t>(shifted) - std::bit_cast<std::int64_t>(kShifter);
@@ -62,16 +90,7 @@ inline double fast_erfc(double y) {
   const bool negative = std::isless(y, 0.0);
   const double z = std::fabs(y);
   const double t = 1.0 / (1.0 + 0.5 * z);
-  double p = 0.17087277;
-  p = p * t - 0.82215223;
-  p = p * t + 1.48851587;
-  p = p * t - 1.13520398;
-  p = p * t + 0.27886807;
-  p = p * t - 0.18628806;
-  p = p * t + 0.09678418;
-  p = p * t + 0.37409196;
-  p = p * t + 1.00002368;
-  p = p * t - 1.26551223;
+  const double p = fast_math_detail::erfc_exponent_poly(t);
   const double e = t * fast_exp(p - z * z);
   const double reflected = 2.0 - e;
   return negative ? reflected : e;
@@ -100,23 +119,13 @@ template <DoubleLanes V>
 [[gnu::always_inline]] inline V fast_exp(V x) {
   using I = decltype(x < x);
   const V lo = broadcast<V>(-708.0), hi = broadcast<V>(709.0);
-  const V shifter = broadcast<V>(0x1.8p52);
+  const V shifter = broadcast<V>(fast_math_detail::kShifter);
   const I underflow = x < lo;
   const V xc = underflow ? lo : (x > hi ? hi : x);
-  const V shifted = xc * 1.4426950408889634 + shifter;
+  const V shifted = xc * fast_math_detail::kLog2e + shifter;
   const V n = shifted - shifter;
-  const V r = (xc - n * 0.693147180369123816490) - n * 1.90821492927058770002e-10;
-  V p = broadcast<V>(1.0 / 3628800);
-  p = p * r + 1.0 / 362880;
-  p = p * r + 1.0 / 40320;
-  p = p * r + 1.0 / 5040;
-  p = p * r + 1.0 / 720;
-  p = p * r + 1.0 / 120;
-  p = p * r + 1.0 / 24;
-  p = p * r + 1.0 / 6;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
-  p = p * r + 1.0;
+  const V r = (xc - n * fast_math_detail::kLn2Hi) - n * fast_math_detail::kLn2Lo;
+  const V p = fast_math_detail::exp_taylor(r);
   const I ni = (I)shifted - (I)shifter;
   const V two_n = (V)((ni + 1023) << 52);
   return underflow ? broadcast<V>(0.0) : p * two_n;
@@ -128,16 +137,7 @@ template <DoubleLanes V>
   const auto negative = y < 0.0;
   const V z = negative ? -y : y;
   const V t = 1.0 / (1.0 + 0.5 * z);
-  V p = broadcast<V>(0.17087277);
-  p = p * t - 0.82215223;
-  p = p * t + 1.48851587;
-  p = p * t - 1.13520398;
-  p = p * t + 0.27886807;
-  p = p * t - 0.18628806;
-  p = p * t + 0.09678418;
-  p = p * t + 0.37409196;
-  p = p * t + 1.00002368;
-  p = p * t - 1.26551223;
+  const V p = fast_math_detail::erfc_exponent_poly(t);
   const V e = t * fast_exp(p - z * z);
   return negative ? 2.0 - e : e;
 }
