@@ -18,6 +18,7 @@
 #include <random>
 #include <sstream>
 
+#include "../error_of.h"
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
@@ -25,6 +26,8 @@
 
 namespace arttrack::sim {
 namespace {
+
+using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
@@ -77,17 +80,6 @@ std::vector<std::string> split(const std::string& line) {
   std::stringstream s(line);
   for (std::string f; std::getline(s, f, ',');) out.push_back(f);
   return out;
-}
-
-// The error message of f(), or "" if it does not throw InputError.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 #define EXPECT_ERROR_HAS(message, part) \

@@ -20,11 +20,14 @@
 #include <set>
 #include <sstream>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
 namespace {
+
+using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 constexpr double kDeg = M_PI / 180.0;
@@ -48,17 +51,6 @@ std::string read_file(const fs::path& p) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// Runs `f` and returns the InputError's message ("" if none was thrown).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(SweepGrid, RangesIncludeTheirEndAndListsKeepTheirText) {

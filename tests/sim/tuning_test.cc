@@ -18,6 +18,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../error_of.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config.h"
@@ -26,17 +27,9 @@
 namespace arttrack::sim {
 namespace {
 
-namespace fs = std::filesystem;
+using arttrack::test_support::error_of;
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+namespace fs = std::filesystem;
 
 YamlDocument default_tracker_doc() {
   return load_yaml_file(std::string(ARTTRACK_SOURCE_DIR) + "/tracker/config/default.yaml");

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
@@ -14,6 +15,8 @@
 
 namespace arttrack {
 namespace {
+
+using arttrack::test_support::tracker_config_error;
 
 const std::string kUrdf = std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm.urdf";
 
@@ -52,25 +55,17 @@ TEST(RenderTessellation, RebuiltModelHasTheSameKinematicsAndFewerTriangles) {
     EXPECT_EQ(again.link(l).mesh.vertices_m, fine.link(l).mesh.vertices_m);
 }
 
-std::string error_of(const std::string& yaml) {
-  try {
-    tracker_config_from_yaml(load_yaml_string(yaml, "t.yaml"));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(RenderTessellation, ConfigKeysAreReadAndChecked) {
   const TrackerConfig c = tracker_config_from_yaml(
       load_yaml_string("render: {cylinder_segments: 16, sphere_segments: 12}\n", "t.yaml"));
   EXPECT_EQ(c.render_cylinder_segments, 16);
   EXPECT_EQ(c.render_sphere_segments, 12);
-  EXPECT_NE(error_of("render: {cylinder_segments: 2}\n").find("render.cylinder_segments"),
+  EXPECT_NE(
+      tracker_config_error("render: {cylinder_segments: 2}\n").find("render.cylinder_segments"),
+      std::string::npos);
+  EXPECT_NE(tracker_config_error("render: {sphere_segments: 3}\n").find("render.sphere_segments"),
             std::string::npos);
-  EXPECT_NE(error_of("render: {sphere_segments: 3}\n").find("render.sphere_segments"),
-            std::string::npos);
-  EXPECT_NE(error_of("render: {segments: 3}\n").find("segments"), std::string::npos);
+  EXPECT_NE(tracker_config_error("render: {segments: 3}\n").find("segments"), std::string::npos);
 }
 
 // A tracker on the dual-arm robot with a coarse hypothesis model takes images

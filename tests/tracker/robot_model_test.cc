@@ -8,11 +8,14 @@
 #include <fstream>
 #include <random>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 
 namespace arttrack {
 namespace {
+
+using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
@@ -26,17 +29,6 @@ fs::path test_dir() {
 
 void write_file(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
-}
-
-// The message of the InputError that `f` throws ("" if none).
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 bool contains(const std::string& text, const std::string& part) {

@@ -4,19 +4,13 @@
 
 #include <cmath>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
 namespace {
 
-std::string error_of(const std::string& yaml) {
-  try {
-    tracker_config_from_yaml(load_yaml_string(yaml, "t.yaml"));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using arttrack::test_support::tracker_config_error;
 
 // The shipped file documents every key with the in-code defaults.
 TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
@@ -77,20 +71,23 @@ TEST(TrackerConfigTest, ReadsTheOccluderModel) {
 }
 
 TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
-  EXPECT_NE(error_of("methd: full_fusion\n").find("'methd'"), std::string::npos);
-  EXPECT_NE(error_of("method: fusion\n").find("not one of"), std::string::npos);
-  EXPECT_NE(error_of("depth_model: {occlusion_prior: 1.5}\n").find("depth_model.occlusion_prior"),
+  EXPECT_NE(tracker_config_error("methd: full_fusion\n").find("'methd'"), std::string::npos);
+  EXPECT_NE(tracker_config_error("method: fusion\n").find("not one of"), std::string::npos);
+  EXPECT_NE(tracker_config_error("depth_model: {occlusion_prior: 1.5}\n")
+                .find("depth_model.occlusion_prior"),
             std::string::npos);
-  EXPECT_NE(error_of("joints: {defaults: {bias_decay_per_s: 1.0}}\n").find("bias_decay_per_s"),
+  EXPECT_NE(tracker_config_error("joints: {defaults: {bias_decay_per_s: 1.0}}\n")
+                .find("bias_decay_per_s"),
             std::string::npos);
-  EXPECT_NE(error_of("particle_filter: {particles: many}\n").find("particle_filter.particles"),
+  EXPECT_NE(tracker_config_error("particle_filter: {particles: many}\n")
+                .find("particle_filter.particles"),
             std::string::npos);
-  EXPECT_NE(
-      error_of("depth_model: {occluder_model: exponential}\n").find("depth_model.occluder_model"),
-      std::string::npos);
-  EXPECT_NE(
-      error_of("joints: {per_joint: {elbow: {noise: 1}}}\n").find("joints.per_joint.elbow.noise"),
-      std::string::npos);
+  EXPECT_NE(tracker_config_error("depth_model: {occluder_model: exponential}\n")
+                .find("depth_model.occluder_model"),
+            std::string::npos);
+  EXPECT_NE(tracker_config_error("joints: {per_joint: {elbow: {noise: 1}}}\n")
+                .find("joints.per_joint.elbow.noise"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -6,12 +6,15 @@
 #include <memory>
 #include <numbers>
 
+#include "../error_of.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 
 namespace arttrack {
 namespace {
+
+using arttrack::test_support::error_of;
 
 constexpr double kDeg = std::numbers::pi / 180;
 
@@ -64,15 +67,6 @@ DepthImage render_truth(const RobotModel& model, double q0, double q1) {
   DepthImage image;
   renderer.render(state, image);
   return image;
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(TrackerTest, EncodersOnlyReportsTheRawReadings) {
