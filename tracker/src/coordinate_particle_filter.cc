@@ -158,6 +158,7 @@ CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<Sa
   log_likelihood_.resize(num_particles_);
   new_log_likelihood_.resize(num_particles_);
   scratch_log_likelihood_.resize(num_particles_);
+  correction_.resize(num_particles_);
   parents_.resize(num_particles_);
   mean_.resize(dimension_);
   variance_.resize(dimension_);
@@ -202,11 +203,31 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
                                    std::span<const double> prior_std,
                                    LogLikelihoodEvaluator& evaluator, std::mt19937_64& rng,
                                    WorkerPool& pool) {
-  assert(int(prior_mean.size()) == dimension_ && int(prior_std.size()) == dimension_);
+  run(prior_mean, prior_std, prior_mean, prior_std, 1.0, evaluator, rng, pool);
+}
+
+void CoordinateParticleFilter::run(std::span<const double> prior_mean,
+                                   std::span<const double> prior_std,
+                                   std::span<const double> proposal_mean,
+                                   std::span<const double> proposal_std, double likelihood_exponent,
+                                   LogLikelihoodEvaluator& evaluator, std::mt19937_64& rng,
+                                   WorkerPool& pool) {
+  const auto n_size = std::size_t(dimension_);
+  if (prior_mean.size() != n_size || prior_std.size() != n_size || proposal_mean.size() != n_size ||
+      proposal_std.size() != n_size)
+    throw InputError("particle filter: prior and proposal must have " + std::to_string(dimension_) +
+                     " coordinates");
+  if (!(likelihood_exponent > 0 && likelihood_exponent <= 1))
+    throw InputError("particle filter: likelihood_exponent = " +
+                     std::to_string(likelihood_exponent) + " must be in (0, 1]");
   const int L = num_particles_;
   const int n = dimension_;
+  const double beta = likelihood_exponent;
+  // Proposal = prior (the plain CPF): no correction, the same numbers as ever.
+  const bool corrected =
+      proposal_mean.data() != prior_mean.data() || proposal_std.data() != prior_std.data();
   for (int l = 0; l < L; ++l) {
-    std::copy(prior_mean.begin(), prior_mean.end(), particles_.begin() + std::size_t(l) * n);
+    std::copy(proposal_mean.begin(), proposal_mean.end(), particles_.begin() + std::size_t(l) * n);
   }
   std::fill(log_weights_.begin(), log_weights_.end(), 0.0);
   std::fill(weights_.begin(), weights_.end(), 1.0 / L);
@@ -224,11 +245,24 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     }
     // Draw the block from its (scaled) prior marginal, particle by particle
     // in a fixed order so the numbers depend on the seed only.
+    // With a proposal other than the prior, each draw also carries
+    // log prior(x) - log proposal(x) (correction_).
     for (int l = 0; l < L; ++l) {
       double* x = particles_.data() + std::size_t(l) * n;
+      double correction = 0;
       for (int c : block.coordinates) {
-        x[c] = prior_mean[c] + params_.proposal_scale * prior_std[c] * normal(rng);
+        const double s_q = params_.proposal_scale * proposal_std[c];
+        const double eps = normal(rng);
+        x[c] = proposal_mean[c] + s_q * eps;
+        if (corrected) {
+          const double s_p = params_.proposal_scale * prior_std[c];
+          if (s_p > 0 && s_q > 0) {
+            const double u = (x[c] - prior_mean[c]) / s_p;
+            correction += -0.5 * u * u - std::log(s_p) + 0.5 * eps * eps + std::log(s_q);
+          }
+        }
       }
+      correction_[l] = correction;
     }
     ParticleBatch batch;
     batch.block = step;
@@ -246,11 +280,11 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     constexpr double kInf = std::numeric_limits<double>::infinity();
     double lowest_ratio = kInf, highest_ratio = -kInf;
     for (int l = 0; l < L; ++l) {
-      double ll = new_log_likelihood_[l];
+      double ll = beta * new_log_likelihood_[l];
       if (!std::isfinite(ll)) ll = -kInf;
       if (std::isfinite(log_likelihood_[l]) && std::isfinite(log_weights_[l])) {
         const double ratio = ll - log_likelihood_[l];
-        log_weights_[l] += ratio;
+        log_weights_[l] += ratio + correction_[l];
         lowest_ratio = std::min(lowest_ratio, ratio);
         highest_ratio = std::max(highest_ratio, ratio);
       } else {
@@ -291,6 +325,11 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
       variance_[c] = prior_std[c] * prior_std[c];
     }
   }
+  // The log-likelihood (tempered) of the heaviest particle, for health checks.
+  best_log_likelihood_ = -std::numeric_limits<double>::infinity();
+  double best_w = -1;
+  for (int l = 0; l < L; ++l)
+    if (weights_[l] > best_w) best_w = weights_[l], best_log_likelihood_ = log_likelihood_[l];
 }
 
 double CoordinateParticleFilter::effective_sample_size() const {

@@ -15,7 +15,9 @@
 #include "arttrack/tracker/belief_buffer.h"
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/gaussian_fold.h"
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
@@ -102,6 +104,35 @@ struct Tracker::Impl {
   std::mt19937_64 rng;
   std::vector<double> prior_std;
   std::thread worker;
+
+  // Acquisition: an annealed coarse-to-fine search (root-to-hand blocks of
+  // the joints whose bias is estimated, then the camera) over one image.
+  bool acquisition_on = false;
+  std::vector<char> bias_estimated;  // per physical DOF
+  std::unique_ptr<CoordinateParticleFilter> search_cpf;
+  std::unique_ptr<HypothesisEvaluator> search_evaluator;
+  std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
+  std::vector<double> search_mean, search_std, open_mean, open_std, candidate;
+  std::vector<std::vector<int>> chains;  // physical DOFs per kinematic chain
+  std::vector<LinkSet> chain_links;
+  double last_acquisition_s = kNoTime;
+  int images_seen = 0;
+  int poor_images = 0;
+  TrackingHealth health;            // the image thread's
+  TrackingHealth published_health;  // guarded by mutex
+  // Rendering the estimate (health, acquisition checks) at the likelihood's resolution.
+  std::unique_ptr<DepthRenderer> check_renderer;
+  CameraIntrinsics check_camera;
+  KinematicsState check_kinematics;
+  Eigen::VectorXd check_q;
+  DepthImage check_image;
+
+  void search(std::span<const double> mean, std::span<const double> stddev,
+              const CameraIntrinsics& camera, const DepthImage& observed);
+  double score(std::span<const double> q);
+  void reacquire(JointBelief& belief, std::span<const double> reading,
+                 const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
+  void update_health(const JointBelief& belief, const DepthImage& observed, double stamp_s);
 
   bool applicable(const PendingImage& p) const {
     return !use_encoders || (initialized && p.apply_time_s <= time_s);
@@ -226,6 +257,59 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       render_model = std::make_shared<const RobotModel>(model->rebuilt(render_options));
     evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
     prior_std.assign(n, 0.0);
+
+    // Kinematic chains: physical DOFs grouped by their top-most physical
+    // ancestor DOF (for the dual-arm robot: head, left arm, right arm).
+    std::vector<int> chain_root(n_phys);
+    for (int j = 0; j < n_phys; ++j) {
+      int root = j;
+      for (int l = model->link(model->joint_child_link(j)).parent; l >= 0;
+           l = model->link(l).parent) {
+        const int d = model->link(l).dof;
+        if (d >= 0 && !model->is_virtual_joint(d)) root = d;
+      }
+      chain_root[j] = root;
+    }
+    for (int j = 0; j < n_phys; ++j) {
+      if (chain_root[j] != j) continue;
+      std::vector<int> members;
+      for (int k = 0; k < n_phys; ++k)
+        if (chain_root[k] == j) members.push_back(k);
+      chains.push_back(std::move(members));
+      chain_links.push_back(model->links_moved_by(j));
+      health.chains.push_back({model->joint_name(j)});
+    }
+    health.whole.name = "all";
+    check_kinematics = KinematicsState(*render_model);
+    check_q = Eigen::VectorXd::Zero(n);
+
+    bias_estimated.assign(n_phys, 0);
+    for (int j = 0; j < n_phys; ++j) bias_estimated[j] = phys_params[j].estimate_bias;
+    acquisition_on = config.method == TrackingMethod::kFullFusion && config.acquisition.passes > 1;
+    if (acquisition_on) {
+      std::vector<SamplingBlock> search_blocks;
+      for (int j = 0; j < n_phys; ++j)
+        if (bias_estimated[j]) search_blocks.push_back({model->joint_name(j), {j}});
+      for (int j = n_phys; j < n; ++j) search_blocks.push_back({model->joint_name(j), {j}});
+      search_cpf =
+          std::make_unique<CoordinateParticleFilter>(n, search_blocks, config.particle_filter);
+      search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());
+      const int K = config.acquisition.passes;
+      for (int k = 0; k + 1 < K; ++k) {
+        // Depth noise from coarse to the pixel model's, geometrically.
+        DepthModelParams p = config.depth_model;
+        p.noise_std_m =
+            config.acquisition.coarse_noise_std_m *
+            std::pow(config.depth_model.noise_std_m / config.acquisition.coarse_noise_std_m,
+                     double(k) / double(K - 1));
+        search_likelihoods.emplace_back(p);
+      }
+      search_mean.assign(n, 0.0);
+      search_std.assign(n, 0.0);
+      open_mean.assign(n, 0.0);
+      open_std.assign(n, 0.0);
+      candidate.assign(n, 0.0);
+    }
     if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
 }
@@ -283,13 +367,51 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   // The particle filter runs without the lock in asynchronous mode, so joint
   // readings keep coming in.
   for (int j = 0; j < n; ++j) prior_std[j] = std::sqrt(std::max(0.0, prior.var_a[j]));
+  // The encoder readings at the image's time (DOF order), for acquisitions.
+  std::vector<double> reading_at_t;
+  if (acquisition_on) {
+    const int i = buffer->last_at_or_before(t);
+    if (i >= 0) {
+      const auto m = buffer->measurement(i);
+      reading_at_t.assign(m.begin(), m.end());
+    }
+  }
   if (config.asynchronous) lock.unlock();
+  const CameraIntrinsics camera = image.camera.scaled_to(likelihood.width(), likelihood.height());
   likelihood.set_observation(image.image);
-  evaluator->begin_run(image.camera.scaled_to(likelihood.width(), likelihood.height()), likelihood,
-                       prior.mean_a);
-  cpf->run(prior.mean_a, prior_std, *evaluator, rng, *pool);
+  if (!check_renderer || check_camera.width != camera.width ||
+      check_camera.height != camera.height || check_camera.fx != camera.fx ||
+      check_camera.fy != camera.fy || check_camera.cx != camera.cx ||
+      check_camera.cy != camera.cy) {
+    check_camera = camera;
+    check_renderer = std::make_unique<DepthRenderer>(*render_model, camera);
+  }
+  const double beta = config.likelihood_exponent;
+  const bool first = images_seen++ == 0;
+  if (acquisition_on && first) {
+    // The first image: the prior is the encoders' (bias prior around the
+    // readings); search it coarse to fine, then target it from there.
+    const auto search_start = Clock::now();
+    search(prior.mean_a, prior_std, camera, image.image);
+    evaluator->begin_run(camera, likelihood, search_mean);
+    cpf->run(prior.mean_a, prior_std, search_mean, search_std, beta, *evaluator, rng, *pool);
+    health.last_acquisition_ms = ms_since(search_start);
+    ++health.acquisitions;
+    last_acquisition_s = t;
+  } else {
+    evaluator->begin_run(camera, likelihood, prior.mean_a);
+    cpf->run(prior.mean_a, prior_std, prior.mean_a, prior_std, beta, *evaluator, rng, *pool);
+  }
   fold_angle_posteriors(cpf->mean(), cpf->variance(), prior);
+  if (acquisition_on && !first && !reading_at_t.empty()) {
+    const bool periodic =
+        config.acquisition.period_s > 0 && t - last_acquisition_s >= config.acquisition.period_s;
+    if (periodic || poor_images >= config.health.lost_after_images)
+      reacquire(prior, reading_at_t, camera, image.image, t);
+  }
+  update_health(prior, image.image, image.stamp_s);
   if (config.asynchronous) lock.lock();
+  published_health = health;
 
   // Re-filter the joint readings after the image (paper Sec. IV-C).
   const auto refilter_start = Clock::now();
@@ -321,6 +443,128 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   stats.image_update_ms.push_back(ms_since(start));
   stats.image_stamp_s.push_back(image.stamp_s);
   stats.image_latency_ms.push_back(ms_since(image.received));
+}
+
+// Annealed search (Deutscher et al.'s annealing, as coarse-to-fine depth
+// noise): pass k targets prior x likelihood_k, likelihood_k with the depth
+// noise of search_likelihoods[k], proposing around pass k-1's mean with the
+// prior's standard deviations times shrink^k. Leaves in search_mean and
+// search_std the proposal of the final pass.
+void Tracker::Impl::search(std::span<const double> mean, std::span<const double> stddev,
+                           const CameraIntrinsics& camera, const DepthImage& observed) {
+  std::copy(mean.begin(), mean.end(), search_mean.begin());
+  double scale = 1;
+  for (std::size_t k = 0; k < search_likelihoods.size(); ++k) {
+    for (int j = 0; j < n; ++j) search_std[j] = scale * stddev[j];
+    search_likelihoods[k].set_observation(observed);
+    search_evaluator->begin_run(camera, search_likelihoods[k], search_mean);
+    search_cpf->run(mean, stddev, search_mean, search_std, config.likelihood_exponent,
+                    *search_evaluator, rng, *pool);
+    std::copy(search_cpf->mean().begin(), search_cpf->mean().end(), search_mean.begin());
+    scale *= config.acquisition.proposal_shrink;
+  }
+  for (int j = 0; j < n; ++j) search_std[j] = scale * stddev[j];
+}
+
+// The tempered image log-likelihood ratio of the robot at q (every DOF).
+double Tracker::Impl::score(std::span<const double> q) {
+  for (int j = 0; j < n; ++j) check_q[j] = q[j];
+  forward_kinematics(*render_model, check_q, check_kinematics);
+  check_renderer->render(check_kinematics, check_image);
+  return config.likelihood_exponent * likelihood.log_ratio(check_image);
+}
+
+// Augmented-MCL-style re-acquisition (Thrun et al., Probabilistic Robotics):
+// re-open the prior of every joint whose bias is estimated to the encoders'
+// reading with a broad bias (acquisition.bias_std_rad), search it, and let
+// each chain take the result when the image plus that prior prefer it by
+// accept_margin_nats. A chain that settled in a wrong mode gets out; one
+// that is right keeps its belief.
+void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> reading,
+                              const CameraIntrinsics& camera, const DepthImage& observed,
+                              double time_s) {
+  const auto start = Clock::now();
+  const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
+  const auto var_q = filter_model->encoder_var_rad2();
+  for (int j = 0; j < n; ++j) {
+    const bool open = j < n_phys && bias_estimated[j];
+    open_mean[j] = open ? reading[j] : belief.mean_a[j];
+    open_std[j] = std::sqrt(open ? var_b + var_q[j] : std::max(0.0, belief.var_a[j]));
+  }
+  search(open_mean, open_std, camera, observed);
+  evaluator->begin_run(camera, likelihood, search_mean);
+  cpf->run(open_mean, open_std, search_mean, search_std, config.likelihood_exponent, *evaluator,
+           rng, *pool);
+  const auto found = cpf->mean();
+  const auto found_var = cpf->variance();
+  std::copy(belief.mean_a.begin(), belief.mean_a.end(), candidate.begin());
+  const double current_score = score(candidate);
+  auto log_prior = [&](int j, double a) {
+    const double u = (a - open_mean[j]) / open_std[j];
+    return -0.5 * u * u;
+  };
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    double gain = 0;
+    bool differs = false;
+    for (int j : chains[c]) {
+      if (!bias_estimated[j]) continue;
+      gain += log_prior(j, found[j]) - log_prior(j, belief.mean_a[j]);
+      candidate[j] = found[j];
+      differs = true;
+    }
+    if (!differs) continue;
+    gain += score(candidate) - current_score;
+    if (gain > config.acquisition.accept_margin_nats) {
+      for (int j : chains[c]) {
+        if (!bias_estimated[j]) continue;
+        const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};
+        belief.set_joint(j, fold_angle_marginal(reopened, found[j], found_var[j]));
+      }
+      ++health.chains_reacquired;
+    } else {
+      for (int j : chains[c]) candidate[j] = belief.mean_a[j];
+    }
+  }
+  ++health.acquisitions;
+  health.last_acquisition_ms = ms_since(start);
+  last_acquisition_s = time_s;
+  poor_images = 0;
+}
+
+// Health of the estimate (TrackingHealth): its robot rendered at the belief's
+// mean against the observed image, whole and per chain.
+void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& observed,
+                                  double stamp_s) {
+  const TrackerConfig::Health& h = config.health;
+  for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
+  forward_kinematics(*render_model, check_q, check_kinematics);
+  const float max_range = float(config.depth_model.max_range_m);
+  auto assess = [&](ChainHealth& out) {
+    int rendered = 0, explained = 0, contradicted = 0;
+    for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
+      const float r = check_image.depth_m[i], z = observed.depth_m[i];
+      if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
+      ++rendered;
+      if (std::abs(z - r) <= h.explained_m) ++explained;
+      if (z > r + h.contradicted_m) ++contradicted;
+    }
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.rendered_pixels = rendered;
+    out.explained_fraction = rendered >= h.min_pixels ? double(explained) / rendered : nan;
+    out.contradicted_fraction = rendered >= h.min_pixels ? double(contradicted) / rendered : nan;
+  };
+  check_renderer->render(check_kinematics, check_image);
+  assess(health.whole);
+  bool poor = health.whole.contradicted_fraction > h.lost_contradicted_fraction;
+  for (std::size_t c = 0; c < chains.size(); ++c) {
+    check_renderer->render_links(check_kinematics, chain_links[c], check_image);
+    assess(health.chains[c]);
+    poor = poor || health.chains[c].contradicted_fraction > h.lost_contradicted_fraction;
+  }
+  poor_images = poor ? poor_images + 1 : 0;
+  health.state = poor_images >= h.lost_after_images ? TrackingHealth::State::kLost
+                                                    : TrackingHealth::State::kTracking;
+  health.image_stamp_s = stamp_s;
 }
 
 void Tracker::Impl::worker_loop() {
@@ -497,7 +741,48 @@ TrackerEstimate Tracker::estimate() const {
   forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
   for (int link : s.ee_links)
     e.T_camera_ee.push_back(T_camera_link(*s.model, s.estimate_kinematics, link));
+  // End-effector covariance: J diag(var) J^T, J by central differences of
+  // the kinematics in each DOF (position, and rotation vector of the change).
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> jacobians(
+      s.ee_links.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, s.n));
+  Eigen::VectorXd variance(s.n);
+  for (int j = 0; j < s.n; ++j) {
+    const double sd = j < s.n_phys ? e.angle_std_rad[j] : e.camera_offset_std[j - s.n_phys];
+    variance[j] = sd * sd;
+    if (!(sd > 0)) continue;
+    constexpr double kStep = 1e-6;
+    const double q0 = s.estimate_q[j];
+    std::vector<Eigen::Isometry3d> plus(s.ee_links.size());
+    s.estimate_q[j] = q0 + kStep;
+    forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
+    for (std::size_t k = 0; k < s.ee_links.size(); ++k)
+      plus[k] = T_camera_link(*s.model, s.estimate_kinematics, s.ee_links[k]);
+    s.estimate_q[j] = q0 - kStep;
+    forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
+    for (std::size_t k = 0; k < s.ee_links.size(); ++k) {
+      const Eigen::Isometry3d minus = T_camera_link(*s.model, s.estimate_kinematics, s.ee_links[k]);
+      jacobians[k].col(j).head<3>() = (plus[k].translation() - minus.translation()) / (2 * kStep);
+      const Eigen::AngleAxisd turn(plus[k].linear() * minus.linear().transpose());
+      jacobians[k].col(j).tail<3>() = turn.angle() * turn.axis() / (2 * kStep);
+    }
+    s.estimate_q[j] = q0;
+  }
+  for (const auto& J : jacobians)
+    e.T_camera_ee_covariance.push_back(J * variance.asDiagonal() * J.transpose());
+  e.health = s.published_health;
   return e;
+}
+
+const char* health_state_name(TrackingHealth::State state) {
+  switch (state) {
+    case TrackingHealth::State::kNoImage:
+      return "no_image";
+    case TrackingHealth::State::kTracking:
+      return "tracking";
+    case TrackingHealth::State::kLost:
+      return "lost";
+  }
+  return "unknown";
 }
 
 TrackerStats Tracker::stats() const {

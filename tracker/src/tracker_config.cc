@@ -77,6 +77,26 @@ void TrackerConfig::validate(const std::string& context) const {
     fail("render.cylinder_segments must be 0 (the model's) or at least 3");
   if (render_sphere_segments != 0 && !(render_sphere_segments >= 4))
     fail("render.sphere_segments must be 0 (the model's) or at least 4");
+  if (!(likelihood_exponent > 0 && likelihood_exponent <= 1))
+    fail("particle_filter.likelihood_exponent must be in (0, 1]");
+  if (acquisition.passes < 1 || acquisition.passes > 10)
+    fail("acquisition.passes must be in [1, 10]");
+  if (!(acquisition.coarse_noise_std_m >= depth_model.noise_std_m &&
+        acquisition.coarse_noise_std_m <= 0.5))
+    fail("acquisition.coarse_noise_std_m must be in [depth_model.noise_std_m, 0.5]");
+  if (!(acquisition.proposal_shrink > 0 && acquisition.proposal_shrink <= 1))
+    fail("acquisition.proposal_shrink must be in (0, 1]");
+  if (!(acquisition.period_s >= 0) || !std::isfinite(acquisition.period_s))
+    fail("acquisition.period_s must be a finite number >= 0");
+  if (!(acquisition.bias_std_rad > 0) || !std::isfinite(acquisition.bias_std_rad))
+    fail("acquisition.bias_std_deg must be positive");
+  if (!(acquisition.accept_margin_nats >= 0)) fail("acquisition.accept_margin_nats must be >= 0");
+  if (!(health.explained_m > 0) || !(health.contradicted_m > 0))
+    fail("health.explained_m and health.contradicted_m must be positive");
+  if (!(health.lost_contradicted_fraction >= 0 && health.lost_contradicted_fraction <= 1))
+    fail("health.lost_contradicted_fraction must be in [0, 1]");
+  if (health.lost_after_images < 1 || health.min_pixels < 1)
+    fail("health.lost_after_images and health.min_pixels must be at least 1");
   for (const auto& b : blocks) {
     if (b.name.empty()) fail("particle_filter.blocks: a block has no name");
     if (b.joints.empty()) fail("particle_filter.blocks: block '" + b.name + "' has no joints");
@@ -147,12 +167,31 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
       pf.number("max_kl_divergence", c.particle_filter.max_kl_divergence, 0, kInf);
   c.particle_filter.proposal_scale =
       pf.number("proposal_scale", c.particle_filter.proposal_scale, 1e-6, 1e6);
+  c.likelihood_exponent = pf.number("likelihood_exponent", c.likelihood_exponent, 1e-3, 1);
   c.seed = pf.get<unsigned long long>("seed", c.seed);
   c.threads = int(pf.number("threads", c.threads, 0, 1024));
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
   }
+
+  const ConfigNode acq = root.child("acquisition");
+  TrackerConfig::Acquisition& a = c.acquisition;
+  a.passes = int(acq.number("passes", a.passes, 1, 10));
+  a.coarse_noise_std_m = acq.number("coarse_noise_std_m", a.coarse_noise_std_m, 1e-4, 0.5);
+  a.proposal_shrink = acq.number("proposal_shrink", a.proposal_shrink, 0.05, 1);
+  a.period_s = acq.number("period_s", a.period_s, 0, 1e6);
+  a.bias_std_rad = acq.number("bias_std_deg", a.bias_std_rad / kDeg, 0.1, 180) * kDeg;
+  a.accept_margin_nats = acq.number("accept_margin_nats", a.accept_margin_nats, 0, 1e6);
+
+  const ConfigNode health = root.child("health");
+  TrackerConfig::Health& h = c.health;
+  h.explained_m = health.number("explained_m", h.explained_m, 1e-4, 1);
+  h.contradicted_m = health.number("contradicted_m", h.contradicted_m, 1e-4, 1);
+  h.lost_contradicted_fraction =
+      health.number("lost_contradicted_fraction", h.lost_contradicted_fraction, 0, 1);
+  h.lost_after_images = int(health.number("lost_after_images", h.lost_after_images, 1, 1e6));
+  h.min_pixels = int(health.number("min_pixels", h.min_pixels, 1, 1e7));
 
   const ConfigNode timing = root.child("timing");
   c.camera_delay_s = timing.number("camera_delay_s", c.camera_delay_s, 0, 10);

@@ -180,6 +180,23 @@ class CoordinateParticleFilter {
   void run(std::span<const double> prior_mean, std::span<const double> prior_std,
            LogLikelihoodEvaluator& evaluator, std::mt19937_64& rng, WorkerPool& pool);
 
+  // The general run: the target is prior x likelihood^likelihood_exponent,
+  // but particles start at proposal_mean and block coordinates are drawn
+  // from N(proposal_mean, (proposal_scale proposal_std)^2), each draw
+  // weighted by prior / proposal density. The start point is a constant
+  // common to all particles, so the CPF's argument (see top) holds for any
+  // start point and any proposal that covers the prior: this is how the
+  // tracker's annealed passes (tracker.h) search around an earlier pass's
+  // result while still targeting the filter's prior. likelihood_exponent in
+  // (0, 1] tempers the image: 1 is the pixel model as is; below 1 it counts
+  // the pixels as correlated (fewer independent measurements than pixels).
+  // The evaluator's begin_run must have been given proposal_mean as the
+  // start point.
+  void run(std::span<const double> prior_mean, std::span<const double> prior_std,
+           std::span<const double> proposal_mean, std::span<const double> proposal_std,
+           double likelihood_exponent, LogLikelihoodEvaluator& evaluator, std::mt19937_64& rng,
+           WorkerPool& pool);
+
   int dimension() const { return dimension_; }
   int num_particles() const { return num_particles_; }
   const std::vector<SamplingBlock>& blocks() const { return blocks_; }
@@ -202,6 +219,9 @@ class CoordinateParticleFilter {
   std::span<const double> particles() const { return particles_; }
   std::span<const double> weights() const { return weights_; }
   double effective_sample_size() const;
+  // Tempered log-likelihood of the heaviest final particle (relative to the
+  // start point, which scores 0).
+  double best_log_likelihood() const { return best_log_likelihood_; }
 
  private:
   void normalise_weights();  // log_weights_ -> weights_
@@ -216,6 +236,8 @@ class CoordinateParticleFilter {
   std::vector<double> particles_, scratch_particles_;
   std::vector<double> log_weights_, weights_;
   std::vector<double> log_likelihood_, new_log_likelihood_, scratch_log_likelihood_;
+  std::vector<double> correction_;  // per particle: log prior - log proposal of the block's draw
+  double best_log_likelihood_ = 0;
   std::vector<int> parents_;
   std::vector<double> mean_, variance_;
   std::vector<unsigned char> informed_;

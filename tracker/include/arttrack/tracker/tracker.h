@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -30,6 +31,29 @@
 #include "arttrack/tracker/tracker_config.h"
 
 namespace arttrack {
+
+// How well the newest applied image agrees with the estimate: the robot
+// rendered at the estimate's mean, compared pixel by pixel with the image
+// (TrackerConfig::Health). Fractions are of the rendered pixels that have a
+// valid observed depth; NaN when there are fewer than min_pixels of them
+// (e.g. the robot out of view: no verdict, not a failure).
+struct ChainHealth {
+  std::string name;         // the chain's first joint, e.g. "left_arm_joint_1"
+  int rendered_pixels = 0;  // with a valid observed depth
+  double explained_fraction = std::numeric_limits<double>::quiet_NaN();
+  double contradicted_fraction = std::numeric_limits<double>::quiet_NaN();
+};
+struct TrackingHealth {
+  enum class State { kNoImage, kTracking, kLost };
+  State state = State::kNoImage;
+  double image_stamp_s = std::numeric_limits<double>::quiet_NaN();
+  ChainHealth whole;                // every link
+  std::vector<ChainHealth> chains;  // per kinematic chain below the root
+  int acquisitions = 0;             // annealed searches run so far
+  int chains_reacquired = 0;        // chains that took a search's result
+  double last_acquisition_ms = 0;   // wall time of the newest search
+};
+const char* health_state_name(TrackingHealth::State state);
 
 // What the tracker believes at one time.
 struct TrackerEstimate {
@@ -44,6 +68,12 @@ struct TrackerEstimate {
   // Pose of each configured end effector in the estimated (corrected) camera
   // frame, in TrackerConfig::end_effectors order.
   std::vector<Eigen::Isometry3d> T_camera_ee;
+  // Their uncertainty: covariance of (position m, rotation vector rad, both
+  // in the estimated camera frame), from the angle and camera-offset
+  // standard deviations through the kinematics' Jacobian (first order,
+  // joints independent as in the belief).
+  std::vector<Eigen::Matrix<double, 6, 6>> T_camera_ee_covariance;
+  TrackingHealth health;
 };
 
 // Counters and timings, for reports and benchmarks.

@@ -76,6 +76,45 @@ struct TrackerConfig {
     std::vector<std::string> joints;
   };
   std::vector<Block> blocks;
+  // Exponent beta in (0, 1] on the image likelihood in the particle filter
+  // (CoordinateParticleFilter::run): 1 counts every pixel as an independent
+  // measurement; neighbouring pixels share model and calibration errors, so
+  // fewer than that is honest.
+  double likelihood_exponent = 1.0;
+  // Acquisition (tracker.h): an annealed, coarse-to-fine search from the
+  // encoders' configuration, at the first image, periodically and when the
+  // health check says the estimate is lost. Full fusion only.
+  struct Acquisition {
+    // Passes over one image: passes - 1 search passes, from a depth noise of
+    // coarse_noise_std_m down to the pixel model's, then the final pass. 1
+    // switches acquisition off (every image is one plain CPF run).
+    int passes = 3;
+    double coarse_noise_std_m = 0.05;
+    // Proposal standard deviation of search pass k: the prior's times shrink^k.
+    double proposal_shrink = 0.5;
+    // A periodic search from the encoders every this many seconds (0: never).
+    double period_s = 1.0;
+    // Bias standard deviation of the re-opened prior a search starts from
+    // (the encoders' reading, bias 0), rad.
+    double bias_std_rad = 20 * 0.017453292519943295;  // 20 degrees
+    // A chain takes the search's result when it scores this many nats better
+    // (log-likelihood ratio of the image plus log prior of the encoders).
+    double accept_margin_nats = 5.0;
+  };
+  Acquisition acquisition;
+  // Health (TrackerEstimate::health): a rendered robot pixel is explained
+  // when the observed depth is within explained_m of it, contradicted when
+  // the camera sees more than contradicted_m behind it. An estimate whose
+  // contradicted share exceeds lost_contradicted_fraction for lost_after_images
+  // images in a row is lost (and triggers an acquisition).
+  struct Health {
+    double explained_m = 0.01;
+    double contradicted_m = 0.02;
+    double lost_contradicted_fraction = 0.25;
+    int lost_after_images = 3;
+    int min_pixels = 20;  // fewer rendered pixels with a valid depth: no verdict
+  };
+  Health health;
   // Seed of the particle filter's random generator.
   unsigned long long seed = 1;
   // Worker threads for the image update (0: one per core).
