@@ -354,6 +354,7 @@ class Run {
       s.bias_std_rad = est.bias_std_rad;
       s.camera_offset = est.camera_offset;
       s.T_camera_ee = est.T_camera_ee;
+      s.health = est.health;
       for (std::size_t j = 0; j < nj; ++j) {
         angle_error[j] = est.angle_rad[j] - truth.angle_rad[j];
         bias_error[j] = est.bias_rad[j] - truth.bias_rad[j];

@@ -498,7 +498,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
   const auto found = cpf->mean();
   const auto found_var = cpf->variance();
   std::copy(belief.mean_a.begin(), belief.mean_a.end(), candidate.begin());
-  const double current_score = score(candidate);
+  double current_score = score(candidate);
   auto log_prior = [&](int j, double a) {
     const double u = (a - open_mean[j]) / open_std[j];
     return -0.5 * u * u;
@@ -513,8 +513,10 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
       differs = true;
     }
     if (!differs) continue;
-    gain += score(candidate) - current_score;
+    const double candidate_score = score(candidate);
+    gain += candidate_score - current_score;
     if (gain > config.acquisition.accept_margin_nats) {
+      current_score = candidate_score;  // the next chain is compared with this one taken
       for (int j : chains[c]) {
         if (!bias_estimated[j]) continue;
         const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};

@@ -129,6 +129,8 @@ struct EstimateSample {
   // Scored end effectors in the ESTIMATED camera frame, and their errors.
   std::vector<Eigen::Isometry3d> T_camera_ee;
   std::vector<PoseError> ee_error;
+  // The tracker's own verdict on its newest image (TrackerEstimate::health).
+  TrackingHealth health;
 };
 
 // One method in one run.
