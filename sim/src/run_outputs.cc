@@ -279,14 +279,21 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     const MethodSummary& s = m.summary;
     if (s.lost_runs() == 0) continue;
     out << m.method << " lost " << s.lost_runs() << " of " << s.num_runs << ":";
-    for (std::size_t run = 0; run < s.num_runs; ++run)
+    const char* run_separator = " ";
+    for (std::size_t run = 0; run < s.num_runs; ++run) {
+      if (!s.run_lost(run)) continue;
+      out << run_separator << "run " << run;
+      if (run < r.seeds.size()) out << " (seed " << r.seeds[run] << ")";
+      out << ":";
+      const char* separator = " ";
       for (const EndEffectorSummary& e : s.end_effectors)
         if (run < e.lost.size() && e.lost[run]) {
-          out << " run " << run;
-          if (run < r.seeds.size()) out << " (seed " << r.seeds[run] << ")";
-          out << " " << e.name << " from " << std::fixed << std::setprecision(1)
-              << e.lost[run]->from_s << " s for " << e.lost[run]->duration_s << " s;";
+          out << separator << e.name << " from " << std::fixed << std::setprecision(1)
+              << e.lost[run]->from_s << " s for " << e.lost[run]->duration_s << " s";
+          separator = ", ";
         }
+      run_separator = "; ";
+    }
     out << "\n";
   }
   out << "\n";

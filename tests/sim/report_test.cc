@@ -394,7 +394,7 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
   EXPECT_TRUE(row_of("full_fusion", "left_ee").ends_with("0 of 2")) << t;
   EXPECT_NE(row_of("full_fusion", "worst").find("300.0"), std::string::npos) << t;
   EXPECT_EQ(row_of("full_fusion", "left_ee").find("300.0"), std::string::npos) << t;
-  EXPECT_NE(t.find("full_fusion lost 1 of 2: run 1 (seed 22) right_ee from 12.0 s for 8.0 s"),
+  EXPECT_NE(t.find("full_fusion lost 1 of 2: run 1 (seed 22): right_ee from 12.0 s for 8.0 s\n"),
             std::string::npos)
       << t;
 
