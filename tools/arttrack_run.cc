@@ -3,8 +3,10 @@
 //
 // Runs a scenario (default: scenarios/default.yaml): simulates the robot,
 // tracks it with each method, scores them, prints a table of the
-// end-effector errors and timings, and writes DIR/summary.json,
-// DIR/timeseries.csv and DIR/frames/ (default DIR: out/<scenario name>).
+// end-effector errors (a row per end effector and the worst of them, with
+// the lost runs), the consistency and camera errors and the timings, and
+// writes DIR/summary.json, DIR/timeseries.csv, DIR/report.html and
+// DIR/frames/ (default DIR: out/<scenario name>).
 // Progress goes to stderr on long runs. --realtime paces the simulation at
 // wall-clock speed with asynchronous trackers (image updates on their own
 // threads, as on a robot) and prints, per method, the images dropped and the

@@ -380,10 +380,7 @@ void read_dataset_yaml(const fs::path& path, Dataset& d) {
   if (n.has("duration_s")) d.duration_s = n.number("duration_s", 0, 1e-9, 1e9);
   d.methods = n.get<std::vector<std::string>>("methods", {});
   for (const std::string& m : d.methods) parse_method(m, path.string() + ": key 'methods'");
-  const ConfigNode s = n.child("scoring");
-  d.scoring.converged_after_s = s.number("converged_after_s", d.scoring.converged_after_s, 0, 1e9);
-  d.scoring.convergence_threshold_m =
-      s.number("convergence_threshold_m", d.scoring.convergence_threshold_m, 1e-12, 1e3);
+  read_scoring_options(n.child("scoring"), d.scoring);
   n.finish();
 }
 
@@ -679,7 +676,10 @@ ExportSummary export_scenario(const fs::path& scenario_file,
        << YAML::BeginMap << YAML::Key << "converged_after_s" << YAML::Value
        << number_text(sc.scoring.options.converged_after_s) << YAML::Key
        << "convergence_threshold_m" << YAML::Value
-       << number_text(sc.scoring.options.convergence_threshold_m) << YAML::EndMap << YAML::EndMap;
+       << number_text(sc.scoring.options.convergence_threshold_m) << YAML::Key << "lost_threshold_m"
+       << YAML::Value << number_text(sc.scoring.options.lost_threshold_m) << YAML::Key
+       << "lost_after_s" << YAML::Value << number_text(sc.scoring.options.lost_after_s)
+       << YAML::EndMap << YAML::EndMap;
   write_text(
       out_dir / "dataset.yaml",
       std::string("# Exported by arttrack export: run 0 of the scenario.\n") + meta.c_str() + "\n");
@@ -835,7 +835,7 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   std::vector<MethodScores> scores;
   for (TrackingMethod m : methods) {
     r.methods.push_back(method_name(m));
-    scores.emplace_back(method_name(m), model_joints);
+    scores.emplace_back(method_name(m), model_joints, base.end_effectors);
     scores.back().begin_run();
     MethodRun mr;
     mr.method = method_name(m);
@@ -859,7 +859,6 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   std::size_t ji = 0, fi = 0, ti = 0;
   // An estimate row waiting for the images that arrive at its time.
   std::optional<double> pending_row;
-  std::vector<double> angle_error(nj), bias_error(nj);
 
   auto score = [&](const TruthSample& row) {
     TruthSample truth = row;
@@ -869,30 +868,14 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
       truth.angle_rad[j] = row.angle_rad[column_of[j]];
       truth.bias_rad[j] = row.bias_rad[column_of[j]];
     }
-    const std::size_t ne = truth.T_camera_ee.size();
+    ScoredSample scored;
     for (std::size_t i = 0; i < trackers.size(); ++i) {
       const TrackerEstimate est = trackers[i]->estimate();
       if (estimate_csv) write_estimate_row(*estimate_csv, truth.time_s, r.methods[i], est);
-      EstimateSample s;
-      s.angle_rad = est.angle_rad;
-      s.angle_std_rad = est.angle_std_rad;
-      s.bias_rad = est.bias_rad;
-      s.bias_std_rad = est.bias_std_rad;
-      s.camera_offset = est.camera_offset;
-      s.T_camera_ee = est.T_camera_ee;
-      for (std::size_t j = 0; j < nj; ++j) {
-        angle_error[j] = est.angle_rad[j] - truth.angle_rad[j];
-        bias_error[j] = est.bias_rad[j] - truth.bias_rad[j];
-      }
-      const std::span<const double> angles =
-          d.truth_has_angles ? std::span<const double>(angle_error) : std::span<const double>();
-      const std::span<const double> biases =
-          d.truth_has_biases ? std::span<const double>(bias_error) : std::span<const double>();
-      for (std::size_t e = 0; e < ne; ++e) {
-        s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
-        scores[i].add(truth.time_s, s.ee_error.back(), angles, biases);
-      }
-      run.methods[i].samples.push_back(std::move(s));
+      // No camera truth in a dataset: the camera is not scored.
+      run.methods[i].samples.push_back(
+          score_estimate(est, truth, nullptr, d.truth_has_angles, d.truth_has_biases, scored));
+      scores[i].add(scored);
     }
     run.truth.push_back(std::move(truth));
   };

@@ -471,12 +471,24 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
 
 // ---------------------------------------------------------------- data
 
-// Mean over the scored end effectors of the translation error, m (NaN if any is).
-double mean_translation_m(const EstimateSample& s) {
+// The worst over the scored end effectors of the translation error, m (NaN
+// if any is: a lost estimate).
+double worst_translation_m(const EstimateSample& s) {
   if (s.ee_error.empty()) return kNaN;
-  double sum = 0;
-  for (const PoseError& e : s.ee_error) sum += e.translation_m;
-  return sum / double(s.ee_error.size());
+  double worst = 0;
+  for (const PoseError& e : s.ee_error) {
+    if (std::isnan(e.translation_m)) return kNaN;
+    worst = std::max(worst, e.translation_m);
+  }
+  return worst;
+}
+
+// "left_ee, right_ee".
+std::string end_effector_list(const ScenarioResult& r) {
+  std::string out;
+  for (std::size_t i = 0; i < r.end_effectors.size(); ++i)
+    out += (i ? ", " : "") + r.end_effectors[i];
+  return out;
 }
 
 double median_of(std::vector<double> v) {
@@ -658,7 +670,9 @@ void header(std::ostringstream& o, const ScenarioResult& r) {
        "keeps the samples from "
     << fixed(r.scoring.converged_after_s, 1)
     << "&nbsp;s on. Axes marked &ldquo;log scale&rdquo; are logarithmic because the values "
-       "span more than two decades. &infin; or &ldquo;lost&rdquo;: a lost estimate (counted as "
+       "span more than two decades. With several end effectors, charts show the worst of them "
+       "at each sample (the tables have each one). &infin; or &ldquo;lost&rdquo; on a chart: a "
+       "lost estimate (counted as "
        "the worst error).</p>\n";
 }
 
@@ -692,13 +706,16 @@ void box_section(std::ostringstream& o, const ScenarioResult& r) {
     const Axis axis = auto_axis(values, 7, true, 0, true);
     const std::size_t n_all = all.empty() ? 0 : all.front().p.count;
     const std::size_t n_conv = conv.empty() ? 0 : conv.front().p.count;
+    const std::string name =
+        std::string(q.name) +
+        (r.end_effectors.size() > 1 ? " (worst of " + end_effector_list(r) + ")" : "");
     o << "<div class=\"two\">\n";
     box_plot(o, std::string("box-") + q.id + "-all",
-             std::string(q.name) + ", all samples (n = " + std::to_string(n_all) + " per method)",
-             q.unit, all, axis);
+             name + ", all samples (n = " + std::to_string(n_all) + " per method)", q.unit, all,
+             axis);
     box_plot(o, std::string("box-") + q.id + "-converged",
-             std::string(q.name) + ", " + after.str() + " (n = " + std::to_string(n_conv) + ")",
-             q.unit, conv, axis);
+             name + ", " + after.str() + " (n = " + std::to_string(n_conv) + ")", q.unit, conv,
+             axis);
     o << "</div>\n";
   }
 }
@@ -714,9 +731,7 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
   c.allow_log = true;
   c.include_zero = true;
   c.x_hi = r.duration_s > 0 ? r.duration_s : 1.0;
-  std::string ees;
-  for (std::size_t i = 0; i < r.end_effectors.size(); ++i)
-    ees += (i ? ", " : "") + r.end_effectors[i];
+  const std::string ees = end_effector_list(r);
   const bool median = r.runs.size() > 1;
   for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
     Series s;
@@ -726,7 +741,7 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
       if (const MethodRun* m = method_run(r.runs[0], s.name))
         for (std::size_t i = 0; i < r.runs[0].truth.size() && i < m->samples.size(); ++i) {
           s.x.push_back(r.runs[0].truth[i].time_s);
-          s.y.push_back(mean_translation_m(m->samples[i]) * kMm);
+          s.y.push_back(worst_translation_m(m->samples[i]) * kMm);
         }
     } else {
       // Runs are sampled at their own camera times: hold each run's last
@@ -745,7 +760,7 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
                  run.truth[i + 1].time_s <= t)
             ++i;
           if (i < m->samples.size() && i < run.truth.size() && run.truth[i].time_s <= t)
-            v.push_back(mean_translation_m(m->samples[i]) * kMm);
+            v.push_back(worst_translation_m(m->samples[i]) * kMm);
         }
         if (v.empty()) continue;
         s.x.push_back(t);
@@ -756,7 +771,7 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
   }
   c.title = std::string("Translation error over time, ") +
             (median ? "median over " + std::to_string(r.runs.size()) + " runs" : "run 0") +
-            (r.end_effectors.size() > 1 ? " (mean over " + ees + ")" : " (" + ees + ")");
+            (r.end_effectors.size() > 1 ? " (worst of " + ees + ")" : " (" + ees + ")");
   c.x_marks.push_back({r.scoring.converged_after_s, "converged from here"});
   c.y_marks.push_back({r.scoring.convergence_threshold_m * kMm, "convergence threshold"});
   o << "<h2>Error over time</h2>\n";
@@ -901,27 +916,86 @@ void frames_section(std::ostringstream& o, const ScenarioResult& r) {
   o << "</div>\n";
 }
 
+// Runs in which an end effector is lost.
+std::size_t lost_count(const EndEffectorSummary& e) {
+  return std::size_t(
+      std::count_if(e.lost.begin(), e.lost.end(), [](const auto& l) { return l.has_value(); }));
+}
+
+// "12.3%", or "not estimated".
+std::string coverage_cell(const Coverage& c) {
+  return c.estimated ? fixed(100.0 * c.fraction(), 1) + "%" : std::string("not estimated");
+}
+
+void lost_and_consistency_section(std::ostringstream& o, const ScenarioResult& r) {
+  o << "<h2>Lost runs, consistency and the camera</h2>\n<p>A run is <em>lost</em> for a method "
+       "when an end effector's translation error stays above "
+    << fixed(r.scoring.lost_threshold_m * kMm, 1) << "&nbsp;mm for more than "
+    << significant(r.scoring.lost_after_s) << "&nbsp;s from "
+    << fixed(r.scoring.converged_after_s, 1)
+    << "&nbsp;s on. <em>Within 2&sigma;</em>: the share of samples (all of them, every joint or "
+       "virtual camera joint) whose true value lies within two of the standard deviations the "
+       "method reports; about 95% for an honest filter, far less for an overconfident one. The "
+       "true camera offset is the one that puts the nominal model's camera, at the true joint "
+       "angles, on the simulator's camera. <em>Camera frame</em>: the estimated camera frame "
+       "(the nominal model at the estimated angles and camera offset) against the true one, "
+       "relative to the robot base.</p>\n";
+  o << "<table><tr><th class=\"m\" rowspan=\"2\">method</th><th rowspan=\"2\">lost runs</th>"
+       "<th colspan=\"3\">within 2&sigma;</th><th colspan=\"2\">camera frame, mm</th>"
+       "<th colspan=\"2\">camera frame, deg</th></tr><tr><th>angles</th><th>biases</th>"
+       "<th>camera offset</th><th>p50</th><th>p99</th><th>p50</th><th>p99</th></tr>\n";
+  for (const MethodResult& m : r.method_results) {
+    const ErrorStats& s = m.summary.all;
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td><td>"
+      << m.summary.lost_runs() << " of " << m.summary.num_runs << "</td><td>"
+      << coverage_cell(s.angle_coverage) << "</td><td>" << coverage_cell(s.bias_coverage)
+      << "</td><td>" << coverage_cell(s.camera_offset_coverage) << "</td><td>"
+      << fixed(s.camera_translation_m.p50 * kMm, 2) << "</td><td>"
+      << fixed(s.camera_translation_m.p99 * kMm, 2) << "</td><td>"
+      << fixed(s.camera_rotation_rad.p50 * kDeg, 3) << "</td><td>"
+      << fixed(s.camera_rotation_rad.p99 * kDeg, 3) << "</td></tr>\n";
+  }
+  o << "</table>\n";
+  std::ostringstream list;
+  for (const MethodResult& m : r.method_results)
+    for (std::size_t run = 0; run < m.summary.num_runs; ++run)
+      for (const EndEffectorSummary& e : m.summary.end_effectors)
+        if (run < e.lost.size() && e.lost[run])
+          list << "<li>" << text::html_escape(m.method) << ": run " << run
+               << (run < r.seeds.size() ? " (seed " + std::to_string(r.seeds[run]) + ")" : "")
+               << ", " << text::html_escape(e.name) << ", from " << fixed(e.lost[run]->from_s, 2)
+               << "&nbsp;s for " << fixed(e.lost[run]->duration_s, 2) << "&nbsp;s</li>\n";
+  if (!list.str().empty()) o << "<p>Lost:</p><ul class=\"lost\">\n" << list.str() << "</ul>\n";
+}
+
 void table_section(std::ostringstream& o, const ScenarioResult& r) {
+  const bool several = r.end_effectors.size() > 1;
   o << "<h2>Summary</h2>\n<p>The numbers of summary.json, in millimetres and degrees "
-       "(percentiles pooled over runs).</p>\n";
+       "(percentiles pooled over runs)"
+    << (several ? "; per end effector, and the worst of them (per sample, the larger error)" : "")
+    << ".</p>\n";
   std::ostringstream after;
   after << "from " << fixed(r.scoring.converged_after_s, 1) << " s on";
   const char* pct[5] = {"p1", "p25", "p50", "p75", "p99"};
   for (int part = 0; part < 2; ++part) {
-    o << "<table><tr><th class=\"m\" rowspan=\"2\">method</th><th colspan=\"5\">translation, mm, "
-      << (part ? after.str() : "all samples") << "</th><th colspan=\"5\">rotation, deg, "
-      << (part ? after.str() : "all samples") << "</th><th rowspan=\"2\">samples</th>";
+    o << "<table><tr><th class=\"m\" rowspan=\"2\">method</th>";
+    if (several) o << "<th class=\"m\" rowspan=\"2\">end effector</th>";
+    o << "<th colspan=\"5\">translation, mm, " << (part ? after.str() : "all samples")
+      << "</th><th colspan=\"5\">rotation, deg, " << (part ? after.str() : "all samples")
+      << "</th><th rowspan=\"2\">samples</th>";
     if (part)
       o << "<th rowspan=\"2\">converged after, s<br>(median of runs; below "
         << fixed(r.scoring.convergence_threshold_m * kMm, 1)
-        << " mm)</th><th rowspan=\"2\">worse than<br>encoders_only</th>";
+        << " mm)</th><th rowspan=\"2\">worse than<br>encoders_only</th><th "
+           "rowspan=\"2\">lost runs</th>";
     o << "</tr><tr>";
     for (int k = 0; k < 2; ++k)
       for (const char* p : pct) o << "<th>" << p << "</th>";
     o << "</tr>\n";
-    for (const MethodResult& m : r.method_results) {
-      const ErrorStats& s = part ? m.summary.converged : m.summary.all;
-      o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td>";
+    auto row = [&](const std::string& method, const std::string* ee, const ErrorStats& s,
+                   double conv, std::size_t lost, std::size_t runs) {
+      o << "<tr><td class=\"m\">" << text::html_escape(method) << "</td>";
+      if (ee) o << "<td class=\"m\">" << text::html_escape(*ee) << "</td>";
       const Percentiles& t = s.translation_m;
       for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99})
         o << "<td>" << fixed(v * kMm, 2) << "</td>";
@@ -929,17 +1003,26 @@ void table_section(std::ostringstream& o, const ScenarioResult& r) {
       for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99})
         o << "<td>" << fixed(v * kDeg, 3) << "</td>";
       o << "<td>" << t.count << "</td>";
-      if (part) {
-        const double conv = median_convergence_s(m.summary);
+      if (part)
         o << "<td>" << (std::isfinite(conv) ? fixed(conv, 1) : std::string("never")) << "</td><td>"
           << (s.reference.compared ? fixed(100.0 * s.reference.share_worse(), 0) + "%"
                                    : std::string("&ndash;"))
-          << "</td>";
-      }
+          << "</td><td>" << lost << " of " << runs << "</td>";
       o << "</tr>\n";
+    };
+    static const std::string kWorst = "worst";
+    for (const MethodResult& m : r.method_results) {
+      const MethodSummary& sm = m.summary;
+      if (several)
+        for (const EndEffectorSummary& e : sm.end_effectors)
+          row(m.method, &e.name, part ? e.converged : e.all,
+              median_convergence_s(e.time_to_converge_s), lost_count(e), sm.num_runs);
+      row(m.method, several ? &kWorst : nullptr, part ? sm.converged : sm.all,
+          median_convergence_s(sm), sm.lost_runs(), sm.num_runs);
     }
     o << "</table>\n";
   }
+  lost_and_consistency_section(o, r);
   o << "<h2>Timing</h2>\n<p>Wall time of each tracker call on this machine (summary.json reports "
        "full_fusion's, else the first method's). Speed figures belong to the benchmarks; these "
        "only show where the time went in this run.</p>\n"

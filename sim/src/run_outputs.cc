@@ -2,9 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "arttrack/sim/depth_png.h"
@@ -34,6 +36,67 @@ const MethodResult* timing_method(const ScenarioResult& r) {
   return r.method_results.empty() ? nullptr : &r.method_results.front();
 }
 
+// The end-effector statistics of a method's worst and of each end effector.
+Json pose_json(const ErrorStats& all, const ErrorStats& converged,
+               const std::vector<std::optional<double>>& time_to_converge_s) {
+  return Json{{"translation_m", five(all.translation_m)},
+              {"rotation_rad", five(all.rotation_rad)},
+              {"converged_translation_m", five(converged.translation_m)},
+              {"converged_rotation_rad", five(converged.rotation_rad)},
+              {"convergence_time_s", number(median_convergence_s(time_to_converge_s))}};
+}
+
+// Share within two standard deviations; null when not estimated.
+Json coverage(const Coverage& c) { return number(c.fraction()); }
+
+Json consistency_json(const ErrorStats& s) {
+  return Json{{"angles", coverage(s.angle_coverage)},
+              {"biases", coverage(s.bias_coverage)},
+              {"camera_offset", coverage(s.camera_offset_coverage)}};
+}
+
+Json camera_json(const MethodSummary& m) {
+  if (m.all.camera_translation_m.count == 0) return nullptr;
+  return Json{{"translation_m", five(m.all.camera_translation_m)},
+              {"rotation_rad", five(m.all.camera_rotation_rad)},
+              {"converged_translation_m", five(m.converged.camera_translation_m)},
+              {"converged_rotation_rad", five(m.converged.camera_rotation_rad)}};
+}
+
+Json lost_json(const ScenarioResult& r, const MethodSummary& m) {
+  Json list = Json::array();
+  for (std::size_t run = 0; run < m.num_runs; ++run)
+    for (const EndEffectorSummary& e : m.end_effectors)
+      if (run < e.lost.size() && e.lost[run])
+        list.push_back(Json{{"run", run},
+                            {"seed", run < r.seeds.size() ? Json(r.seeds[run]) : Json(nullptr)},
+                            {"end_effector", e.name},
+                            {"from_s", number(e.lost[run]->from_s)},
+                            {"duration_s", number(e.lost[run]->duration_s)}});
+  return Json{{"runs", m.lost_runs()}, {"of", m.num_runs}, {"list", list}};
+}
+
+// Element j of per-joint statistics, or an empty one.
+template <class T>
+T joint_entry(const std::vector<T>& v, std::size_t j) {
+  return j < v.size() ? v[j] : T{};
+}
+
+Json joints_json(const MethodSummary& m) {
+  Json joints = Json::object();
+  const ErrorStats &a = m.all, &c = m.converged;
+  for (std::size_t j = 0; j < m.joint_names.size(); ++j)
+    joints[m.joint_names[j]] = Json{
+        {"angle_abs_error_rad", five(joint_entry(a.joint_angle_abs_error_rad, j))},
+        {"bias_abs_error_rad", five(joint_entry(a.joint_bias_abs_error_rad, j))},
+        {"converged_angle_abs_error_rad", five(joint_entry(c.joint_angle_abs_error_rad, j))},
+        {"converged_bias_abs_error_rad", five(joint_entry(c.joint_bias_abs_error_rad, j))},
+        {"angle_within_2sigma", coverage(joint_entry(a.joint_angle_coverage, j))},
+        {"bias_within_2sigma", coverage(joint_entry(a.joint_bias_coverage, j))},
+    };
+  return joints;
+}
+
 }  // namespace
 
 std::string summary_json(const ScenarioResult& r) {
@@ -42,15 +105,28 @@ std::string summary_json(const ScenarioResult& r) {
   j["runs"] = r.runs.size();
   j["seeds"] = r.seeds;
   j["duration_s"] = r.duration_s;
+  j["end_effectors"] = r.end_effectors;
+  j["scoring"] = Json{{"converged_after_s", number(r.scoring.converged_after_s)},
+                      {"convergence_threshold_m", number(r.scoring.convergence_threshold_m)},
+                      {"lost_threshold_m", number(r.scoring.lost_threshold_m)},
+                      {"lost_after_s", number(r.scoring.lost_after_s)}};
   Json methods = Json::object();
   for (const MethodResult& m : r.method_results) {
-    methods[m.method] = Json{
-        {"translation_m", five(m.summary.all.translation_m)},
-        {"rotation_rad", five(m.summary.all.rotation_rad)},
-        {"converged_translation_m", five(m.summary.converged.translation_m)},
-        {"converged_rotation_rad", five(m.summary.converged.rotation_rad)},
-        {"convergence_time_s", number(median_convergence_s(m.summary))},
-    };
+    const MethodSummary& s = m.summary;
+    Json method = pose_json(s.all, s.converged, s.time_to_converge_s);
+    Json ees = Json::object();
+    for (const EndEffectorSummary& e : s.end_effectors) {
+      ees[e.name] = pose_json(e.all, e.converged, e.time_to_converge_s);
+      ees[e.name]["lost_runs"] =
+          std::count_if(e.lost.begin(), e.lost.end(), [](const auto& l) { return l.has_value(); });
+    }
+    method["end_effectors"] = ees;
+    method["lost"] = lost_json(r, s);
+    method["camera"] = camera_json(s);
+    method["consistency"] = consistency_json(s.all);
+    method["converged_consistency"] = consistency_json(s.converged);
+    method["joints"] = joints_json(s);
+    methods[m.method] = method;
   }
   j["methods"] = methods;
   const MethodResult* t = timing_method(r);
@@ -72,7 +148,11 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
   for (const std::string& j : r.joint_names)
     out << ',' << j << "_true_rad," << j << "_est_rad," << j << "_true_bias_rad," << j
         << "_est_bias_rad";
-  out << ",cam_x_m,cam_y_m,cam_z_m,cam_roll_rad,cam_pitch_rad,cam_yaw_rad\n";
+  out << ",cam_x_m,cam_y_m,cam_z_m,cam_roll_rad,cam_pitch_rad,cam_yaw_rad"
+      << ",camera_translation_m,camera_rotation_rad"
+      << ",cam_true_x_m,cam_true_y_m,cam_true_z_m,cam_true_roll_rad,cam_true_pitch_rad,"
+         "cam_true_yaw_rad\n";
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const RunResult& run : r.runs) {
     for (std::size_t i = 0; i < run.truth.size(); ++i) {
       const TruthSample& truth = run.truth[i];
@@ -88,6 +168,10 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
               << text::csv_number(s.angle_rad[j]) << ',' << text::csv_number(truth.bias_rad[j])
               << ',' << text::csv_number(s.bias_rad[j]);
         for (int k = 0; k < 6; ++k) out << ',' << text::csv_number(s.camera_offset[k]);
+        out << ',' << text::csv_number(s.camera_error.translation_m) << ','
+            << text::csv_number(s.camera_error.rotation_rad);
+        for (int k = 0; k < 6; ++k)
+          out << ',' << text::csv_number(truth.T_base_camera ? truth.camera_offset[k] : nan);
         out << '\n';
       }
     }
@@ -99,35 +183,120 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   const std::ios::fmtflags flags = out.flags();
   const std::streamsize precision = out.precision();
   auto text = [&](const std::string& s, int width) { out << std::setw(width) << s; };
+  auto left = [&](const std::string& s, int width) {
+    out << std::left << std::setw(width) << s << std::right;
+  };
   auto cell = [&](double v, double scale, int width, int digits) {
     if (!std::isfinite(v)) return text("-", width);
     out << std::setw(width) << std::fixed << std::setprecision(digits) << v * scale;
   };
-  out << "scenario " << r.scenario << ": " << r.runs.size() << " run(s) of " << r.duration_s
+  auto share = [&](const Coverage& c, int width) {
+    if (c.estimated == 0) return text("-", width);
+    cell(c.fraction(), 100.0, width - 1, 1);
+    out << '%';
+  };
+  const std::size_t runs = r.runs.size();
+  out << "scenario " << r.scenario << ": " << runs << " run(s) of " << r.duration_s
       << " s, scored:";
   for (const std::string& e : r.end_effectors) out << ' ' << e;
-  std::ostringstream after;
+  const bool several = r.end_effectors.size() > 1;
+  if (several) out << " (worst: per sample, the worse end effector)";
+  std::ostringstream after, lost_rule;
   after << "from " << r.scoring.converged_after_s << " s on";
-  out << "\n" << std::left << std::setw(20) << "" << std::right;
+  lost_rule << "lost: > " << r.scoring.lost_threshold_m * mm << " mm for > "
+            << r.scoring.lost_after_s << " s";
+  out << "\n";
+  left("", 33);
   text("translation error, mm", 35);
   text("rotation error, deg", 35);
   text(after.str(), 19);
-  out << "\n" << std::left << std::setw(20) << "method" << std::right;
+  out << "  " << lost_rule.str() << "\n";
+  left("method", 20);
+  left("end effector", 13);
   for (int k = 0; k < 2; ++k)
     for (const char* p : {"p1", "p25", "p50", "p75", "p99"}) text(p, 7);
   text("p50 mm", 10);
   text("conv. s", 9);
+  text("lost runs", 13);
+  out << "\n";
+  // One row of pose statistics: an end effector's, or the worst.
+  auto row = [&](const std::string& method, const std::string& ee, const ErrorStats& all,
+                 const ErrorStats& converged, double convergence_s, std::size_t lost) {
+    left(method, 20);
+    left(ee, 13);
+    const Percentiles& t = all.translation_m;
+    for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99}) cell(v, mm, 7, 1);
+    const Percentiles& a = all.rotation_rad;
+    for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99}) cell(v, deg, 7, 2);
+    cell(converged.translation_m.p50, mm, 10, 1);
+    cell(convergence_s, 1.0, 9, 1);
+    text(std::to_string(lost) + " of " + std::to_string(runs), 13);
+    out << "\n";
+  };
+  for (const MethodResult& m : r.method_results) {
+    const MethodSummary& s = m.summary;
+    for (std::size_t e = 0; e < s.end_effectors.size(); ++e) {
+      const EndEffectorSummary& es = s.end_effectors[e];
+      row(e == 0 ? m.method : "", es.name, es.all, es.converged,
+          median_convergence_s(es.time_to_converge_s),
+          std::size_t(std::count_if(es.lost.begin(), es.lost.end(),
+                                    [](const auto& l) { return l.has_value(); })));
+    }
+    if (several || s.end_effectors.empty())
+      row(s.end_effectors.empty() ? m.method : "", "worst", s.all, s.converged,
+          median_convergence_s(s), s.lost_runs());
+  }
+
+  // Consistency and the camera.
+  out << "\n";
+  left("", 20);
+  text("truth within 2 sigma (all samples)", 36);
+  text("camera frame error: mm", 26);
+  text("deg", 16);
+  out << "\n";
+  left("method", 20);
+  text("angles", 12);
+  text("biases", 12);
+  text("camera", 12);
+  for (int k = 0; k < 2; ++k) text("p50", 10), text("p99", k ? 8 : 14);
   out << "\n";
   for (const MethodResult& m : r.method_results) {
-    out << std::left << std::setw(20) << m.method << std::right;
-    const Percentiles& t = m.summary.all.translation_m;
-    for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99}) cell(v, mm, 7, 1);
-    const Percentiles& a = m.summary.all.rotation_rad;
-    for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99}) cell(v, deg, 7, 2);
-    cell(m.summary.converged.translation_m.p50, mm, 10, 1);
-    cell(median_convergence_s(m.summary), 1.0, 9, 1);
+    const ErrorStats& s = m.summary.all;
+    left(m.method, 20);
+    share(s.angle_coverage, 12);
+    share(s.bias_coverage, 12);
+    share(s.camera_offset_coverage, 12);
+    cell(s.camera_translation_m.p50, mm, 10, 1);
+    cell(s.camera_translation_m.p99, mm, 14, 1);
+    cell(s.camera_rotation_rad.p50, deg, 10, 2);
+    cell(s.camera_rotation_rad.p99, deg, 8, 2);
     out << "\n";
   }
+  out << "(-: not estimated, or no truth)\n";
+
+  // Which runs are lost.
+  for (const MethodResult& m : r.method_results) {
+    const MethodSummary& s = m.summary;
+    if (s.lost_runs() == 0) continue;
+    out << m.method << " lost " << s.lost_runs() << " of " << s.num_runs << ":";
+    const char* run_separator = " ";
+    for (std::size_t run = 0; run < s.num_runs; ++run) {
+      if (!s.run_lost(run)) continue;
+      out << run_separator << "run " << run;
+      if (run < r.seeds.size()) out << " (seed " << r.seeds[run] << ")";
+      out << ":";
+      const char* separator = " ";
+      for (const EndEffectorSummary& e : s.end_effectors)
+        if (run < e.lost.size() && e.lost[run]) {
+          out << separator << e.name << " from " << std::fixed << std::setprecision(1)
+              << e.lost[run]->from_s << " s for " << e.lost[run]->duration_s << " s";
+          separator = ", ";
+        }
+      run_separator = "; ";
+    }
+    out << "\n";
+  }
+  out << "\n";
   out << std::left << std::setw(20) << "timing" << std::right;
   text("joint update us", 17);
   text("image update ms", 17);

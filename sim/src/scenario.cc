@@ -405,10 +405,7 @@ void read_occluders(const ConfigNode& root, Scenario& s) {
 
 void read_scoring(const ConfigNode& n, Scenario& s) {
   ScenarioScoring& sc = s.scoring;
-  sc.options.converged_after_s =
-      n.number("converged_after_s", sc.options.converged_after_s, 0, 1e6);
-  sc.options.convergence_threshold_m =
-      n.number("convergence_threshold_m", sc.options.convergence_threshold_m, 1e-9, 1e3);
+  read_scoring_options(n, sc.options);
   sc.every_n_joint_steps = int(integer(n, "every_n_joint_steps", 0, 0, 1e9));
   sc.end_effectors = n.get<std::vector<std::string>>("end_effectors", s.scene.end_effector_links);
   if (sc.end_effectors.empty()) n.fail("end_effectors", "must name at least one link");
@@ -562,6 +559,14 @@ Scenario load_scenario(const fs::path& path, const std::vector<std::string>& ove
     }
   }
   return scenario_from_yaml(doc, fs::absolute(path).parent_path());
+}
+
+void read_scoring_options(const ConfigNode& n, ScoringOptions& o) {
+  o.converged_after_s = n.number("converged_after_s", o.converged_after_s, 0, 1e9);
+  o.convergence_threshold_m =
+      n.number("convergence_threshold_m", o.convergence_threshold_m, 1e-12, 1e3);
+  o.lost_threshold_m = n.number("lost_threshold_m", o.lost_threshold_m, 1e-12, 1e3);
+  o.lost_after_s = n.number("lost_after_s", o.lost_after_s, 1e-9, 1e9);
 }
 
 fs::path default_scenario_path() {

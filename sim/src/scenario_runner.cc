@@ -140,7 +140,8 @@ class Run {
         options_(options),
         frames_(frames),
         encoders_(setup.sim_model->joint_names, sc.encoders, stream_seed(seed, kEncoders)),
-        depth_noise_(sc.depth_corruption, stream_seed(seed, kDepth)) {
+        depth_noise_(sc.depth_corruption, stream_seed(seed, kDepth)),
+        camera_poses_(setup.robot) {
     result_.run = run;
     result_.seed = seed;
     std::mt19937_64 rng(stream_seed(seed, kMotion));
@@ -343,27 +344,15 @@ class Run {
     }
     for (std::size_t e = 0; e < ne; ++e)
       truth.T_camera_ee.push_back(g.T_camera_ee[setup_.sim_ee[e]]);
+    // The world frame is the robot's root link (simulator.h).
+    truth.T_base_camera = g.T_world_camera;
+    truth.camera_offset = camera_poses_.offset_to(truth.angle_rad, g.T_world_camera);
 
-    std::vector<double> angle_error(nj), bias_error(nj);
+    ScoredSample scored;
     for (std::size_t i = 0; i < trackers_.size(); ++i) {
-      const TrackerEstimate est = trackers_[i]->estimate();
-      EstimateSample s;
-      s.angle_rad = est.angle_rad;
-      s.angle_std_rad = est.angle_std_rad;
-      s.bias_rad = est.bias_rad;
-      s.bias_std_rad = est.bias_std_rad;
-      s.camera_offset = est.camera_offset;
-      s.T_camera_ee = est.T_camera_ee;
-      s.health = est.health;
-      for (std::size_t j = 0; j < nj; ++j) {
-        angle_error[j] = est.angle_rad[j] - truth.angle_rad[j];
-        bias_error[j] = est.bias_rad[j] - truth.bias_rad[j];
-      }
-      for (std::size_t e = 0; e < ne; ++e) {
-        s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
-        scores_[i].add(t, s.ee_error.back(), angle_error, bias_error);
-      }
-      result_.methods[i].samples.push_back(std::move(s));
+      result_.methods[i].samples.push_back(
+          score_estimate(trackers_[i]->estimate(), truth, &camera_poses_, true, true, scored));
+      scores_[i].add(scored);
     }
     if (options_.sink) options_.sink->truth(result_.run, truth);
     result_.truth.push_back(std::move(truth));
@@ -379,6 +368,7 @@ class Run {
   EncoderCorruption encoders_;
   DepthCorruption depth_noise_;
   std::optional<JointTrajectory> trajectory_;
+  CameraPoses camera_poses_;
   std::vector<CameraFrame> frames_timing_;
   std::vector<int> load_body_;
   std::vector<std::unique_ptr<Tracker>> trackers_;
@@ -392,6 +382,46 @@ class Run {
 };
 
 }  // namespace
+
+EstimateSample score_estimate(const TrackerEstimate& est, const TruthSample& truth,
+                              CameraPoses* camera, bool angles_known, bool biases_known,
+                              ScoredSample& scored) {
+  const std::size_t nj = std::size_t(est.angle_rad.size()), ne = truth.T_camera_ee.size();
+  EstimateSample s;
+  s.angle_rad = est.angle_rad;
+  s.angle_std_rad = est.angle_std_rad;
+  s.bias_rad = est.bias_rad;
+  s.bias_std_rad = est.bias_std_rad;
+  s.camera_offset = est.camera_offset;
+  s.camera_offset_std = est.camera_offset_std;
+  s.T_camera_ee = est.T_camera_ee;
+  s.health = est.health;
+  scored = ScoredSample{};
+  scored.time_s = truth.time_s;
+  for (std::size_t e = 0; e < ne; ++e)
+    s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
+  scored.end_effectors = s.ee_error;
+  auto per_joint = [nj](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + nj);
+  };
+  if (angles_known) {
+    scored.angle_error_rad = per_joint(est.angle_rad - truth.angle_rad);
+    scored.angle_std_rad = per_joint(est.angle_std_rad);
+  }
+  if (biases_known) {
+    scored.bias_error_rad = per_joint(est.bias_rad - truth.bias_rad);
+    scored.bias_std_rad = per_joint(est.bias_std_rad);
+  }
+  if (camera && truth.T_base_camera) {
+    s.camera_error =
+        pose_error(camera->camera(est.angle_rad, est.camera_offset), *truth.T_base_camera);
+    scored.camera = s.camera_error;
+    const CameraOffset error = est.camera_offset - truth.camera_offset;
+    scored.camera_offset_error.assign(error.data(), error.data() + 6);
+    scored.camera_offset_std.assign(est.camera_offset_std.data(), est.camera_offset_std.data() + 6);
+  }
+  return s;
+}
 
 std::uint64_t run_seed(std::uint64_t seed, int run) {
   // 53 bits, so that JSON readers keep every digit.
@@ -429,7 +459,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
   std::vector<MethodScores> scores;
   for (TrackingMethod m : setup.methods) {
     result.methods.push_back(method_name(m));
-    scores.emplace_back(method_name(m), setup.joint_names);
+    scores.emplace_back(method_name(m), setup.joint_names, sc.scoring.end_effectors);
   }
 
   for (int k = 0; k < runs; ++k) {

@@ -5,15 +5,23 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/kinematics.h"
 
 namespace arttrack::sim {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 // Sample times of two methods in the same run count as equal within this.
 constexpr double kTimeMatch_s = 1e-6;
 
 [[noreturn]] void fail(const std::string& what) { throw InputError("scoring: " + what); }
+
+// The larger error; NaN (a lost estimate) is worse than any number.
+double worse_of(double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return kNaN;
+  return std::max(a, b);
+}
 
 }  // namespace
 
@@ -60,26 +68,89 @@ Percentiles percentiles(std::span<const double> values) {
   return p;
 }
 
-void ErrorTrace::add(double time_s, const PoseError& ee, std::span<const double> angle_error_rad,
-                     std::span<const double> bias_error_rad) {
-  if (!std::isfinite(time_s) || (!time_s_.empty() && time_s < time_s_.back())) {
+void ErrorTrace::add(const ScoredSample& x) {
+  if (!std::isfinite(x.time_s) || (!time_s_.empty() && x.time_s < time_s_.back())) {
     std::ostringstream msg;
-    msg << "sample time " << time_s << " s is not finite or earlier than the previous one";
+    msg << "sample time " << x.time_s << " s is not finite or earlier than the previous one";
     fail(msg.str());
   }
-  for (std::span<const double> errors : {angle_error_rad, bias_error_rad})
-    if (!errors.empty() && errors.size() != num_joints_)
-      fail("per-joint errors have " + std::to_string(errors.size()) + " values, expected " +
-           std::to_string(num_joints_));
-  const int state = (angle_error_rad.empty() ? 0 : 1) | (bias_error_rad.empty() ? 0 : 2);
-  if (joint_errors_state_ == -1) joint_errors_state_ = state;
-  if (state != joint_errors_state_)
-    fail("per-joint angle/bias errors must be given for every sample of a run or for none");
-  time_s_.push_back(time_s);
-  translation_m_.push_back(ee.translation_m);
-  rotation_rad_.push_back(ee.rotation_rad);
-  angle_error_rad_.insert(angle_error_rad_.end(), angle_error_rad.begin(), angle_error_rad.end());
-  bias_error_rad_.insert(bias_error_rad_.end(), bias_error_rad.begin(), bias_error_rad.end());
+  if (num_end_effectors_ == 0) fail("a trace needs at least one end effector");
+  if (x.end_effectors.size() != num_end_effectors_)
+    fail("a sample has " + std::to_string(x.end_effectors.size()) + " end effectors, expected " +
+         std::to_string(num_end_effectors_));
+  struct Optional {
+    const std::vector<double>* values;
+    std::size_t expected;
+    Part part;
+  };
+  const Optional parts[] = {
+      {&x.angle_error_rad, num_joints_, kAngleError},  {&x.bias_error_rad, num_joints_, kBiasError},
+      {&x.angle_std_rad, num_joints_, kAngleStd},      {&x.bias_std_rad, num_joints_, kBiasStd},
+      {&x.camera_offset_error, 6, kCameraOffsetError}, {&x.camera_offset_std, 6, kCameraOffsetStd}};
+  unsigned present = x.camera ? unsigned(kCamera) : 0u;
+  for (const Optional& o : parts) {
+    if (o.values->empty()) continue;
+    if (o.values->size() != o.expected)
+      fail(std::string(o.expected == 6 ? "camera offset values" : "per-joint errors") + " have " +
+           std::to_string(o.values->size()) + " values, expected " + std::to_string(o.expected));
+    present |= o.part;
+  }
+  if (parts_ == kUnknown) parts_ = present;
+  if (present != parts_)
+    fail(
+        "per-joint angle/bias errors, standard deviations and camera errors must be given for "
+        "every sample of a run or for none");
+
+  time_s_.push_back(x.time_s);
+  // The worst of the end effectors; a NaN (a lost estimate) is the worst.
+  double worst_t = -kInf, worst_r = -kInf;
+  for (const PoseError& e : x.end_effectors) {
+    ee_translation_m_.push_back(e.translation_m);
+    ee_rotation_rad_.push_back(e.rotation_rad);
+    worst_t = worse_of(worst_t, e.translation_m);
+    worst_r = worse_of(worst_r, e.rotation_rad);
+  }
+  translation_m_.push_back(worst_t);
+  rotation_rad_.push_back(worst_r);
+  auto append = [](std::vector<double>& to, const std::vector<double>& from) {
+    to.insert(to.end(), from.begin(), from.end());
+  };
+  append(angle_error_rad_, x.angle_error_rad);
+  append(bias_error_rad_, x.bias_error_rad);
+  append(angle_std_rad_, x.angle_std_rad);
+  append(bias_std_rad_, x.bias_std_rad);
+  append(camera_offset_error_, x.camera_offset_error);
+  append(camera_offset_std_, x.camera_offset_std);
+  if (x.camera) {
+    camera_translation_m_.push_back(x.camera->translation_m);
+    camera_rotation_rad_.push_back(x.camera->rotation_rad);
+  }
+}
+
+void ErrorTrace::add(double time_s, const PoseError& ee, std::span<const double> angle_error_rad,
+                     std::span<const double> bias_error_rad) {
+  ScoredSample x;
+  x.time_s = time_s;
+  x.end_effectors = {ee};
+  x.angle_error_rad.assign(angle_error_rad.begin(), angle_error_rad.end());
+  x.bias_error_rad.assign(bias_error_rad.begin(), bias_error_rad.end());
+  add(x);
+}
+
+ErrorTrace ErrorTrace::end_effector(std::size_t e) const {
+  if (e >= num_end_effectors_)
+    fail("end effector " + std::to_string(e) + " of a trace of " +
+         std::to_string(num_end_effectors_));
+  ErrorTrace t(num_joints_, 1);
+  t.parts_ = 0;
+  t.time_s_ = time_s_;
+  for (std::size_t i = 0; i < size(); ++i) {
+    t.translation_m_.push_back(ee_translation_m_[i * num_end_effectors_ + e]);
+    t.rotation_rad_.push_back(ee_rotation_rad_[i * num_end_effectors_ + e]);
+  }
+  t.ee_translation_m_ = t.translation_m_;
+  t.ee_rotation_rad_ = t.rotation_rad_;
+  return t;
 }
 
 std::optional<double> time_to_converge_s(const ErrorTrace& trace, double threshold_m) {
@@ -122,12 +193,86 @@ void ScoringOptions::validate() const {
     fail("converged_after_s must be >= 0");
   if (!(convergence_threshold_m > 0.0) || !std::isfinite(convergence_threshold_m))
     fail("convergence_threshold_m must be > 0");
+  if (!(lost_threshold_m > 0.0) || !std::isfinite(lost_threshold_m))
+    fail("lost_threshold_m must be > 0");
+  if (!(lost_after_s > 0.0) || !std::isfinite(lost_after_s)) fail("lost_after_s must be > 0");
 }
 
-MethodScores::MethodScores(std::string method, std::vector<std::string> joint_names)
-    : method_(std::move(method)), joint_names_(std::move(joint_names)) {}
+std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions& options) {
+  const std::vector<double>&t = trace.time_s(), &e = trace.translation_m();
+  // A stretch "lasts more than lost_after_s" within rounding of the times.
+  const double longer_than = options.lost_after_s + kTimeMatch_s;
+  std::optional<double> from;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] < options.converged_after_s) continue;
+    const bool above = !(e[i] <= options.lost_threshold_m);  // NaN is above
+    if (!above) {
+      from.reset();
+      continue;
+    }
+    if (!from) from = t[i];
+    // The stretch goes on while the next sample is above too.
+    const bool ends = i + 1 == t.size() || e[i + 1] <= options.lost_threshold_m;
+    if (ends && t[i] - *from > longer_than) return LostSpan{*from, t[i] - *from};
+  }
+  return std::nullopt;
+}
 
-void MethodScores::begin_run() { runs_.emplace_back(joint_names_.size()); }
+void Coverage::add(double error, double std) {
+  if (std == 0.0) return;  // not estimated
+  ++estimated;
+  within += std::abs(error) <= 2.0 * std;  // false for NaN
+}
+
+CameraOffset camera_offset_of(const Eigen::Isometry3d& T) {
+  // R = Rx(a) Ry(b) Rz(c): R(0,2) = sin b, R(1,2) = -sin a cos b,
+  // R(2,2) = cos a cos b, R(0,1) = -cos b sin c, R(0,0) = cos b cos c.
+  const Eigen::Matrix3d& R = T.linear();
+  CameraOffset o;
+  o.head<3>() = T.translation();
+  o[3] = std::atan2(-R(1, 2), R(2, 2));
+  o[4] = std::asin(std::clamp(R(0, 2), -1.0, 1.0));
+  o[5] = std::atan2(-R(0, 1), R(0, 0));
+  return o;
+}
+
+CameraPoses::CameraPoses(std::shared_ptr<const RobotModel> model)
+    : model_(std::move(model)), state_(*model_), q_(model_->num_joints()) {
+  if (model_->camera_link() == model_->nominal_camera_link())
+    fail("the robot model " + model_->source() + " has no virtual camera joints");
+}
+
+Eigen::Isometry3d CameraPoses::camera(const Eigen::VectorXd& angle_rad,
+                                      const CameraOffset& offset) {
+  q_.head(angle_rad.size()) = angle_rad;
+  q_.tail<6>() = offset;
+  forward_kinematics(*model_, q_, state_);
+  return state_.T_root_link[model_->camera_link()];
+}
+
+CameraOffset CameraPoses::offset_to(const Eigen::VectorXd& angle_rad,
+                                    const Eigen::Isometry3d& T_base_camera) {
+  q_.head(angle_rad.size()) = angle_rad;
+  q_.tail<6>().setZero();
+  forward_kinematics(*model_, q_, state_);
+  return camera_offset_of(state_.T_root_link[model_->nominal_camera_link()].inverse() *
+                          T_base_camera);
+}
+
+MethodScores::MethodScores(std::string method, std::vector<std::string> joint_names,
+                           std::vector<std::string> end_effectors)
+    : method_(std::move(method)),
+      joint_names_(std::move(joint_names)),
+      end_effectors_(std::move(end_effectors)) {
+  if (end_effectors_.empty()) fail("method '" + method_ + "': no end effector to score");
+}
+
+void MethodScores::begin_run() { runs_.emplace_back(joint_names_.size(), end_effectors_.size()); }
+
+void MethodScores::add(const ScoredSample& sample) {
+  if (runs_.empty()) begin_run();
+  runs_.back().add(sample);
+}
 
 void MethodScores::add(double time_s, const PoseError& ee, std::span<const double> angle_error_rad,
                        std::span<const double> bias_error_rad) {
@@ -139,13 +284,30 @@ void MethodScores::add_run(ErrorTrace run) {
   if (run.num_joints() != joint_names_.size())
     fail("method '" + method_ + "': a run has " + std::to_string(run.num_joints()) +
          " joints, expected " + std::to_string(joint_names_.size()));
+  if (run.num_end_effectors() != end_effectors_.size())
+    fail("method '" + method_ + "': a run has " + std::to_string(run.num_end_effectors()) +
+         " end effectors, expected " + std::to_string(end_effectors_.size()));
   runs_.push_back(std::move(run));
 }
 
 void MethodScores::merge(const MethodScores& other) {
   if (other.joint_names_ != joint_names_)
     fail("method '" + method_ + "': cannot pool runs with different joints");
+  if (other.end_effectors_ != end_effectors_)
+    fail("method '" + method_ + "': cannot pool runs with different end effectors");
   runs_.insert(runs_.end(), other.runs_.begin(), other.runs_.end());
+}
+
+std::size_t MethodSummary::lost_runs() const {
+  std::size_t n = 0;
+  for (std::size_t r = 0; r < num_runs; ++r) n += run_lost(r);
+  return n;
+}
+
+bool MethodSummary::run_lost(std::size_t run) const {
+  for (const EndEffectorSummary& e : end_effectors)
+    if (run < e.lost.size() && e.lost[run]) return true;
+  return false;
 }
 
 namespace {
@@ -154,22 +316,37 @@ namespace {
 ErrorStats stats_from(const std::vector<ErrorTrace>& runs, std::size_t num_joints, double from_s,
                       const std::vector<ErrorTrace>* reference) {
   ErrorStats s;
-  std::vector<double> trans, rot;
+  std::vector<double> trans, rot, cam_trans, cam_rot;
   std::vector<std::vector<double>> angle(num_joints), bias(num_joints);
-  bool any_angle = false, any_bias = false;
+  std::vector<Coverage> angle_cov(num_joints), bias_cov(num_joints);
+  bool any_angle = false, any_bias = false, any_angle_cov = false, any_bias_cov = false;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const ErrorTrace& run = runs[r];
+    const bool angle_cov_known = run.has_angle_errors() && run.has_angle_std();
+    const bool bias_cov_known = run.has_bias_errors() && run.has_bias_std();
+    const bool camera_cov_known = run.has_camera_offset_errors() && run.has_camera_offset_std();
     for (std::size_t i = 0; i < run.size(); ++i) {
       if (run.time_s()[i] < from_s) continue;
       trans.push_back(run.translation_m()[i]);
       rot.push_back(run.rotation_rad()[i]);
+      if (run.has_camera()) {
+        cam_trans.push_back(run.camera_translation_m()[i]);
+        cam_rot.push_back(run.camera_rotation_rad()[i]);
+      }
       for (std::size_t j = 0; j < num_joints; ++j) {
         if (run.has_angle_errors()) angle[j].push_back(std::abs(run.angle_error_rad(i, j)));
         if (run.has_bias_errors()) bias[j].push_back(std::abs(run.bias_error_rad(i, j)));
+        if (angle_cov_known) angle_cov[j].add(run.angle_error_rad(i, j), run.angle_std_rad(i, j));
+        if (bias_cov_known) bias_cov[j].add(run.bias_error_rad(i, j), run.bias_std_rad(i, j));
       }
+      if (camera_cov_known)
+        for (std::size_t k = 0; k < 6; ++k)
+          s.camera_offset_coverage.add(run.camera_offset_error(i, k), run.camera_offset_std(i, k));
     }
     any_angle |= run.has_angle_errors();
     any_bias |= run.has_bias_errors();
+    any_angle_cov |= angle_cov_known;
+    any_bias_cov |= bias_cov_known;
     if (reference) {
       const ReferenceComparison c = compare_with_reference(run, (*reference)[r], from_s);
       s.reference.compared += c.compared;
@@ -178,10 +355,16 @@ ErrorStats stats_from(const std::vector<ErrorTrace>& runs, std::size_t num_joint
   }
   s.translation_m = percentiles(trans);
   s.rotation_rad = percentiles(rot);
+  s.camera_translation_m = percentiles(cam_trans);
+  s.camera_rotation_rad = percentiles(cam_rot);
   if (any_angle)
     for (const auto& v : angle) s.joint_angle_abs_error_rad.push_back(percentiles(v));
   if (any_bias)
     for (const auto& v : bias) s.joint_bias_abs_error_rad.push_back(percentiles(v));
+  if (any_angle_cov) s.joint_angle_coverage = angle_cov;
+  if (any_bias_cov) s.joint_bias_coverage = bias_cov;
+  for (const Coverage& c : angle_cov) s.angle_coverage += c;
+  for (const Coverage& c : bias_cov) s.bias_coverage += c;
   return s;
 }
 
@@ -193,15 +376,34 @@ MethodSummary MethodScores::summary(const ScoringOptions& options,
   if (reference && reference->runs_.size() != runs_.size())
     fail("method '" + method_ + "' has " + std::to_string(runs_.size()) + " runs but reference '" +
          reference->method_ + "' has " + std::to_string(reference->runs_.size()));
+  if (reference && reference->end_effectors_ != end_effectors_)
+    fail("method '" + method_ + "' and reference '" + reference->method_ +
+         "' score different end effectors");
   const std::vector<ErrorTrace>* ref = reference ? &reference->runs_ : nullptr;
+  const std::size_t nj = joint_names_.size();
   MethodSummary m;
   m.method = method_;
   m.joint_names = joint_names_;
   m.num_runs = runs_.size();
-  m.all = stats_from(runs_, joint_names_.size(), -std::numeric_limits<double>::infinity(), ref);
-  m.converged = stats_from(runs_, joint_names_.size(), options.converged_after_s, ref);
+  m.all = stats_from(runs_, nj, -kInf, ref);
+  m.converged = stats_from(runs_, nj, options.converged_after_s, ref);
   for (const ErrorTrace& run : runs_)
     m.time_to_converge_s.push_back(time_to_converge_s(run, options.convergence_threshold_m));
+  for (std::size_t e = 0; e < end_effectors_.size(); ++e) {
+    std::vector<ErrorTrace> runs, ref_runs;
+    for (const ErrorTrace& run : runs_) runs.push_back(run.end_effector(e));
+    if (ref)
+      for (const ErrorTrace& run : *ref) ref_runs.push_back(run.end_effector(e));
+    EndEffectorSummary es;
+    es.name = end_effectors_[e];
+    es.all = stats_from(runs, 0, -kInf, ref ? &ref_runs : nullptr);
+    es.converged = stats_from(runs, 0, options.converged_after_s, ref ? &ref_runs : nullptr);
+    for (const ErrorTrace& run : runs) {
+      es.time_to_converge_s.push_back(time_to_converge_s(run, options.convergence_threshold_m));
+      es.lost.push_back(lost_span(run, options));
+    }
+    m.end_effectors.push_back(std::move(es));
+  }
   return m;
 }
 

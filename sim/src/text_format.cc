@@ -89,10 +89,10 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
 
 }  // namespace text
 
-double median_convergence_s(const MethodSummary& s) {
+double median_convergence_s(const std::vector<std::optional<double>>& time_to_converge_s) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<double> t;
-  for (const auto& c : s.time_to_converge_s) t.push_back(c ? *c : kInf);
+  for (const auto& c : time_to_converge_s) t.push_back(c ? *c : kInf);
   if (t.empty()) return kInf;
   std::sort(t.begin(), t.end());
   const std::size_t n = t.size();

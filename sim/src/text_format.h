@@ -68,6 +68,9 @@ void write_text(const std::filesystem::path& path, const std::string& text);
 // counting as +inf: the middle value for an odd count, else the mean of the
 // two middle ones (+inf if the upper one is). No runs: +inf. As in
 // summary.json, the report and sweep cells.
-double median_convergence_s(const MethodSummary& s);
+double median_convergence_s(const std::vector<std::optional<double>>& time_to_converge_s);
+inline double median_convergence_s(const MethodSummary& s) {
+  return median_convergence_s(s.time_to_converge_s);
+}
 
 }  // namespace arttrack::sim

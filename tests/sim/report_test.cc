@@ -85,7 +85,7 @@ ScenarioResult synthetic_result() {
   r.runs.push_back(run);
 
   for (const MethodRun& mr : r.runs[0].methods) {
-    MethodResult m{mr.method, MethodScores(mr.method, kJoints), {}, {}};
+    MethodResult m{mr.method, MethodScores(mr.method, kJoints, r.end_effectors), {}, {}};
     m.scores.begin_run();
     for (std::size_t i = 0; i < mr.samples.size(); ++i)
       m.scores.add(r.runs[0].truth[i].time_s, mr.samples[i].ee_error[0]);
@@ -299,6 +299,116 @@ TEST(Report, SeveralRunsPlotTheMedian) {
   r.seeds = {1, 2, 3};
   const std::string html = report_html(r);
   EXPECT_NE(chart(html, "error-time").find("median over 3 runs"), std::string::npos);
+}
+
+// Two hands, two runs of 20 s: full_fusion's right hand is 300 mm off from
+// 12 s on in run 1 (lost), the left hand always 2 mm; encoders_only 40 mm on
+// both. full_fusion reports angle standard deviations of 1 mrad for errors
+// of 3 mrad (never within 2 sigma) and biases within them; encoders_only
+// reports no bias standard deviation (not estimated).
+ScenarioResult two_hands_result() {
+  ScenarioResult r;
+  r.scenario = "two_hands";
+  r.duration_s = 20;
+  r.seeds = {11, 22};
+  r.methods = {"encoders_only", "full_fusion"};
+  r.joint_names = {"j"};
+  r.end_effectors = {"left_ee", "right_ee"};
+  for (const std::string& m : r.methods)
+    r.method_results.push_back({m, MethodScores(m, r.joint_names, r.end_effectors), {}, {}});
+  for (int k = 0; k < 2; ++k) {
+    RunResult run;
+    run.run = k;
+    run.seed = r.seeds[k];
+    for (const std::string& m : r.methods) run.methods.push_back({m, {}, {}, {}, {}});
+    for (MethodResult& m : r.method_results) m.scores.begin_run();
+    for (int i = 0; i <= 40; ++i) {
+      TruthSample truth;
+      truth.time_s = 0.5 * i;
+      truth.angle_rad = truth.bias_rad = Eigen::VectorXd::Zero(1);
+      truth.T_camera_ee = {Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity()};
+      run.truth.push_back(truth);
+      for (std::size_t m = 0; m < 2; ++m) {
+        const bool fusion = m == 1;
+        ScoredSample x;
+        x.time_s = truth.time_s;
+        const double right = fusion ? (k == 1 && truth.time_s >= 12 ? 0.3 : 0.002) : 0.04;
+        x.end_effectors = {{fusion ? 0.002 : 0.04, 0.01}, {right, 0.01}};
+        x.angle_error_rad = {0.003};
+        x.angle_std_rad = {fusion ? 0.001 : 0.01};
+        x.bias_error_rad = {0.0};
+        x.bias_std_rad = {fusion ? 0.01 : 0.0};
+        r.method_results[m].scores.add(x);
+        EstimateSample s;
+        s.angle_rad = s.bias_rad = s.angle_std_rad = s.bias_std_rad = Eigen::VectorXd::Zero(1);
+        s.ee_error = x.end_effectors;
+        run.methods[m].samples.push_back(s);
+      }
+    }
+    r.runs.push_back(run);
+  }
+  for (MethodResult& m : r.method_results)
+    m.summary = m.scores.summary(r.scoring, &r.method_results[0].scores);
+  return r;
+}
+
+TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
+  const ScenarioResult r = two_hands_result();
+  // summary.json: per end effector, the worst at the top, lost runs listed.
+  const std::string json = summary_json(r);
+  const std::string fusion = json.substr(json.find("\"full_fusion\": {"));
+  for (const char* key :
+       {"\"end_effectors\": {", "\"left_ee\": {", "\"right_ee\": {", "\"lost_runs\": 1",
+        "\"runs\": 1", "\"of\": 2", "\"end_effector\": \"right_ee\"", "\"seed\": 22",
+        "\"from_s\": 12.0", "\"duration_s\": 8.0", "\"angles\": 0.0", "\"biases\": 1.0",
+        "\"camera_offset\": null", "\"camera\": null", "\"angle_within_2sigma\": 0.0"})
+    EXPECT_NE(fusion.find(key), std::string::npos) << key;
+  const std::string encoders = json.substr(0, json.find("\"full_fusion\": {"));
+  EXPECT_NE(encoders.find("\"biases\": null"), std::string::npos);  // not estimated, not 0%
+  EXPECT_NE(encoders.find("\"angles\": 1.0"), std::string::npos);
+  EXPECT_NE(json.find("\"lost_threshold_m\": 0.02"), std::string::npos);
+  // The worst's p99 is the lost hand's 300 mm; the left hand's stays 2 mm.
+  EXPECT_NEAR(r.method("full_fusion")->summary.all.translation_m.p99, 0.3, 1e-12);
+  EXPECT_NEAR(r.method("full_fusion")->summary.end_effectors[0].all.translation_m.p99, 0.002,
+              1e-12);
+
+  // The terminal: a row per hand and the worst, per method.
+  std::ostringstream table;
+  print_summary_table(table, r);
+  const std::string t = table.str();
+  std::vector<std::string> rows;
+  std::istringstream lines(t);
+  for (std::string line; std::getline(lines, line);) rows.push_back(line);
+  auto row_of = [&](const std::string& method, const std::string& ee) {
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (rows[i].starts_with(method))
+        for (std::size_t k = i; k < i + 3 && k < rows.size(); ++k)
+          if (rows[k].find(" " + ee + " ") != std::string::npos) return rows[k];
+    return std::string();
+  };
+  for (const char* m : {"encoders_only", "full_fusion"})
+    for (const char* e : {"left_ee", "right_ee", "worst"})
+      EXPECT_NE(row_of(m, e), "") << m << " " << e << "\n" << t;
+  EXPECT_TRUE(row_of("full_fusion", "worst").ends_with("1 of 2")) << t;
+  EXPECT_TRUE(row_of("full_fusion", "right_ee").ends_with("1 of 2")) << t;
+  EXPECT_TRUE(row_of("full_fusion", "left_ee").ends_with("0 of 2")) << t;
+  EXPECT_NE(row_of("full_fusion", "worst").find("300.0"), std::string::npos) << t;
+  EXPECT_EQ(row_of("full_fusion", "left_ee").find("300.0"), std::string::npos) << t;
+  EXPECT_NE(t.find("full_fusion lost 1 of 2: run 1 (seed 22): right_ee from 12.0 s for 8.0 s\n"),
+            std::string::npos)
+      << t;
+
+  // The report: the same rows, the lost run, consistency.
+  const std::string html = report_html(r);
+  EXPECT_EQ(count(html, "<td class=\"m\">right_ee</td>"), 4u);  // 2 methods x 2 tables
+  EXPECT_EQ(count(html, "<td class=\"m\">worst</td>"), 4u);
+  EXPECT_NE(html.find("<td>1 of 2</td>"), std::string::npos);
+  EXPECT_NE(html.find("<li>full_fusion: run 1 (seed 22), right_ee, from 12.00&nbsp;s"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td>not estimated</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>0.0%</td>"), std::string::npos);
+  EXPECT_NE(html.find("worst of left_ee, right_ee"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
 }
 
 TEST(Report, Base64KnownVectorsAndRoundTrip) {

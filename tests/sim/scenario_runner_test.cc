@@ -84,8 +84,49 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
     EXPECT_TRUE(std::isnan(t.occluded_fraction));  // no occluders: not rendered
   }
 
+  // The camera, scored against the simulator's: the scenario's offset is
+  // the TRUE camera in the nominal one (URDF convention, R = Rz Ry Rx).
+  Eigen::Isometry3d T_nominal_true = Eigen::Isometry3d::Identity();
+  T_nominal_true.translation() << 0.01, -0.01, 0.02;
+  T_nominal_true.linear() = (Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(-1 * kDeg, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(1 * kDeg, Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  const PoseError offset_error = pose_error(Eigen::Isometry3d::Identity(), T_nominal_true);
+  EXPECT_NEAR(offset_error.translation_m, std::sqrt(0.0006), 1e-15);
+  for (const TruthSample& t : run.truth) {
+    ASSERT_TRUE(t.T_base_camera.has_value());
+    // The true offset in the virtual joints' convention reproduces that transform.
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = t.camera_offset.head<3>();
+    T.linear() = (Eigen::AngleAxisd(t.camera_offset[3], Eigen::Vector3d::UnitX()) *
+                  Eigen::AngleAxisd(t.camera_offset[4], Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(t.camera_offset[5], Eigen::Vector3d::UnitZ()))
+                     .toRotationMatrix();
+    EXPECT_TRUE(T.isApprox(T_nominal_true, 1e-9)) << t.time_s;
+  }
+  for (const EstimateSample& s : run.methods[0].samples) {
+    // Encoders only does not correct the camera, and the head's encoders
+    // are exact: its camera error is the whole offset.
+    EXPECT_EQ(s.camera_offset, CameraOffset::Zero());
+    EXPECT_NEAR(s.camera_error.translation_m, offset_error.translation_m, 1e-9);
+    EXPECT_NEAR(s.camera_error.rotation_rad, offset_error.rotation_rad, 1e-9);
+  }
+
   const MethodSummary& enc = r.method("encoders_only")->summary;
   const MethodSummary& fusion = r.method("full_fusion")->summary;
+  EXPECT_NEAR(enc.all.camera_translation_m.p50, offset_error.translation_m, 1e-9);
+  EXPECT_EQ(enc.all.camera_translation_m.count, 121u);
+  // Full fusion corrects the camera (better than no correction).
+  EXPECT_LT(fusion.converged.camera_translation_m.p50, offset_error.translation_m);
+  // Consistency: encoders only estimates neither biases nor the camera
+  // (not 0%, unknown); the arms' angles are 8.6 degrees off, the head's
+  // are right: 2 of 6 joints within two standard deviations.
+  EXPECT_EQ(enc.all.bias_coverage.estimated, 0u);
+  EXPECT_EQ(enc.all.camera_offset_coverage.estimated, 0u);
+  EXPECT_NEAR(enc.all.angle_coverage.fraction(), 2.0 / 6.0, 1e-12);
+  EXPECT_GT(fusion.all.bias_coverage.estimated, 0u);
+  EXPECT_GT(fusion.all.camera_offset_coverage.estimated, 0u);
   EXPECT_GT(enc.all.translation_m.p50, 0.03);  // centimetres
   EXPECT_LT(fusion.converged.translation_m.p50, 0.2 * enc.converged.translation_m.p50);
   EXPECT_LT(fusion.converged.translation_m.p50, 0.015);
@@ -111,8 +152,10 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
   write_timeseries_csv(csv, r);
   EXPECT_EQ(std::count(std::istreambuf_iterator<char>(csv), {}, '\n'), 1 + 2 * 121);
   const std::string json = summary_json(r);
-  for (const char* key : {"\"scenario\": \"bias\"", "\"converged_translation_m\"",
-                          "\"convergence_time_s\"", "\"evaluations_per_image\"", "\"p99\""})
+  for (const char* key :
+       {"\"scenario\": \"bias\"", "\"converged_translation_m\"", "\"convergence_time_s\"",
+        "\"evaluations_per_image\"", "\"p99\"", "\"end_effectors\"", "\"left_ee\"", "\"lost\"",
+        "\"camera\"", "\"consistency\"", "\"bias_within_2sigma\"", "\"left_arm_joint_1\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 

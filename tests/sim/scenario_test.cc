@@ -57,6 +57,8 @@ TEST(Scenario, Defaults) {
               s.out_of_view.empty() && s.loads.empty() && s.occluder_schedules.empty());
   EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));
   EXPECT_EQ(s.scoring.options.converged_after_s, 10.0);
+  EXPECT_EQ(s.scoring.options.lost_threshold_m, 0.02);
+  EXPECT_EQ(s.scoring.options.lost_after_s, 1.0);
   EXPECT_EQ(s.scoring.every_n_joint_steps, 0);
   EXPECT_EQ(s.urdf.movable_joints.size(), 6u);
 }
@@ -123,6 +125,8 @@ occluders:
 scoring:
   converged_after_s: 6
   convergence_threshold_m: 0.005
+  lost_threshold_m: 0.05
+  lost_after_s: 2.5
   every_n_joint_steps: 10
   end_effectors: [left_ee]
 )";
@@ -208,6 +212,8 @@ TEST(Scenario, EveryKeyIsRead) {
 
   EXPECT_EQ(s.scoring.options.converged_after_s, 6.0);
   EXPECT_EQ(s.scoring.options.convergence_threshold_m, 0.005);
+  EXPECT_EQ(s.scoring.options.lost_threshold_m, 0.05);
+  EXPECT_EQ(s.scoring.options.lost_after_s, 2.5);
   EXPECT_EQ(s.scoring.every_n_joint_steps, 10);
   EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"left_ee"}));
   EXPECT_EQ(s.tracker.end_effectors, (std::vector<std::string>{"left_ee"}));
@@ -314,6 +320,11 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
                {"occluders=[{name: o, size_m: [1, 1, 1], keyframes: [{time_s: 2}, {time_s: 1}]}]"});
   expect_error(f, {"'occluders[0].keyframes'"}, {"occluders=[{name: o, size_m: [1, 1, 1]}]"});
   expect_error(f, {"'scoring.end_effectors'", "nose"}, {"scoring.end_effectors=[nose]"});
+  expect_error(f, {f.string(), "'scoring.lost_threshold_m'", "out of range"},
+               {"scoring.lost_threshold_m=0"});
+  expect_error(f, {f.string(), "'scoring.lost_after_s'", "out of range"},
+               {"scoring.lost_after_s=-1"});
+  expect_error(f, {f.string(), "'scoring.lost_after_s'", "number"}, {"scoring.lost_after_s=long"});
   expect_error(f, {"'scene'"}, {"scene=missing.yaml"});
   expect_error(f, {f.string(), "'tracker_overrides'", "particle_filter.particles"},
                {"tracker_overrides={particle_filter.particles: {a: 1}}"});
@@ -363,18 +374,21 @@ TEST(Scenario, LoadRampsInAndOut) {
 }
 
 // Every scenario shipped with the project loads (its scene, robot and
-// tracker configuration included).
+// tracker configuration included), in every folder; all of them show both
+// arms, so all of them score both hands.
 TEST(Scenario, ShippedScenariosLoad) {
   const fs::path dir = fs::path(ARTTRACK_SOURCE_DIR) / "scenarios";
   int count = 0;
-  for (const auto& entry : fs::directory_iterator(dir)) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
     const Scenario s = load_scenario(entry.path());
     EXPECT_FALSE(s.methods.empty());
+    // Both arms are in view: both hands are scored.
+    EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));
     ++count;
   }
-  EXPECT_GE(count, 1);
+  EXPECT_GE(count, 36 + 2);  // the paper's files and cable stretch's at least
   EXPECT_TRUE(fs::exists(default_scenario_path()));
 }
 

@@ -7,6 +7,9 @@
 #include <random>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
+#include "scenario_test_robot.h"
 
 namespace arttrack::sim {
 namespace {
@@ -199,6 +202,244 @@ TEST(Scoring, MergingEqualsPooling) {
   EXPECT_EQ(sa.time_to_converge_s, sall.time_to_converge_s);
 }
 
+// A trace sampled every 10 ms from 9 s to 13 s whose error is 5 mm except
+// above `level_m` for t in [from_s, to_s] (both ends sampled).
+ErrorTrace stretch_trace(double from_s, double to_s, double level_m = 0.03) {
+  ErrorTrace t;
+  for (int i = 900; i <= 1300; ++i) {
+    const double time = 0.01 * i;
+    const bool above = time >= from_s - 1e-9 && time <= to_s + 1e-9;
+    t.add(time, {above ? level_m : 0.005, 0.0});
+  }
+  return t;
+}
+
+TEST(Scoring, LostOnlyAfterMoreThanTheTimeAboveTheThreshold) {
+  ScoringOptions opt;  // defaults: 2 cm for more than 1 s, from 10 s on
+  ASSERT_EQ(opt.lost_threshold_m, 0.02);
+  ASSERT_EQ(opt.lost_after_s, 1.0);
+  ASSERT_EQ(opt.converged_after_s, 10.0);
+  // 0.99 s above (10.00 .. 10.99): not lost; 1.01 s (10.00 .. 11.01): lost.
+  EXPECT_FALSE(lost_span(stretch_trace(10.0, 10.99), opt).has_value());
+  const std::optional<LostSpan> lost = lost_span(stretch_trace(10.0, 11.01), opt);
+  ASSERT_TRUE(lost.has_value());
+  EXPECT_NEAR(lost->from_s, 10.0, 1e-12);
+  EXPECT_NEAR(lost->duration_s, 1.01, 1e-9);
+  // Exactly at the threshold is not above it; just over it is.
+  EXPECT_FALSE(lost_span(stretch_trace(10.0, 12.0, 0.02), opt).has_value());
+  EXPECT_TRUE(lost_span(stretch_trace(10.0, 12.0, 0.0201), opt).has_value());
+  // Only what happens from converged_after_s on counts: 9.0 .. 10.99 is
+  // 0.99 s after 10 s; 9.0 .. 11.01 is 1.01 s.
+  EXPECT_FALSE(lost_span(stretch_trace(9.0, 10.99), opt).has_value());
+  const std::optional<LostSpan> late = lost_span(stretch_trace(9.0, 11.01), opt);
+  ASSERT_TRUE(late.has_value());
+  EXPECT_NEAR(late->from_s, 10.0, 1e-12);
+  // A stretch running to the end of the trace: 11.5 .. 13.
+  const std::optional<LostSpan> end = lost_span(stretch_trace(11.5, 14.0), opt);
+  ASSERT_TRUE(end.has_value());
+  EXPECT_NEAR(end->duration_s, 1.5, 1e-9);
+  // One sample below breaks a stretch: 10.0 .. 10.6 and 10.62 .. 11.3.
+  ErrorTrace broken;
+  for (int i = 1000; i <= 1130; ++i) broken.add(0.01 * i, {i == 1061 ? 0.001 : 0.05, 0.0});
+  EXPECT_FALSE(lost_span(broken, opt).has_value());
+  // A lost estimate (NaN) is above any threshold.
+  ErrorTrace nan;
+  for (int i = 1000; i <= 1200; ++i) nan.add(0.01 * i, {i >= 1050 ? NAN : 0.001, 0.0});
+  EXPECT_TRUE(lost_span(nan, opt).has_value());
+  // Other keys move the edges.
+  ScoringOptions strict = opt;
+  strict.lost_after_s = 0.5;
+  EXPECT_TRUE(lost_span(stretch_trace(10.0, 10.51), strict).has_value());
+  strict.lost_threshold_m = 0.05;
+  EXPECT_FALSE(lost_span(stretch_trace(10.0, 12.0), strict).has_value());
+}
+
+// Two end effectors: a good left hand and a right hand that is lost in run 1.
+MethodScores two_hands(const std::string& method, double right_m_run1) {
+  MethodScores m(method, {}, {"left_ee", "right_ee"});
+  for (int run = 0; run < 2; ++run) {
+    m.begin_run();
+    for (int i = 0; i <= 40; ++i) {
+      ScoredSample x;
+      x.time_s = 0.5 * i;                                             // 0 .. 20 s
+      const double left = 0.001 * (1 + i % 4);                        // 1 .. 4 mm
+      const double right = run == 1 && x.time_s >= 12 ? right_m_run1  // lost from 12 s
+                                                      : 0.0005 * (1 + i % 3);
+      x.end_effectors = {{left, 0.01}, {right, i == 7 ? 0.5 : 0.002}};
+      m.add(x);
+    }
+  }
+  return m;
+}
+
+TEST(Scoring, EachEndEffectorHasItsOwnStatisticsAndTheWorstPoolsThem) {
+  const MethodScores fusion = two_hands("full_fusion", 0.3);
+  const MethodScores encoders = two_hands("encoders_only", 0.004);
+  ScoringOptions opt;
+  const MethodSummary s = fusion.summary(opt, &encoders);
+  ASSERT_EQ(s.end_effectors.size(), 2u);
+  EXPECT_EQ(s.end_effectors[0].name, "left_ee");
+  EXPECT_EQ(s.end_effectors[1].name, "right_ee");
+  const EndEffectorSummary &left = s.end_effectors[0], &right = s.end_effectors[1];
+  // One sample per instant and end effector: 41 per run.
+  EXPECT_EQ(left.all.translation_m.count, 82u);
+  EXPECT_EQ(right.all.translation_m.count, 82u);
+  EXPECT_EQ(s.all.translation_m.count, 82u);
+  // The left hand alone never exceeds 4 mm; the right one reaches 300 mm.
+  EXPECT_EQ(left.all.translation_m.max, 0.004);
+  EXPECT_EQ(right.all.translation_m.max, 0.3);
+  // The worst is per sample: run 1 from 12 s on is 300 mm (17 samples of
+  // 82), everything else the left hand's 1..4 mm or the right's 0.5..1.5 mm.
+  EXPECT_EQ(s.all.translation_m.max, 0.3);
+  std::vector<double> worst;
+  for (const ErrorTrace& run : fusion.runs())
+    for (std::size_t i = 0; i < run.size(); ++i) {
+      const ErrorTrace l = run.end_effector(0), r = run.end_effector(1);
+      EXPECT_EQ(run.translation_m()[i], std::max(l.translation_m()[i], r.translation_m()[i]));
+      EXPECT_EQ(run.rotation_rad()[i], std::max(l.rotation_rad()[i], r.rotation_rad()[i]));
+      worst.push_back(run.translation_m()[i]);
+    }
+  EXPECT_EQ(std::count(worst.begin(), worst.end(), 0.3), 17);
+  EXPECT_EQ(s.all.translation_m.p50, percentiles(worst).p50);
+  // Rotation's worst is taken on its own: the right hand's 0.5 rad at i = 7.
+  EXPECT_EQ(s.all.rotation_rad.max, 0.5);
+  // Lost: the right hand in run 1 (12 .. 20 s), not the left; one run of two.
+  EXPECT_FALSE(left.lost[0] || left.lost[1]);
+  EXPECT_FALSE(right.lost[0].has_value());
+  ASSERT_TRUE(right.lost[1].has_value());
+  EXPECT_EQ(right.lost[1]->from_s, 12.0);
+  EXPECT_EQ(right.lost[1]->duration_s, 8.0);
+  EXPECT_EQ(s.lost_runs(), 1u);
+  EXPECT_FALSE(s.run_lost(0));
+  EXPECT_TRUE(s.run_lost(1));
+  // Convergence below 1 cm: the left hand at 0 s in both runs; the right
+  // one never in run 1, and the worst neither.
+  EXPECT_EQ(left.time_to_converge_s[1], 0.0);
+  EXPECT_FALSE(right.time_to_converge_s[1].has_value());
+  EXPECT_FALSE(s.time_to_converge_s[1].has_value());
+  EXPECT_EQ(s.time_to_converge_s[0], 0.0);
+  // Against the reference, each hand against the same hand: the left hands
+  // tie, the lost right hand is worse 17 times.
+  EXPECT_EQ(left.all.reference.worse, 0u);
+  EXPECT_EQ(right.all.reference.worse, 17u);
+  EXPECT_EQ(s.all.reference.worse, 17u);
+  // Another set of end effectors cannot be a reference or be merged.
+  MethodScores one("x", {}, {"left_ee"});
+  one.begin_run();
+  one.begin_run();
+  EXPECT_THROW(fusion.summary(opt, &one), InputError);
+  MethodScores copy = fusion;
+  EXPECT_THROW(copy.merge(one), InputError);
+}
+
+TEST(Scoring, ConsistencyCountsTheTruthWithinTwoReportedSigmas) {
+  // Joint a: errors 0, 0.04, ..., 3.96 with sigma 1: within 2 sigma for the
+  // 51 errors up to 2.0. Joint b: not estimated (sigma 0). Bias of a: NaN
+  // errors (lost) in 10 samples, else 0. Camera: sigma 0.5 on x, error 1.5
+  // (outside); 0 elsewhere.
+  ErrorTrace t(2);
+  for (int i = 0; i < 100; ++i) {
+    ScoredSample x;
+    x.time_s = 0.1 * i;
+    x.end_effectors = {{0.001, 0.001}};
+    x.angle_error_rad = {0.04 * i, 5.0};
+    x.angle_std_rad = {1.0, 0.0};
+    x.bias_error_rad = {i < 10 ? NAN : 0.0, 0.0};
+    x.bias_std_rad = {0.1, 0.0};
+    x.camera = PoseError{0.02, 0.01};
+    x.camera_offset_error = {1.5, 0.0, 0.0, 0.0, 0.0, 0.0};
+    x.camera_offset_std = {0.5, 0.1, 0.1, 0.0, 0.0, 0.0};
+    t.add(x);
+  }
+  MethodScores m("m", {"a", "b"});
+  m.add_run(t);
+  ScoringOptions opt;
+  opt.converged_after_s = 5.0;
+  const MethodSummary s = m.summary(opt);
+  EXPECT_EQ(s.all.angle_coverage.estimated, 100u);  // joint b is not estimated
+  EXPECT_EQ(s.all.angle_coverage.within, 51u);
+  EXPECT_DOUBLE_EQ(s.all.angle_coverage.fraction(), 0.51);
+  ASSERT_EQ(s.all.joint_angle_coverage.size(), 2u);
+  EXPECT_TRUE(std::isnan(s.all.joint_angle_coverage[1].fraction()));  // not estimated: no 0%
+  EXPECT_DOUBLE_EQ(s.all.bias_coverage.fraction(), 0.9);
+  // Camera: 3 estimated components per sample, x always outside.
+  EXPECT_EQ(s.all.camera_offset_coverage.estimated, 300u);
+  EXPECT_DOUBLE_EQ(s.all.camera_offset_coverage.fraction(), 2.0 / 3.0);
+  EXPECT_EQ(s.all.camera_translation_m.p50, 0.02);
+  // From 5 s: angle errors 2.0 .. 3.96, of which only 2.0 is within.
+  EXPECT_EQ(s.converged.angle_coverage.estimated, 50u);
+  EXPECT_EQ(s.converged.angle_coverage.within, 1u);
+  EXPECT_DOUBLE_EQ(s.converged.bias_coverage.fraction(), 1.0);
+  // Without standard deviations (or truth) there is nothing to say.
+  MethodScores bare("bare", {"a"});
+  bare.add(0.0, {0.1, 0.1}, std::vector<double>{0.1}, std::vector<double>{0.1});
+  const MethodSummary b = bare.summary(opt);
+  EXPECT_EQ(b.all.angle_coverage.estimated, 0u);
+  EXPECT_TRUE(std::isnan(b.all.angle_coverage.fraction()));
+  EXPECT_TRUE(b.all.joint_angle_coverage.empty());
+  EXPECT_EQ(b.all.camera_translation_m.count, 0u);
+}
+
+TEST(Scoring, CameraOffsetOfInvertsTheVirtualJoints) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  for (int trial = 0; trial < 20; ++trial) {
+    CameraOffset o;
+    for (int k = 0; k < 6; ++k) o[k] = u(rng);
+    // robot_model.h: T = Trans(x, y, z) Rx(roll) Ry(pitch) Rz(yaw).
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = o.head<3>();
+    T.linear() = (Eigen::AngleAxisd(o[3], Eigen::Vector3d::UnitX()) *
+                  Eigen::AngleAxisd(o[4], Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(o[5], Eigen::Vector3d::UnitZ()))
+                     .toRotationMatrix();
+    EXPECT_LT((camera_offset_of(T) - o).cwiseAbs().maxCoeff(), 1e-12) << o.transpose();
+  }
+}
+
+TEST(Scoring, CameraPosesFollowTheModelsVirtualJoints) {
+  const auto model = std::make_shared<const RobotModel>(
+      RobotModel::from_urdf_string(test::kRobotUrdf, ".", RobotModelOptions{}));
+  CameraPoses poses(model);
+  const int n = model->num_joints() - 6;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  Eigen::VectorXd angles(n);
+  for (int j = 0; j < n; ++j) angles[j] = u(rng);
+  // The nominal camera at these angles: no offset.
+  KinematicsState state(*model);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model->num_joints());
+  q.head(n) = angles;
+  forward_kinematics(*model, q, state);
+  const Eigen::Isometry3d nominal = state.T_root_link[model->nominal_camera_link()];
+  EXPECT_TRUE(poses.camera(angles, CameraOffset::Zero()).isApprox(nominal, 1e-14));
+  // A known offset: 2 cm along the camera's x and 1 degree about its z.
+  CameraOffset known = CameraOffset::Zero();
+  known[0] = 0.02;
+  known[5] = M_PI / 180;
+  const Eigen::Isometry3d moved = poses.camera(angles, known);
+  const PoseError e = pose_error(moved, nominal);
+  EXPECT_NEAR(e.translation_m, 0.02, 1e-12);
+  EXPECT_NEAR(e.rotation_rad, M_PI / 180, 1e-12);
+  EXPECT_NEAR((nominal.inverse() * moved).translation().x(), 0.02, 1e-12);
+  // offset_to finds the offset that reaches a pose, and camera() goes back.
+  for (int trial = 0; trial < 10; ++trial) {
+    Eigen::Isometry3d target = nominal;
+    target.translation() += Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.1;
+    target.linear() =
+        target.linear() * Eigen::AngleAxisd(u(rng), Eigen::Vector3d(u(rng), u(rng), 1).normalized())
+                              .toRotationMatrix();
+    const CameraOffset o = poses.offset_to(angles, target);
+    EXPECT_TRUE(poses.camera(angles, o).isApprox(target, 1e-12));
+  }
+  // A model without virtual joints cannot be used.
+  RobotModelOptions plain;
+  plain.add_virtual_camera_joints = false;
+  EXPECT_THROW(CameraPoses(std::make_shared<const RobotModel>(
+                   RobotModel::from_urdf_string(test::kRobotUrdf, ".", plain))),
+               InputError);
+}
+
 TEST(Scoring, BadInputIsNamed) {
   auto expect_error = [](auto&& f, const std::string& field) {
     try {
@@ -220,6 +461,24 @@ TEST(Scoring, BadInputIsNamed) {
   expect_error([&] { m.summary(opt); }, "convergence_threshold_m");
   expect_error([&] { m.summary(ScoringOptions{}, &ref); }, "runs");
   expect_error([&] { m.merge(MethodScores("fusion", {"b"})); }, "different joints");
+  opt = ScoringOptions{};
+  opt.lost_threshold_m = 0.0;
+  expect_error([&] { m.summary(opt); }, "lost_threshold_m");
+  opt = ScoringOptions{};
+  opt.lost_after_s = -1.0;
+  expect_error([&] { m.summary(opt); }, "lost_after_s");
+  ErrorTrace two(0, 2);
+  expect_error([&] { two.add(0.0, {0.1, 0.1}); }, "expected 2");
+  ScoredSample x;
+  x.end_effectors = {{0.1, 0.1}};
+  x.camera_offset_std = {0.1, 0.1};
+  expect_error([&] { ErrorTrace().add(x); }, "camera offset values have 2");
+  x.camera_offset_std = {};
+  ErrorTrace with_camera;
+  x.camera = PoseError{0.1, 0.1};
+  with_camera.add(x);
+  x.camera.reset();
+  expect_error([&] { with_camera.add(x); }, "every sample");
 }
 
 }  // namespace

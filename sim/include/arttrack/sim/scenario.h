@@ -64,7 +64,8 @@ struct ScenarioScoring {
   ScoringOptions options;
   // Also score every N joint steps (0: only at camera frames).
   int every_n_joint_steps = 0;
-  // End effectors scored (links of the URDF); their errors are pooled.
+  // End effectors scored (links of the URDF), each with its own statistics
+  // and a pooled worst (scoring.h).
   std::vector<std::string> end_effectors;
 };
 
@@ -137,6 +138,12 @@ JointTrajectory make_trajectory(const Scenario& scenario,
                                 const std::vector<std::string>& joint_names,
                                 const std::vector<JointLimit>& limits,
                                 const std::vector<double>& home_rad, std::mt19937_64& rng);
+
+// Reads the scoring options of a `scoring` map (scenarios and dataset.yaml):
+// converged_after_s, convergence_threshold_m, lost_threshold_m,
+// lost_after_s; absent keys keep `options`' values. Wrong types and values
+// out of range: InputError naming the file and the key.
+void read_scoring_options(const ConfigNode& scoring, ScoringOptions& options);
 
 // The default scenario: scenarios/default.yaml in the source tree.
 std::filesystem::path default_scenario_path();

@@ -14,12 +14,16 @@
 // N joint steps if the scenario says so), each scored end effector's pose in
 // the method's estimated camera frame against its true pose in the true
 // camera frame; per joint, estimated minus true angle and bias (true bias:
-// EncoderCorruption::bias_rad()).
+// EncoderCorruption::bias_rad()); the estimated camera frame (the nominal
+// model's forward kinematics at the estimated angles and camera offset)
+// against the simulator's true camera, both relative to the robot base; and
+// the reported standard deviations against these errors (consistency).
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -109,6 +113,13 @@ struct TruthSample {
   Eigen::VectorXd angle_rad, bias_rad;
   // Scored end effectors in the TRUE camera frame (ScenarioResult::end_effectors order).
   std::vector<Eigen::Isometry3d> T_camera_ee;
+  // The true camera frame relative to the robot base (the URDF root link),
+  // and the camera offset (virtual camera joints, scoring.h CameraOffset)
+  // that puts the tracker's nominal model's camera there at the true angles:
+  // the offset a method should estimate. Unknown (nullopt, offset 0) in
+  // datasets without camera truth.
+  std::optional<Eigen::Isometry3d> T_base_camera;
+  CameraOffset camera_offset = CameraOffset::Zero();
   // Share of the robot's pixels hidden by something else in front of it:
   // (robot pixels of the robot-alone render where the full scene is nearer)
   // / (robot pixels of the robot-alone render). NaN where not rendered (not
@@ -124,14 +135,30 @@ struct TruthSample {
 struct EstimateSample {
   Eigen::VectorXd angle_rad, angle_std_rad;  // ScenarioResult::joint_names order
   Eigen::VectorXd bias_rad, bias_std_rad;
-  // Virtual camera joints: x, y, z (m), roll, pitch, yaw (rad).
-  Eigen::Matrix<double, 6, 1> camera_offset = Eigen::Matrix<double, 6, 1>::Zero();
+  // Virtual camera joints: x, y, z (m), roll, pitch, yaw (rad), and their
+  // standard deviations (0: not estimated).
+  CameraOffset camera_offset = CameraOffset::Zero();
+  CameraOffset camera_offset_std = CameraOffset::Zero();
   // Scored end effectors in the ESTIMATED camera frame, and their errors.
   std::vector<Eigen::Isometry3d> T_camera_ee;
   std::vector<PoseError> ee_error;
+  // The estimated camera frame against TruthSample::T_base_camera (NaN
+  // without camera truth).
+  PoseError camera_error{std::numeric_limits<double>::quiet_NaN(),
+                         std::numeric_limits<double>::quiet_NaN()};
   // The tracker's own verdict on its newest image (TrackerEstimate::health).
   TrackingHealth health;
 };
+
+// Scores one method's estimate against the truth at a scored instant: the
+// sample kept in the run's results and the one its ErrorTrace gets. The
+// truth's angles and biases are in the estimate's joint order;
+// angles_known / biases_known say whether they are real (a dataset may lack
+// them). `camera` (may be null: no camera scoring) is the tracker's nominal
+// model; it is used only where the truth has a camera pose.
+EstimateSample score_estimate(const TrackerEstimate& estimate, const TruthSample& truth,
+                              CameraPoses* camera, bool angles_known, bool biases_known,
+                              ScoredSample& scored);
 
 // One method in one run.
 struct MethodRun {
@@ -181,8 +208,9 @@ struct MethodTiming {
 // Everything about one method over all runs.
 struct MethodResult {
   std::string method;
-  // One ErrorTrace per run; one sample per (scored instant, end effector),
-  // with per-joint angle and bias errors.
+  // One ErrorTrace per run; one sample per scored instant with every scored
+  // end effector's errors, per-joint angle and bias errors, the camera's and
+  // the reported standard deviations.
   MethodScores scores;
   MethodSummary summary;
   MethodTiming timing;

@@ -5,19 +5,32 @@
 // over the samples of a sequence, pooled over runs with different seeds (the
 // paper's box plots over 10 runs).
 //
-// Also scored: per-joint angle and bias errors, the time a method takes to
-// converge, and how often it is worse than a reference method (encoders
-// only) at the same times.
+// Every scored end effector has its own statistics, and a pooled "worst":
+// per sample, the largest translation error over the end effectors (and,
+// separately, the largest rotation error), so that a lost arm cannot hide
+// behind a good one.
+//
+// Also scored: per-joint angle and bias errors; the estimated camera frame
+// (relative to the robot base) against the true one; the time a method takes
+// to converge; lost runs (an end effector off by more than a threshold for
+// more than a while after the convergence window starts); how often a method
+// is worse than a reference method (encoders only) at the same times; and
+// its consistency: how often the truth lies within the two standard
+// deviations the method reports.
 #pragma once
 
 #include <Eigen/Geometry>
 
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
 
 namespace arttrack::sim {
 
@@ -55,27 +68,93 @@ struct Percentiles {
 // estimate) counts as +infinity: the worst error.
 Percentiles percentiles(std::span<const double> values);
 
-// The errors of one method in one run, in time order. Per-joint errors are
-// all or nothing per trace: every sample has them (num_joints values) or
+// The six virtual camera joints (robot_model.h: x, y, z in metres, then
+// roll, pitch, yaw in radians, T = Trans(x, y, z) Rx(roll) Ry(pitch) Rz(yaw))
+// that give the transform T_nominal_corrected. Pitch in [-pi/2, pi/2];
+// exact for |pitch| < pi/2.
+using CameraOffset = Eigen::Matrix<double, 6, 1>;
+CameraOffset camera_offset_of(const Eigen::Isometry3d& T_nominal_corrected);
+
+// Camera frames of a robot model with virtual camera joints, relative to the
+// robot base (the URDF root link), by the model's own forward kinematics.
+// One instance per thread (it holds a kinematics workspace).
+class CameraPoses {
+ public:
+  // Throws InputError if the model has no virtual camera joints.
+  explicit CameraPoses(std::shared_ptr<const RobotModel> model);
+
+  // The corrected camera frame at physical joint angles `angle_rad` (the
+  // model's DOF order, virtual joints excluded) and camera offset `offset`.
+  Eigen::Isometry3d camera(const Eigen::VectorXd& angle_rad, const CameraOffset& offset);
+  // The camera offset that puts the corrected camera frame at
+  // T_base_camera when the physical joints are at `angle_rad`:
+  // camera_offset_of(T_base_nominal(angle_rad)^-1 T_base_camera).
+  CameraOffset offset_to(const Eigen::VectorXd& angle_rad, const Eigen::Isometry3d& T_base_camera);
+
+ private:
+  std::shared_ptr<const RobotModel> model_;
+  KinematicsState state_;
+  Eigen::VectorXd q_;
+};
+
+// What one method got wrong at one scored instant, and how sure it said it
+// was. Vectors left empty are unknown (no truth, or not reported); a
+// standard deviation of 0 means "not estimated" (TrackerEstimate's
+// convention).
+struct ScoredSample {
+  double time_s = 0;
+  // One per end effector of the trace.
+  std::vector<PoseError> end_effectors;
+  // Per joint: estimate - truth, rad, and the reported standard deviation.
+  std::vector<double> angle_error_rad, angle_std_rad;
+  std::vector<double> bias_error_rad, bias_std_rad;
+  // The estimated camera frame against the true one, both relative to the
+  // robot base (nullopt: no camera truth).
+  std::optional<PoseError> camera;
+  // Virtual camera joints (CameraOffset order): estimate - truth, and the
+  // reported standard deviation.
+  std::vector<double> camera_offset_error, camera_offset_std;
+};
+
+// The errors of one method in one run, in time order, for one or several end
+// effectors. Every optional part of a sample (per-joint errors, standard
+// deviations, camera) is all or nothing per trace: every sample has it or
 // none does.
 class ErrorTrace {
  public:
-  explicit ErrorTrace(std::size_t num_joints = 0) : num_joints_(num_joints) {}
+  explicit ErrorTrace(std::size_t num_joints = 0, std::size_t num_end_effectors = 1)
+      : num_joints_(num_joints), num_end_effectors_(num_end_effectors) {}
 
-  // Adds a sample at time_s. angle_error_rad and bias_error_rad (estimate -
-  // truth per joint, rad) are empty or have num_joints values. Throws
-  // InputError if time_s is earlier than the previous sample or not finite,
-  // or if the per-joint errors are present in some samples and not others.
+  // Adds a sample. Throws InputError if its time is earlier than the
+  // previous sample's or not finite, if it has the wrong number of end
+  // effectors, joints or camera offset values, or if an optional part is
+  // present in some samples and not others.
+  void add(const ScoredSample& sample);
+  // One end effector (the trace must have one): a pose error and optional
+  // per-joint errors (estimate - truth per joint, rad; empty or num_joints
+  // values).
   void add(double time_s, const PoseError& ee, std::span<const double> angle_error_rad = {},
            std::span<const double> bias_error_rad = {});
 
   std::size_t size() const { return time_s_.size(); }
   std::size_t num_joints() const { return num_joints_; }
+  std::size_t num_end_effectors() const { return num_end_effectors_; }
   const std::vector<double>& time_s() const { return time_s_; }
+  // Per sample, the worst over the end effectors (the largest translation
+  // error, and separately the largest rotation error; NaN, a lost estimate,
+  // is the worst); with one end effector, its errors.
   const std::vector<double>& translation_m() const { return translation_m_; }
   const std::vector<double>& rotation_rad() const { return rotation_rad_; }
-  bool has_angle_errors() const { return !angle_error_rad_.empty(); }
-  bool has_bias_errors() const { return !bias_error_rad_.empty(); }
+  // End effector e alone: its pose errors, nothing else.
+  ErrorTrace end_effector(std::size_t e) const;
+
+  bool has_angle_errors() const { return has(kAngleError); }
+  bool has_bias_errors() const { return has(kBiasError); }
+  bool has_angle_std() const { return has(kAngleStd); }
+  bool has_bias_std() const { return has(kBiasStd); }
+  bool has_camera() const { return has(kCamera); }
+  bool has_camera_offset_errors() const { return has(kCameraOffsetError); }
+  bool has_camera_offset_std() const { return has(kCameraOffsetStd); }
   // Error of joint j at sample i, rad (only if has_*_errors()).
   double angle_error_rad(std::size_t i, std::size_t j) const {
     return angle_error_rad_[i * num_joints_ + j];
@@ -83,12 +162,44 @@ class ErrorTrace {
   double bias_error_rad(std::size_t i, std::size_t j) const {
     return bias_error_rad_[i * num_joints_ + j];
   }
+  double angle_std_rad(std::size_t i, std::size_t j) const {
+    return angle_std_rad_[i * num_joints_ + j];
+  }
+  double bias_std_rad(std::size_t i, std::size_t j) const {
+    return bias_std_rad_[i * num_joints_ + j];
+  }
+  // The camera frame's errors per sample (empty unless has_camera()).
+  const std::vector<double>& camera_translation_m() const { return camera_translation_m_; }
+  const std::vector<double>& camera_rotation_rad() const { return camera_rotation_rad_; }
+  // Virtual camera joint k (0..5) at sample i.
+  double camera_offset_error(std::size_t i, std::size_t k) const {
+    return camera_offset_error_[i * 6 + k];
+  }
+  double camera_offset_std(std::size_t i, std::size_t k) const {
+    return camera_offset_std_[i * 6 + k];
+  }
 
  private:
-  std::size_t num_joints_;
+  enum Part : unsigned {
+    kAngleError = 1,
+    kBiasError = 2,
+    kAngleStd = 4,
+    kBiasStd = 8,
+    kCamera = 16,
+    kCameraOffsetError = 32,
+    kCameraOffsetStd = 64,
+  };
+  bool has(Part p) const { return parts_ != kUnknown && (parts_ & p); }
+  static constexpr unsigned kUnknown = ~0u;
+
+  std::size_t num_joints_, num_end_effectors_;
   std::vector<double> time_s_, translation_m_, rotation_rad_;
-  std::vector<double> angle_error_rad_, bias_error_rad_;  // sample-major
-  int joint_errors_state_ = -1;  // -1 unknown, then bit 0 angles, bit 1 biases
+  std::vector<double> ee_translation_m_, ee_rotation_rad_;  // sample-major
+  std::vector<double> angle_error_rad_, bias_error_rad_;    // sample-major
+  std::vector<double> angle_std_rad_, bias_std_rad_;        // sample-major
+  std::vector<double> camera_translation_m_, camera_rotation_rad_;
+  std::vector<double> camera_offset_error_, camera_offset_std_;  // sample-major
+  unsigned parts_ = kUnknown;  // Part bits, fixed by the first sample
 };
 
 // First sample time after which the translational error stays below
@@ -116,8 +227,50 @@ struct ScoringOptions {
   double converged_after_s = 10.0;
   // Translational error below which a method counts as converged, m (> 0).
   double convergence_threshold_m = 0.01;
+  // A run is lost for a method when an end effector's translational error
+  // stays above lost_threshold_m (m, > 0) for more than lost_after_s (s,
+  // > 0) at or after converged_after_s.
+  double lost_threshold_m = 0.02;
+  double lost_after_s = 1.0;
 
   void validate() const;
+};
+
+// A stretch of consecutive samples whose translational error is above the
+// lost threshold.
+struct LostSpan {
+  double from_s = 0;      // its first sample
+  double duration_s = 0;  // from its first to its last sample
+};
+
+// The first stretch of consecutive samples at time >= converged_after_s
+// whose translational error is above lost_threshold_m (NaN, a lost
+// estimate, is above) and that lasts more than lost_after_s, from its first
+// sample to its last (a conservative measure: the error may have been above
+// a little longer, between samples); nullopt if there is none. For a trace
+// of several end effectors this looks at the worst per sample; use
+// ErrorTrace::end_effector for one.
+std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions& options);
+
+// How often the truth lies within two reported standard deviations.
+struct Coverage {
+  // (sample, component) pairs whose reported standard deviation is not 0
+  // (0: not estimated).
+  std::size_t estimated = 0;
+  // Of those, |estimate - truth| <= 2 standard deviations (a NaN error or
+  // standard deviation is outside).
+  std::size_t within = 0;
+  // within / estimated; NaN when nothing was estimated.
+  double fraction() const {
+    return estimated ? double(within) / double(estimated)
+                     : std::numeric_limits<double>::quiet_NaN();
+  }
+  void add(double error, double std);
+  Coverage& operator+=(const Coverage& o) {
+    estimated += o.estimated;
+    within += o.within;
+    return *this;
+  }
 };
 
 // Statistics over a set of samples pooled over runs.
@@ -129,6 +282,26 @@ struct ErrorStats {
   std::vector<Percentiles> joint_bias_abs_error_rad;
   // Against the reference method, pooled over runs (compared = 0 without).
   ReferenceComparison reference;
+  // The estimated camera frame against the true one (count 0 without camera
+  // truth).
+  Percentiles camera_translation_m;
+  Percentiles camera_rotation_rad;
+  // Consistency: true angles, biases and camera offset within two reported
+  // standard deviations, over all joints (all six virtual joints), and per
+  // joint (empty without standard deviations or truth).
+  Coverage angle_coverage, bias_coverage, camera_offset_coverage;
+  std::vector<Coverage> joint_angle_coverage, joint_bias_coverage;
+};
+
+// Statistics of one end effector of a method over all its runs: pose errors
+// and the comparison with the reference only.
+struct EndEffectorSummary {
+  std::string name;
+  ErrorStats all, converged;
+  // Per run: time_to_converge_s at convergence_threshold_m (nullopt: never).
+  std::vector<std::optional<double>> time_to_converge_s;
+  // Per run: the stretch for which this end effector is lost (nullopt: not lost).
+  std::vector<std::optional<LostSpan>> lost;
 };
 
 // Summary of one method over all its runs.
@@ -136,45 +309,59 @@ struct MethodSummary {
   std::string method;
   std::vector<std::string> joint_names;
   std::size_t num_runs = 0;
+  // The pooled worst over the end effectors (ErrorTrace::translation_m):
+  // with one end effector, its statistics. Per-joint, camera and
+  // consistency statistics are here only.
   ErrorStats all;        // every sample
   ErrorStats converged;  // samples at time >= converged_after_s
-  // Per run: time_to_converge_s at convergence_threshold_m (nullopt: never).
+  // Per run: time_to_converge_s of the worst (nullopt: never).
   std::vector<std::optional<double>> time_to_converge_s;
+  // One per end effector, in the scores' order.
+  std::vector<EndEffectorSummary> end_effectors;
+
+  // Runs in which at least one end effector is lost.
+  std::size_t lost_runs() const;
+  bool run_lost(std::size_t run) const;
 };
 
 // Accumulates one method's errors over runs (one ErrorTrace per run).
 class MethodScores {
  public:
-  // joint_names: the joints per-joint errors refer to, in order.
-  MethodScores(std::string method, std::vector<std::string> joint_names);
+  // joint_names: the joints per-joint errors refer to, in order;
+  // end_effectors: the end effectors of each sample, in order (at least one).
+  MethodScores(std::string method, std::vector<std::string> joint_names,
+               std::vector<std::string> end_effectors = {"end_effector"});
 
   // Starts a new run (another seed); add() then appends to it.
   void begin_run();
   // Adds a sample to the current run (starting the first run if none); see
   // ErrorTrace::add.
+  void add(const ScoredSample& sample);
   void add(double time_s, const PoseError& ee, std::span<const double> angle_error_rad = {},
            std::span<const double> bias_error_rad = {});
-  // Appends a whole run. Throws InputError if its joint count differs.
+  // Appends a whole run. Throws InputError if its joint or end-effector
+  // count differs.
   void add_run(ErrorTrace run);
   // Pools another accumulator's runs of the same method into this one.
-  // Throws InputError if the joint names differ.
+  // Throws InputError if the joint or end-effector names differ.
   void merge(const MethodScores& other);
 
   const std::string& method() const { return method_; }
   const std::vector<std::string>& joint_names() const { return joint_names_; }
+  const std::vector<std::string>& end_effectors() const { return end_effectors_; }
   const std::vector<ErrorTrace>& runs() const { return runs_; }
 
   // Percentiles over all samples of all runs and over the converged ones,
-  // times to converge, and, given a reference (e.g. encoders only) with the
-  // same runs in the same order, the share of samples worse than it. Throws
-  // InputError for invalid options or a reference with a different number
-  // of runs.
+  // per end effector and of the worst, times to converge, lost runs, and,
+  // given a reference (e.g. encoders only) with the same runs in the same
+  // order, the share of samples worse than it. Throws InputError for invalid
+  // options or a reference with a different number of runs or end effectors.
   MethodSummary summary(const ScoringOptions& options,
                         const MethodScores* reference = nullptr) const;
 
  private:
   std::string method_;
-  std::vector<std::string> joint_names_;
+  std::vector<std::string> joint_names_, end_effectors_;
   std::vector<ErrorTrace> runs_;
 };
 
