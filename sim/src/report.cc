@@ -778,6 +778,61 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
   line_chart(o, c);
 }
 
+// The tracker's own verdict over time (TrackerEstimate::health, run 0): the
+// share of the estimate's rendered robot that the image contradicts (sees
+// through) and explains, and when it called itself lost.
+void health_section(std::ostringstream& o, const ScenarioResult& r) {
+  if (r.runs.empty()) return;
+  const RunResult& run = r.runs[0];
+  LineChart c;
+  c.id = "health-time";
+  c.frame.width = 1160;
+  c.frame.height = 300;
+  c.x_label = "time, s";
+  c.y_label = "share of the estimate's robot pixels, %";
+  c.include_zero = true;
+  c.min_span = 100;
+  c.x_hi = r.duration_s > 0 ? r.duration_s : 1.0;
+  std::vector<std::string> lost;
+  for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
+    const MethodRun* m = method_run(run, r.methods[mi]);
+    if (!m) continue;
+    Series contradicted, explained;
+    contradicted.name = r.methods[mi] + ": contradicted";
+    explained.name = r.methods[mi] + ": explained";
+    contradicted.colour = explained.colour = method_colour(r.methods[mi], mi);
+    explained.dashed = true;
+    double lost_s = 0, previous_t = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < run.truth.size() && i < m->samples.size(); ++i) {
+      const TrackingHealth& h = m->samples[i].health;
+      const double t = run.truth[i].time_s;
+      if (h.state == TrackingHealth::State::kLost) lost_s += t - previous_t;
+      previous_t = t;
+      if (h.state == TrackingHealth::State::kNoImage) continue;
+      any = true;
+      contradicted.x.push_back(t);
+      contradicted.y.push_back(100 * h.whole.contradicted_fraction);
+      explained.x.push_back(t);
+      explained.y.push_back(100 * h.whole.explained_fraction);
+    }
+    if (!any) continue;
+    std::ostringstream l;
+    l << text::html_escape(r.methods[mi]) << ": lost for " << fixed(lost_s, 1) << " s";
+    lost.push_back(l.str());
+    c.series.push_back(std::move(contradicted));
+    c.series.push_back(std::move(explained));
+  }
+  if (c.series.empty()) return;
+  c.title = "Health over time, run 0: the estimate's render against the image";
+  o << "<h2>Tracker health</h2>\n<p>Solid: share of the estimate's rendered robot pixels that "
+       "the camera sees through (contradicted); dashed: share within the explained depth. "
+    << "Lost (the tracker's own state): ";
+  for (std::size_t i = 0; i < lost.size(); ++i) o << (i ? "; " : "") << lost[i];
+  o << ".</p>\n";
+  line_chart(o, c);
+}
+
 void bias_section(std::ostringstream& o, const ScenarioResult& r) {
   o << "<h2>Encoder bias: full_fusion's estimate against the truth (run 0)</h2>\n";
   const MethodRun* m = r.runs.empty() ? nullptr : method_run(r.runs[0], "full_fusion");
@@ -1129,6 +1184,7 @@ std::string report_html(const ScenarioResult& r) {
   header(o, r);
   box_section(o, r);
   error_time_section(o, r);
+  health_section(o, r);
   bias_section(o, r);
   camera_section(o, r);
   frames_section(o, r);
