@@ -127,6 +127,10 @@ CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<Sa
     throw InputError("particle filter: proposal_scale = " + std::to_string(params_.proposal_scale) +
                      " must be positive");
   }
+  if (!(params_.bandwidth_factor >= 0) || !std::isfinite(params_.bandwidth_factor)) {
+    throw InputError("particle filter: bandwidth_factor = " +
+                     std::to_string(params_.bandwidth_factor) + " must be >= 0");
+  }
   if (!(params_.no_evidence_nats >= 0)) {
     throw InputError("particle filter: no_evidence_nats = " +
                      std::to_string(params_.no_evidence_nats) + " must be >= 0");
@@ -319,7 +323,12 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     const double* x = particles_.data() + std::size_t(l) * n;
     for (int c = 0; c < n; ++c) variance_[c] += weights_[l] * (x[c] - mean_[c]) * (x[c] - mean_[c]);
   }
+  const double bandwidth = params_.bandwidth_factor * std::pow(double(L), -0.2);
   for (int c = 0; c < n; ++c) {
+    // Never above the prior: an image must not add uncertainty (a floor
+    // above it lets the virtual joints' variance grow without bound).
+    const double h = std::min(bandwidth * params_.proposal_scale * proposal_std[c], prior_std[c]);
+    variance_[c] = std::max(variance_[c], h * h);
     if (!informed_[c]) {  // in no block, or its block saw no evidence
       mean_[c] = prior_mean[c];
       variance_[c] = prior_std[c] * prior_std[c];

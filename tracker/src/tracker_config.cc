@@ -167,6 +167,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
       pf.number("max_kl_divergence", c.particle_filter.max_kl_divergence, 0, kInf);
   c.particle_filter.proposal_scale =
       pf.number("proposal_scale", c.particle_filter.proposal_scale, 1e-6, 1e6);
+  c.particle_filter.bandwidth_factor =
+      pf.number("bandwidth_factor", c.particle_filter.bandwidth_factor, 0, 10);
   c.likelihood_exponent = pf.number("likelihood_exponent", c.likelihood_exponent, 1e-3, 1);
   c.seed = pf.get<unsigned long long>("seed", c.seed);
   c.threads = int(pf.number("threads", c.threads, 0, 1024));

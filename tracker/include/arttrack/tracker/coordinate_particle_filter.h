@@ -163,6 +163,16 @@ struct CoordinateParticleFilterParams {
   // A block whose log-likelihood ratios span at most this, nats, over the
   // possible particles has seen no evidence (see top).
   double no_evidence_nats = 1e-6;
+  // L particles drawn with standard deviation s resolve the posterior no
+  // finer than a kernel density estimate's bandwidth, h = bandwidth_factor
+  // L^(-1/5) s (Silverman's rule of thumb: 1.06). The moment-matched
+  // standard deviation of an informed coordinate is at least h: when the
+  // weights collapse onto one particle its variance says nothing, and a
+  // variance of 0 would pin the joint's bias (and claim a certainty the
+  // particles never had). Capped at the prior's standard deviation (factor
+  // 2 without the cap: the camera offset ran away by metres). 0: no floor
+  // (the paper's moment matching).
+  double bandwidth_factor = 1.06;
 };
 
 // One CPF over a fixed dimension and block layout; keeps its particles and

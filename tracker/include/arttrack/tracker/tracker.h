@@ -12,6 +12,29 @@
 // moments are folded back into the joint filters and the later joint
 // readings are re-filtered (belief_buffer.h).
 //
+// Beyond the paper (full fusion; docs/accuracy.md has the measurements):
+// - Acquisition. The paper's CPF starts at the prior mean and moment-matches
+//   a few particles, so at the first image a joint can settle in a wrong
+//   mode (e.g. a wrist folded out of view, which scores better than an arm
+//   slightly misaligned) and its collapsed variance never lets it leave. At
+//   the first image the tracker runs an annealed search instead: CPF passes
+//   over the same image with a coarse-to-fine depth noise (a wide noise gives
+//   a nearly aligned arm credit, so the search has a basin to follow), each
+//   pass proposing around the previous one, the last targeting the filter's
+//   prior exactly (importance-corrected).
+// - Re-acquisition (augmented MCL). Every acquisition.period_s, and when the
+//   health check says lost, the prior of every joint whose bias is estimated
+//   is re-opened around the encoder reading with a broad bias, searched the
+//   same way, and each kinematic chain takes the result when the image plus
+//   that prior prefer it: a chain in a wrong mode, or whose encoder bias
+//   jumped, comes back; a right one keeps its belief.
+// - Health. After each image the robot is rendered at the estimate's mean
+//   and compared with the image: the share of its pixels the camera sees
+//   through (contradicted) or confirms (explained), whole and per chain; a
+//   contradicted share above a threshold for a few images is "lost".
+// - A floor on the moment-matched variance (CoordinateParticleFilterParams::
+//   bandwidth_factor), so that collapsed weights do not claim certainty.
+//
 // Threads: in synchronous mode everything happens in the caller's thread and
 // the numbers are a deterministic function of the input. In asynchronous
 // mode an image update runs on a worker thread while joint updates go on;
