@@ -118,6 +118,8 @@ struct Tracker::Impl {
   double last_acquisition_s = kNoTime;
   int images_seen = 0;
   int poor_images = 0;
+  std::vector<char> chain_poor;     // per chain: contradicted above the threshold at the last image
+  bool periodic_search = false;     // the current reacquire() is the periodic one
   TrackingHealth health;            // the image thread's
   TrackingHealth published_health;  // guarded by mutex
   // Rendering the estimate (health, acquisition checks) at the likelihood's resolution.
@@ -278,6 +280,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       chains.push_back(std::move(members));
       chain_links.push_back(model->links_moved_by(j));
       health.chains.push_back({model->joint_name(j)});
+      chain_poor.push_back(0);
     }
     health.whole.name = "all";
     check_kinematics = KinematicsState(*render_model);
@@ -406,8 +409,10 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   if (acquisition_on && !first && !reading_at_t.empty()) {
     const bool periodic =
         config.acquisition.period_s > 0 && t - last_acquisition_s >= config.acquisition.period_s;
-    if (periodic || poor_images >= config.health.lost_after_images)
+    if (periodic || poor_images >= config.health.lost_after_images) {
+      periodic_search = periodic && poor_images < config.health.lost_after_images;
       reacquire(prior, reading_at_t, camera, image.image, t);
+    }
   }
   update_health(prior, image.image, image.stamp_s);
   if (config.asynchronous) lock.lock();
@@ -504,6 +509,10 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     return -0.5 * u * u;
   };
   for (std::size_t c = 0; c < chains.size(); ++c) {
+    // Triggered by the health check, only the chains it found poor may
+    // change: a chain out of view (no verdict) keeps what the encoders say,
+    // rather than a search placing it over some other surface.
+    if (!periodic_search && !chain_poor[c]) continue;
     double gain = 0;
     bool differs = false;
     for (int j : chains[c]) {
@@ -561,7 +570,8 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
   for (std::size_t c = 0; c < chains.size(); ++c) {
     check_renderer->render_links(check_kinematics, chain_links[c], check_image);
     assess(health.chains[c]);
-    poor = poor || health.chains[c].contradicted_fraction > h.lost_contradicted_fraction;
+    chain_poor[c] = health.chains[c].contradicted_fraction > h.lost_contradicted_fraction;
+    poor = poor || chain_poor[c];
   }
   poor_images = poor ? poor_images + 1 : 0;
   health.state = poor_images >= h.lost_after_images ? TrackingHealth::State::kLost

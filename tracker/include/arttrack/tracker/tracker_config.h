@@ -93,7 +93,7 @@ struct TrackerConfig {
     // Proposal standard deviation of search pass k: the prior's times shrink^k.
     double proposal_shrink = 0.5;
     // A periodic search from the encoders every this many seconds (0: never).
-    double period_s = 1.0;
+    double period_s = 0.0;
     // Bias standard deviation of the re-opened prior a search starts from
     // (the encoders' reading, bias 0), rad.
     double bias_std_rad = 20 * 0.017453292519943295;  // 20 degrees
