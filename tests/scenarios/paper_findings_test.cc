@@ -52,7 +52,13 @@ TEST(PaperFindings, ConstantBiasEncodersAreCentimetresOffFullFusionMillimetres) 
   // offset only 232.5 mm [247.7]; full fusion after 8 s p50 5.4 mm [5.5], p99
   // 8.9 mm [8.6] (over the whole run p99 76.6 mm: the first second).
   EXPECT_GT(all(r, "encoders_only").p50, 150 * kMm);
-  EXPECT_LT(all(r, "camera_offset_only").p50, all(r, "encoders_only").p50);
+  // The camera offset's help is the paper's claim for the moving (left) arm;
+  // with both hands scored, the worst is the still right arm's, which a
+  // camera offset fitted to the whole image does not bring closer.
+  const auto left = [&](const char* m) {
+    return method(r, m).summary.end_effectors.at(0).all.translation_m;
+  };
+  EXPECT_LT(left("camera_offset_only").p50, left("encoders_only").p50);
   EXPECT_GT(all(r, "camera_offset_only").p50, 100 * kMm);
   EXPECT_LT(converged(r, "full_fusion").p50, 10 * kMm);
   EXPECT_LT(converged(r, "full_fusion").p99, 20 * kMm);
