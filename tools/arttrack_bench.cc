@@ -138,13 +138,13 @@ void run_bench(const BenchArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  if (args.seed < -1) throw InputError("--seed must be >= 0");
-  if (args.evaluations < 0) throw InputError("--evaluations must be >= 1");
-  if (args.threads < -1) throw InputError("--threads must be >= 0");
+  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
+  if (args.threads < -1) throw UsageError("--threads must be >= 0");
   if (args.cylinder_segments < 0 || (args.cylinder_segments > 0 && args.cylinder_segments < 3))
-    throw InputError("--cylinder-segments must be >= 3");
+    throw UsageError("--cylinder-segments must be >= 3");
   if (args.sphere_segments < 0 || (args.sphere_segments > 0 && args.sphere_segments < 4))
-    throw InputError("--sphere-segments must be >= 4");
+    throw UsageError("--sphere-segments must be >= 4");
 
   TrackerConfig config = scenario.tracker;
   config.source = scenario.tracker_file.string();
@@ -156,7 +156,7 @@ void run_bench(const BenchArgs& args) {
     char x = 0, extra = 0;
     std::istringstream in(args.resolution);
     if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w <= 0 || h <= 0)
-      throw InputError("--resolution '" + args.resolution + "': expected WIDTHxHEIGHT, e.g. 80x60");
+      throw UsageError("--resolution '" + args.resolution + "': expected WIDTHxHEIGHT, e.g. 80x60");
     config.depth_model.width = w;
     config.depth_model.height = h;
   }

@@ -30,7 +30,7 @@ struct ExportArgs {
 };
 
 void run_export(const ExportArgs& args) {
-  if (args.seed < -1) throw InputError("--seed must be >= 0");
+  if (args.seed < -1) throw UsageError("--seed must be >= 0");
   const auto start = std::chrono::steady_clock::now();
   const sim::ExportSummary s =
       sim::export_scenario(args.scenario, args.overrides, args.seed, args.out_dir);

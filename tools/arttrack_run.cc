@@ -85,8 +85,8 @@ void run(const RunArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  if (args.runs < 0) throw InputError("--runs must be >= 1");
-  if (args.seed < -1) throw InputError("--seed must be >= 0");
+  if (args.runs < 0) throw UsageError("--runs must be >= 1");
+  if (args.seed < -1) throw UsageError("--seed must be >= 0");
 
   sim::RunOptions options;
   options.runs = args.runs;

@@ -32,7 +32,7 @@ struct TrackArgs {
 };
 
 void run_track(const TrackArgs& args) {
-  if (args.every < 0) throw InputError("--every must be >= 0");
+  if (args.every < 0) throw UsageError("--every must be >= 0");
   std::optional<fs::path> urdf;
   if (!args.urdf.empty()) urdf = args.urdf;
   const sim::Dataset dataset = sim::load_dataset(args.dataset, urdf);
