@@ -140,7 +140,6 @@ void run_bench(const BenchArgs& args) {
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.seed < -1) throw UsageError("--seed must be >= 0");
   if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
-  if (args.threads < -1) throw UsageError("--threads must be >= 0");
   if (args.cylinder_segments < 0 || (args.cylinder_segments > 0 && args.cylinder_segments < 3))
     throw UsageError("--cylinder-segments must be >= 3");
   if (args.sphere_segments < 0 || (args.sphere_segments > 0 && args.sphere_segments < 4))
@@ -297,7 +296,9 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads,
-                  "Image update worker threads, 0 = one per core (default: the configuration's)");
+                  "Image update worker threads, 0 = one per core, at most " +
+                      std::to_string(kMaxWorkerThreads) + " (default: the configuration's)")
+      ->check(CLI::Range(0, kMaxWorkerThreads));
   cmd->add_option("--cylinder-segments", args->cylinder_segments,
                   "Sides of URDF cylinders in the hypotheses' model (default: the configuration's "
                   "render.cylinder_segments, else the model's)");
