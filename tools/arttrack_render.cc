@@ -138,7 +138,7 @@ void register_render(CLI::App& app) {
                    std::to_string(int(kMaxRenderTimeS)) + "]";
           },
           "SECONDS"));
-  cmd->add_option("--out", args->out_dir, "Output folder")->required();
+  cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
   cmd->add_option("--segments", args->segments,
                   "Sides of the tracker's cylinders and spheres (default: the tracker's own)")
       ->check(CLI::Range(3, 1024));

@@ -137,7 +137,8 @@ void register_run(CLI::App& app) {
                   "vision_only (default: the scenario's)");
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)");
+  cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)")
+      ->check(non_empty_name());
   cmd->add_flag("--realtime", args->realtime,
                 "Pace the simulation at wall-clock speed with asynchronous trackers; report "
                 "dropped images and capture-to-estimate latency");

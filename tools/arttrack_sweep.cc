@@ -193,7 +193,8 @@ void register_sweep(CLI::App& app) {
                   "A method fails in a cell where the failure statistic exceeds this (m)");
   cmd->add_option("--fail-statistic", args->fail_statistic,
                   "Statistic compared with the threshold (default converged_p50_translation_m)");
-  cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)");
+  cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)")
+      ->check(non_empty_name());
   cmd->callback([args] { sweep(*args); });
 }
 

@@ -87,7 +87,7 @@ void register_track(CLI::App& app) {
                   "vision_only (default: the dataset's, else all it allows)");
   cmd->add_option("--every", args->every,
                   "Also write an estimate.csv row every N joint readings (default 0)");
-  cmd->add_option("--out", args->out_dir, "Output folder")->required();
+  cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
   cmd->callback([args] { run_track(*args); });
 }
 

@@ -19,6 +19,13 @@ class UsageError : public InputError {
   using InputError::InputError;
 };
 
+// Check for --out and other folder or file names: an empty one is a usage
+// error (it would silently mean the working directory).
+inline CLI::Validator non_empty_name() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string { return s.empty() ? "must not be empty" : ""; }, "NAME");
+}
+
 void register_render(CLI::App& app);
 void register_run(CLI::App& app);
 void register_sweep(CLI::App& app);

@@ -2,9 +2,15 @@
 # expect.sh CODE PATTERN PROGRAM ARGS...
 # Runs PROGRAM ARGS in a fresh temporary folder (stdin empty, at most 60 s)
 # and passes when it exits with CODE and its output (stdout and stderr)
-# matches the extended regular expression PATTERN.
+# matches the extended regular expression PATTERN. An argument @EMPTY@ is
+# passed as the empty string (CMake drops empty arguments).
 code=$1 pattern=$2
 shift 2
+for arg; do
+  shift
+  [ "$arg" = @EMPTY@ ] && arg=
+  set -- "$@" "$arg"
+done
 dir=$(mktemp -d) || exit 1
 trap 'rm -rf "$dir"' EXIT
 cd "$dir" || exit 1
