@@ -194,8 +194,9 @@ void run_bench(const BenchArgs& args) {
 
   const TrackerStats stats = sink.tracker().stats();
   const sim::Percentiles joint_us = sim::percentiles(sink.joint_update_us());
-  const sim::Percentiles image_ms = sim::percentiles(stats.image_update_ms);
-  const sim::Percentiles refilter_ms = sim::percentiles(stats.refilter_ms);
+  const sim::Percentiles image_ms = sim::percentiles(stats.images.values(&ImageTiming::update_ms));
+  const sim::Percentiles refilter_ms =
+      sim::percentiles(stats.images.values(&ImageTiming::refilter_ms));
   sim::MethodScores scores(method_name(TrackingMethod::kFullFusion), {});
   scores.add_run(sink.trace());
   const sim::MethodSummary summary = scores.summary(scenario.scoring.options);

@@ -968,7 +968,7 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
       m.summary = scores[i].summary(r.scoring, reference == &scores[i] ? nullptr : reference);
     const MethodRun& mr = r.runs[0].methods[i];
     m.timing.joint_update_us = percentiles(mr.joint_update_us);
-    m.timing.image_update_ms = percentiles(mr.stats.image_update_ms);
+    m.timing.image_update_ms = percentiles(mr.stats.images.values(&ImageTiming::update_ms));
     m.timing.evaluations_per_image =
         mr.stats.images_applied
             ? double(mr.stats.likelihood_evaluations) / double(mr.stats.images_applied)
