@@ -1,5 +1,7 @@
 // arttrack: articulated robot tracking in a MuJoCo testbed.
-// Errors a user can cause are printed on one line, with a non-zero exit.
+// Errors a user can cause are printed on one line, with a non-zero exit:
+// 1 for a runtime error (a bad input file, unstable physics, I/O), 2 for a
+// usage error (an unknown option, a missing or out-of-range argument).
 #include <exception>
 #include <iostream>
 
@@ -8,6 +10,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"arttrack: probabilistic articulated robot tracking and its MuJoCo testbed"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "arttrack " ARTTRACK_VERSION);
   arttrack::cli::register_render(app);
   arttrack::cli::register_run(app);
   arttrack::cli::register_sweep(app);
@@ -19,10 +22,14 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Help and --version: CLI11's success; anything else is a usage error.
+    return app.exit(e) == 0 ? arttrack::cli::kExitSuccess : arttrack::cli::kExitUsageError;
+  } catch (const arttrack::cli::UsageError& e) {
+    std::cerr << "arttrack: usage error: " << e.what() << "\n";
+    return arttrack::cli::kExitUsageError;
   } catch (const std::exception& e) {
     std::cerr << "arttrack: error: " << e.what() << "\n";
-    return 1;
+    return arttrack::cli::kExitRuntimeError;
   }
-  return 0;
+  return arttrack::cli::kExitSuccess;
 }

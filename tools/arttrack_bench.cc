@@ -138,13 +138,12 @@ void run_bench(const BenchArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  if (args.seed < -1) throw InputError("--seed must be >= 0");
-  if (args.evaluations < 0) throw InputError("--evaluations must be >= 1");
-  if (args.threads < -1) throw InputError("--threads must be >= 0");
+  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
   if (args.cylinder_segments < 0 || (args.cylinder_segments > 0 && args.cylinder_segments < 3))
-    throw InputError("--cylinder-segments must be >= 3");
+    throw UsageError("--cylinder-segments must be >= 3");
   if (args.sphere_segments < 0 || (args.sphere_segments > 0 && args.sphere_segments < 4))
-    throw InputError("--sphere-segments must be >= 4");
+    throw UsageError("--sphere-segments must be >= 4");
 
   TrackerConfig config = scenario.tracker;
   config.source = scenario.tracker_file.string();
@@ -156,7 +155,7 @@ void run_bench(const BenchArgs& args) {
     char x = 0, extra = 0;
     std::istringstream in(args.resolution);
     if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w <= 0 || h <= 0)
-      throw InputError("--resolution '" + args.resolution + "': expected WIDTHxHEIGHT, e.g. 80x60");
+      throw UsageError("--resolution '" + args.resolution + "': expected WIDTHxHEIGHT, e.g. 80x60");
     config.depth_model.width = w;
     config.depth_model.height = h;
   }
@@ -195,8 +194,9 @@ void run_bench(const BenchArgs& args) {
 
   const TrackerStats stats = sink.tracker().stats();
   const sim::Percentiles joint_us = sim::percentiles(sink.joint_update_us());
-  const sim::Percentiles image_ms = sim::percentiles(stats.image_update_ms);
-  const sim::Percentiles refilter_ms = sim::percentiles(stats.refilter_ms);
+  const sim::Percentiles image_ms = sim::percentiles(stats.images.values(&ImageTiming::update_ms));
+  const sim::Percentiles refilter_ms =
+      sim::percentiles(stats.images.values(&ImageTiming::refilter_ms));
   sim::MethodScores scores(method_name(TrackingMethod::kFullFusion), {});
   scores.add_run(sink.trace());
   const sim::MethodSummary summary = scores.summary(scenario.scoring.options);
@@ -297,7 +297,9 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads,
-                  "Image update worker threads, 0 = one per core (default: the configuration's)");
+                  "Image update worker threads, 0 = one per core, at most " +
+                      std::to_string(kMaxWorkerThreads) + " (default: the configuration's)")
+      ->check(CLI::Range(0, kMaxWorkerThreads));
   cmd->add_option("--cylinder-segments", args->cylinder_segments,
                   "Sides of URDF cylinders in the hypotheses' model (default: the configuration's "
                   "render.cylinder_segments, else the model's)");

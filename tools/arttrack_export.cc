@@ -30,7 +30,7 @@ struct ExportArgs {
 };
 
 void run_export(const ExportArgs& args) {
-  if (args.seed < -1) throw InputError("--seed must be >= 0");
+  if (args.seed < -1) throw UsageError("--seed must be >= 0");
   const auto start = std::chrono::steady_clock::now();
   const sim::ExportSummary s =
       sim::export_scenario(args.scenario, args.overrides, args.seed, args.out_dir);
@@ -53,7 +53,9 @@ void register_export(CLI::App& app) {
                   "Scenario seed, as for arttrack run (default: the scenario's)");
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Dataset folder to write")->required();
+  cmd->add_option("--out", args->out_dir, "Dataset folder to write")
+      ->required()
+      ->check(non_empty_name());
   cmd->callback([args] { run_export(*args); });
 }
 

@@ -9,7 +9,9 @@
 // of the robot alone.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -29,6 +31,9 @@ namespace arttrack::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Upper bound on --time: an hour of simulated time (minutes of computing).
+constexpr double kMaxRenderTimeS = 3600;
 
 struct RenderArgs {
   std::string input;
@@ -56,7 +61,6 @@ Eigen::VectorXd tracker_joints(const RobotModel& robot, const sim::Simulator& si
 void run(const RenderArgs& args) {
   const fs::path input = args.input.empty() ? sim::default_scene_path() : fs::path(args.input);
   const sim::SceneDescription scene = sim::load_scene(sim::resolve_scene_file(input));
-  if (args.time_s < 0) throw InputError("--time must not be negative");
   const fs::path out = args.out_dir;
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -121,8 +125,20 @@ void register_render(CLI::App& app) {
       "render", "Render the simulator's depth and the tracker's robot render; compare them");
   cmd->add_option("scene", args->input,
                   "Scene or scenario YAML (default: models/scene_default.yaml)");
-  cmd->add_option("--time", args->time_s, "Simulated time before rendering, seconds (default 0)");
-  cmd->add_option("--out", args->out_dir, "Output folder")->required();
+  cmd->add_option("--time", args->time_s,
+                  "Simulated time before rendering, seconds, at most " +
+                      std::to_string(int(kMaxRenderTimeS)) + " (default 0)")
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            char* end = nullptr;
+            const double t = std::strtod(s.c_str(), &end);
+            if (!s.empty() && *end == 0 && std::isfinite(t) && t >= 0 && t <= kMaxRenderTimeS)
+              return "";
+            return s + " is not a number of seconds in [0, " +
+                   std::to_string(int(kMaxRenderTimeS)) + "]";
+          },
+          "SECONDS"));
+  cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
   cmd->add_option("--segments", args->segments,
                   "Sides of the tracker's cylinders and spheres (default: the tracker's own)")
       ->check(CLI::Range(3, 1024));

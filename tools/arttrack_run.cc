@@ -85,8 +85,8 @@ void run(const RunArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  if (args.runs < 0) throw InputError("--runs must be >= 1");
-  if (args.seed < -1) throw InputError("--seed must be >= 0");
+  if (args.runs < 0) throw UsageError("--runs must be >= 1");
+  if (args.seed < -1) throw UsageError("--seed must be >= 0");
 
   sim::RunOptions options;
   options.runs = args.runs;
@@ -137,7 +137,8 @@ void register_run(CLI::App& app) {
                   "vision_only (default: the scenario's)");
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)");
+  cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)")
+      ->check(non_empty_name());
   cmd->add_flag("--realtime", args->realtime,
                 "Pace the simulation at wall-clock speed with asynchronous trackers; report "
                 "dropped images and capture-to-estimate latency");

@@ -76,7 +76,7 @@ void sweep(const SweepArgs& args) {
   spec.overrides = args.overrides;
   for (const std::string& g : args.grid) spec.axes.push_back(sim::parse_grid_axis(g));
   spec.methods = split_commas(args.methods);
-  if (args.runs < 0) throw InputError("--runs must be >= 1");
+  if (args.runs < 0) throw UsageError("--runs must be >= 1");
   spec.runs = args.runs;
   spec.fail_threshold_m = args.fail_threshold_m;
   spec.fail_statistic = args.fail_statistic;
@@ -193,7 +193,8 @@ void register_sweep(CLI::App& app) {
                   "A method fails in a cell where the failure statistic exceeds this (m)");
   cmd->add_option("--fail-statistic", args->fail_statistic,
                   "Statistic compared with the threshold (default converged_p50_translation_m)");
-  cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)");
+  cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)")
+      ->check(non_empty_name());
   cmd->callback([args] { sweep(*args); });
 }
 

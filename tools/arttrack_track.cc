@@ -32,7 +32,7 @@ struct TrackArgs {
 };
 
 void run_track(const TrackArgs& args) {
-  if (args.every < 0) throw InputError("--every must be >= 0");
+  if (args.every < 0) throw UsageError("--every must be >= 0");
   std::optional<fs::path> urdf;
   if (!args.urdf.empty()) urdf = args.urdf;
   const sim::Dataset dataset = sim::load_dataset(args.dataset, urdf);
@@ -87,7 +87,7 @@ void register_track(CLI::App& app) {
                   "vision_only (default: the dataset's, else all it allows)");
   cmd->add_option("--every", args->every,
                   "Also write an estimate.csv row every N joint readings (default 0)");
-  cmd->add_option("--out", args->out_dir, "Output folder")->required();
+  cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
   cmd->callback([args] { run_track(*args); });
 }
 

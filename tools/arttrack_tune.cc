@@ -109,7 +109,8 @@ void register_tune(CLI::App& app) {
   cmd->add_option("--runs", args->runs, "Runs per scenario (default: each scenario's)");
   cmd->add_option("--set", args->overrides, "Override a key of every scenario, e.g. duration_s=5")
       ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Output folder (default out/tune)");
+  cmd->add_option("--out", args->out_dir, "Output folder (default out/tune)")
+      ->check(non_empty_name());
   cmd->callback([args] { tune(*args); });
 }
 

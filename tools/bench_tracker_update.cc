@@ -10,7 +10,6 @@
 #include <benchmark/benchmark.h>
 
 #include <memory>
-#include <numeric>
 
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/scene.h"
@@ -84,8 +83,7 @@ void BM_DelayedImageUpdate(benchmark::State& state) {
   }
   const TrackerStats s = tracker.stats();
   state.counters["evaluations"] = s.last_evaluations_per_image;
-  state.counters["refilter_ms"] =
-      std::accumulate(s.refilter_ms.begin(), s.refilter_ms.end(), 0.0) / s.refilter_ms.size();
+  state.counters["refilter_ms"] = s.images.mean_refilter_ms();
   state.counters["applied"] = s.images_applied;
 }
 BENCHMARK(BM_DelayedImageUpdate)

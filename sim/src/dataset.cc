@@ -134,6 +134,10 @@ DatasetCamera read_camera_yaml(const fs::path& path) {
   c.intrinsics.fy = n.required_number("fy", 1e-6, 1e9);
   c.intrinsics.cx = n.required_number("cx", -1e9, 1e9);
   c.intrinsics.cy = n.required_number("cy", -1e9, 1e9);
+  if (const std::string p = c.intrinsics.problem(); !p.empty()) {
+    const auto colon = p.find(':');
+    n.fail(p.substr(0, colon), p.substr(colon + 2));
+  }
   c.frame = n.get<std::string>("frame", c.frame);
   if (n.has("delay_s")) c.delay_s = n.number("delay_s", 0, 0, 10);
   c.depth_unit_m = n.number("depth_unit_m", c.depth_unit_m, 1e-9, 1);
@@ -964,7 +968,7 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
       m.summary = scores[i].summary(r.scoring, reference == &scores[i] ? nullptr : reference);
     const MethodRun& mr = r.runs[0].methods[i];
     m.timing.joint_update_us = percentiles(mr.joint_update_us);
-    m.timing.image_update_ms = percentiles(mr.stats.image_update_ms);
+    m.timing.image_update_ms = percentiles(mr.stats.images.values(&ImageTiming::update_ms));
     m.timing.evaluations_per_image =
         mr.stats.images_applied
             ? double(mr.stats.likelihood_evaluations) / double(mr.stats.images_applied)

@@ -103,6 +103,16 @@ bool read_raw(const char* path, RawImage* img, PngError* err) {
   img->height = png_get_image_height(png, info);
   img->bit_depth = png_get_bit_depth(png, info);
   img->color_type = png_get_color_type(png, info);
+  // The header's size is the file's claim: check it before allocating.
+  if (img->width > png_uint_32(kMaxDepthPngSide) || img->height > png_uint_32(kMaxDepthPngSide)) {
+    std::snprintf(err->message, sizeof(err->message),
+                  "the header claims %lux%lu pixels; at most %dx%d are allowed",
+                  (unsigned long)img->width, (unsigned long)img->height, kMaxDepthPngSide,
+                  kMaxDepthPngSide);
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(fp);
+    return false;
+  }
   if (img->color_type == PNG_COLOR_TYPE_GRAY && img->bit_depth < 8)
     png_set_expand_gray_1_2_4_to_8(png);
   png_read_update_info(png, info);
@@ -160,12 +170,15 @@ DepthImage read_depth_png_mm(const fs::path& path) {
     fail(path, std::string("cannot read PNG: ") + err.message);
   if (img.color_type != PNG_COLOR_TYPE_GRAY)
     fail(path, "a depth PNG must be single-channel greyscale (no colour, no alpha)");
+  // 8 bits of millimetres reach 0.255 m: such a file is a picture, not depth.
+  if (img.bit_depth != 16)
+    fail(path, "a " + std::to_string(img.bit_depth) +
+                   "-bit PNG is not a depth image: depth PNGs are 16-bit millimetres");
   DepthImage depth(int(img.width), int(img.height));
   for (int v = 0; v < depth.height; ++v)
     for (int u = 0; u < depth.width; ++u) {
-      const unsigned char* p = img.rows[v] + (img.bit_depth == 16 ? 2 * u : u);
-      const int mm = img.bit_depth == 16 ? (p[0] << 8) | p[1] : p[0];
-      depth.at(u, v) = float(mm * 1e-3);
+      const unsigned char* p = img.rows[v] + 2 * u;
+      depth.at(u, v) = float(((p[0] << 8) | p[1]) * 1e-3);
     }
   return depth;
 }

@@ -256,13 +256,14 @@ class Run {
       // End to end: from capture to delivery (the scenario's latency, and any
       // lag of the simulation behind the wall clock), then inside the tracker.
       const TrackerStats& st = result_.methods[i].stats;
-      for (std::size_t k = 0; k < st.image_stamp_s.size(); ++k) {
+      for (std::size_t k = 0; k < st.images.size(); ++k) {
+        const ImageTiming& image = st.images[k];
         const auto it = std::lower_bound(
-            delivered_.begin(), delivered_.end(), st.image_stamp_s[k],
+            delivered_.begin(), delivered_.end(), image.stamp_s,
             [](const std::pair<double, double>& d, double stamp) { return d.first < stamp; });
-        if (it == delivered_.end() || it->first != st.image_stamp_s[k]) continue;
+        if (it == delivered_.end() || it->first != image.stamp_s) continue;
         result_.methods[i].image_latency_ms.push_back(1e3 * (it->second - it->first) +
-                                                      st.image_latency_ms[k]);
+                                                      image.latency_ms);
       }
     }
     return std::move(result_);
@@ -488,8 +489,8 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
       const MethodRun& mr = run.methods[i];
       latency_ms.insert(latency_ms.end(), mr.image_latency_ms.begin(), mr.image_latency_ms.end());
       joint_us.insert(joint_us.end(), mr.joint_update_us.begin(), mr.joint_update_us.end());
-      image_ms.insert(image_ms.end(), mr.stats.image_update_ms.begin(),
-                      mr.stats.image_update_ms.end());
+      const std::vector<double> update_ms = mr.stats.images.values(&ImageTiming::update_ms);
+      image_ms.insert(image_ms.end(), update_ms.begin(), update_ms.end());
       evaluations += mr.stats.likelihood_evaluations;
       images += mr.stats.images_applied;
     }

@@ -1,6 +1,10 @@
 #include "arttrack/sim/simulator.h"
 
 #include <cassert>
+#include <cmath>
+#include <sstream>
+
+#include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
 
@@ -45,12 +49,64 @@ void Simulator::set_occluder_pose(int occluder, const Eigen::Isometry3d& T_world
   mj_forward(model_->mj.get(), data_.get());
 }
 
+namespace {
+
+// MuJoCo's warnings that mean the state has blown up (a value not finite or
+// beyond 1e10): it then resets the state (and the clock) and carries on.
+constexpr mjtWarning kInstabilityWarnings[] = {mjWARN_BADQPOS, mjWARN_BADQVEL, mjWARN_BADQACC};
+
+const char* warning_name(int w) {
+  switch (w) {
+    case mjWARN_BADQPOS:
+      return "bad number in joint positions";
+    case mjWARN_BADQVEL:
+      return "bad number in joint velocities";
+    case mjWARN_BADQACC:
+      return "bad number in joint accelerations";
+    default:
+      return "warning";
+  }
+}
+
+bool finite(const mjtNum* x, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(x[i])) return false;
+  return true;
+}
+
+}  // namespace
+
 void Simulator::step() {
   const mjModel* m = model_->mj.get();
-  mj_step(m, data_.get());
+  mjData* d = data_.get();
+  const double t_before = d->time;
+  int warnings_before[mjNWARNING];
+  for (int w = 0; w < mjNWARNING; ++w) warnings_before[w] = d->warning[w].number;
+  mj_step(m, d);
   // mj_step leaves positions-derived quantities (poses, forces) at the state
   // before integration; recompute them for the state after it.
-  mj_forward(m, data_.get());
+  mj_forward(m, d);
+
+  const char* what = nullptr;
+  for (mjtWarning w : kInstabilityWarnings) {
+    if (d->warning[w].number > warnings_before[w]) {
+      what = warning_name(w);
+      break;
+    }
+  }
+  if (!what && !(d->time > t_before)) what = "the clock was reset";
+  if (!what && !(finite(d->qpos, m->nq) && finite(d->qvel, m->nv) && finite(d->qacc, m->nv)))
+    what = "non-finite state";
+  if (what) {
+    std::ostringstream msg;
+    msg << model_->scene.source << ": the physics went unstable at simulated time " << t_before
+        << " s (MuJoCo: " << what << "); likely cause: a time step too large for the servos "
+        << "(timestep_s = " << m->opt.timestep << "), too little damping, or extreme gravity ("
+        << std::sqrt(m->opt.gravity[0] * m->opt.gravity[0] + m->opt.gravity[1] * m->opt.gravity[1] +
+                     m->opt.gravity[2] * m->opt.gravity[2])
+        << " m/s^2) or gains";
+    throw InputError(msg.str());
+  }
 }
 
 void Simulator::run_until(double t_s, const TargetFunction& targets) {

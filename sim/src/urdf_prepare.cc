@@ -3,7 +3,7 @@
 #include <tinyxml2.h>
 
 #include <fstream>
-#include <set>
+#include <map>
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
@@ -96,7 +96,7 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
   info.source = urdf;
   const fs::path urdf_dir = fs::absolute(urdf).parent_path();
 
-  std::set<std::string> children;
+  std::map<std::string, std::string> children;  // link -> the joint it is the child of
   for (XMLElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
     const char* name = l->Attribute("name");
     if (!name) throw InputError(where + ": a <link> has no name");
@@ -110,7 +110,9 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
     const XMLElement* child = j->FirstChildElement("child");
     if (!child || !child->Attribute("link")) throw InputError(context + " has no child link");
     const std::string child_link = child->Attribute("link");
-    children.insert(child_link);
+    if (const auto [it, added] = children.emplace(child_link, name); !added)
+      throw InputError(where + ": link '" + child_link + "' is the child of joints '" + it->second +
+                       "' and '" + name + "'; a URDF is a tree (no kinematic loops)");
     info.T_parent_link[child_link] = parse_origin(j, context);
     const std::string t = type;
     const bool movable = t == "revolute" || t == "continuous" || t == "prismatic";

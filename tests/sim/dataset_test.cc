@@ -457,6 +457,20 @@ TEST_F(DatasetTest, BadIndexTruthAndCameraFilesAreNamed) {
   e = error_of([&] { load_dataset(d); });
   EXPECT_ERROR_HAS(e, camera.string());
   EXPECT_ERROR_HAS(e, "'fx'");
+  // Values that parse but make every image meaningless name their field.
+  const auto with_value = [&](const std::string& key, const std::string& value) {
+    std::string text = camera_text;
+    const auto at = text.find("\n" + key + ":") + 1;
+    text.replace(at, text.find('\n', at) - at, key + ": " + value);
+    return text;
+  };
+  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
+           {"fx", "1e-6"}, {"fy", "1e9"}, {"cx", "1e9"}, {"cy", "-5"}}) {
+    write_text(camera, with_value(key, value));
+    e = error_of([&] { load_dataset(d); });
+    EXPECT_ERROR_HAS(e, camera.string());
+    EXPECT_ERROR_HAS(e, "'" + key + "'");
+  }
   write_text(camera, camera_text);
 
   fs::remove(d / "robot.urdf");

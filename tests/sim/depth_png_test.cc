@@ -7,10 +7,15 @@
 
 #include <png.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
+#include <string>
+#include <vector>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
@@ -115,6 +120,62 @@ TEST(DepthPng, ErrorsNameTheFile) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("x.png"), std::string::npos);
   }
+}
+
+std::string read_error(const fs::path& path) {
+  return test_support::error_of([&] { read_depth_png_mm(path); });
+}
+
+// An 8-bit greyscale PNG is not millimetres (it would read as 0..0.255 m).
+TEST(DepthPng, EightBitIsAnErrorNamingFileAndBitDepth) {
+  const fs::path path = test_path("eight_bit.png");
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 4;
+  image.height = 3;
+  image.format = PNG_FORMAT_GRAY;
+  const std::vector<png_byte> pixels(12, 200);
+  ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr));
+  const std::string e = read_error(path);
+  EXPECT_NE(e.find("eight_bit.png"), std::string::npos) << e;
+  EXPECT_NE(e.find("8-bit"), std::string::npos) << e;
+}
+
+std::uint32_t crc32(const unsigned char* p, size_t n) {
+  std::uint32_t c = 0xffffffffu;
+  for (size_t i = 0; i < n; ++i) {
+    c ^= p[i];
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+
+// A header that claims more pixels than the bound is refused before the
+// image is allocated (here 9000 x 9000 in a file of a few bytes).
+TEST(DepthPng, HugeHeaderIsRefusedBeforeAllocating) {
+  const fs::path path = test_path("huge.png");
+  write_depth_png_mm(path, DepthImage(2, 2, 1.f));
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // Signature (8), IHDR length (4), "IHDR" (4), width, height (4 each, big
+  // endian), 5 more header bytes, then the CRC of "IHDR" + data.
+  ASSERT_EQ(bytes.substr(12, 4), "IHDR");
+  auto* b = reinterpret_cast<unsigned char*>(bytes.data());
+  for (int o : {16, 20}) {
+    const std::uint32_t side = 9000;
+    b[o] = side >> 24, b[o + 1] = (side >> 16) & 0xff, b[o + 2] = (side >> 8) & 0xff,
+    b[o + 3] = side & 0xff;
+  }
+  const std::uint32_t crc = crc32(b + 12, 17);
+  b[29] = crc >> 24, b[30] = (crc >> 16) & 0xff, b[31] = (crc >> 8) & 0xff, b[32] = crc & 0xff;
+  std::ofstream(path, std::ios::binary) << bytes;
+  const std::string e = read_error(path);
+  EXPECT_NE(e.find("huge.png"), std::string::npos) << e;
+  EXPECT_NE(e.find("9000x9000"), std::string::npos) << e;
+  EXPECT_NE(e.find(std::to_string(kMaxDepthPngSide)), std::string::npos) << e;
 }
 
 }  // namespace

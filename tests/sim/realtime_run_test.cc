@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <vector>
 
 #include "arttrack/sim/scenario_runner.h"
 #include "scenario_test_robot.h"
@@ -48,15 +49,15 @@ TEST(RealtimeRun, PacesTheSimulationAndMeasuresTheLatencyOfEveryAppliedImage) {
                 s.images_dropped_busy,
             s.images_received);
   EXPECT_GT(s.images_applied, 0);
-  ASSERT_EQ(s.image_stamp_s.size(), std::size_t(s.images_applied));
-  ASSERT_EQ(s.image_latency_ms.size(), std::size_t(s.images_applied));
+  ASSERT_EQ(s.images.size(), std::size_t(s.images_applied));
   ASSERT_EQ(fusion.image_latency_ms.size(), std::size_t(s.images_applied));
-  EXPECT_TRUE(std::is_sorted(s.image_stamp_s.begin(), s.image_stamp_s.end()));
+  const std::vector<double> stamps = s.images.values(&ImageTiming::stamp_s);
+  EXPECT_TRUE(std::is_sorted(stamps.begin(), stamps.end()));
   for (std::size_t k = 0; k < fusion.image_latency_ms.size(); ++k) {
     // Inside the tracker: at least the update itself.
-    EXPECT_GE(s.image_latency_ms[k], s.image_update_ms[k]);
+    EXPECT_GE(s.images[k].latency_ms, s.images[k].update_ms);
     // End to end: at least the 50 ms delivery delay plus the tracker's part.
-    EXPECT_GE(fusion.image_latency_ms[k], 50.0 + s.image_latency_ms[k] - 1e-6);
+    EXPECT_GE(fusion.image_latency_ms[k], 50.0 + s.images[k].latency_ms - 1e-6);
   }
   const MethodResult* m = r.method("full_fusion");
   ASSERT_NE(m, nullptr);
@@ -74,8 +75,7 @@ TEST(RealtimeRun, OffByDefaultWithoutLatencies) {
   EXPECT_TRUE(fusion.image_latency_ms.empty());
   EXPECT_EQ(r.method("full_fusion")->timing.image_latency_ms.count, 0u);
   // The tracker's own per-image figures are there in either mode.
-  EXPECT_EQ(fusion.stats.image_stamp_s.size(), std::size_t(fusion.stats.images_applied));
-  EXPECT_EQ(fusion.stats.image_latency_ms.size(), std::size_t(fusion.stats.images_applied));
+  EXPECT_EQ(fusion.stats.images.size(), std::size_t(fusion.stats.images_applied));
 }
 
 }  // namespace

@@ -354,6 +354,18 @@ TEST(SimModel, BadInputNamesTheItem) {
   e = build_error(s);
   EXPECT_NE(e.find("package://nope/x.stl"), std::string::npos) << e;
 
+  // A kinematic loop: 'upper' is the child of two joints.
+  s = robot_scene(write_file("loop.urdf", R"(<robot name="r"><link name="base_link"/>
+    <link name="upper"/><link name="fore"/>
+    <joint name="shoulder" type="fixed"><parent link="base_link"/><child link="upper"/></joint>
+    <joint name="elbow" type="fixed"><parent link="upper"/><child link="fore"/></joint>
+    <joint name="wrist" type="fixed"><parent link="fore"/><child link="upper"/></joint>
+    </robot>)"));
+  e = build_error(s);
+  EXPECT_NE(e.find("loop.urdf"), std::string::npos) << e;
+  EXPECT_NE(e.find("link 'upper' is the child of joints 'shoulder' and 'wrist'"), std::string::npos)
+      << e;
+
   s = robot_scene(write_file("malformed.urdf", "<robot name=\"r\"><link name=\"base_link\">"));
   e = build_error(s);
   EXPECT_NE(e.find("malformed.urdf"), std::string::npos) << e;

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "arttrack/tracker/error.h"
+
 namespace arttrack::sim {
 namespace {
 
@@ -185,6 +187,29 @@ TEST(Simulator, OccluderMoves) {
   T.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   sim.set_occluder_pose(model->occluder_index("board"), T);
   EXPECT_TRUE(sim.T_world_body(body).isApprox(T, 1e-12));
+}
+
+// Stiff servos without damping at a huge time step blow up. MuJoCo then
+// resets the state and the clock and carries on (a loop waiting for the clock
+// never ends); the simulator stops with an error naming the time instead.
+TEST(Simulator, UnstablePhysicsIsAnErrorNamingTheTime) {
+  SceneDescription s = arm_scene(1e6, 0);
+  s.timestep_s = 0.1;
+  s.gravity_m_s2 << 0, 0, -1e6;
+  s.source = "unstable.yaml";
+  const auto model = build_sim_model(s);
+  Simulator sim(model);
+  std::string message;
+  for (int i = 0; i < 1000 && message.empty(); ++i) {
+    try {
+      sim.step();
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+  }
+  EXPECT_NE(message.find("unstable.yaml"), std::string::npos) << message;
+  EXPECT_NE(message.find("unstable at simulated time"), std::string::npos) << message;
+  EXPECT_NE(message.find("timestep_s = 0.1"), std::string::npos) << message;
 }
 
 }  // namespace

@@ -5,11 +5,17 @@
 #include <Eigen/Dense>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <numeric>
 #include <random>
 #include <stdexcept>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
@@ -389,6 +395,37 @@ TEST(CoordinateParticleFilter, RejectsBadBlocks) {
   CoordinateParticleFilterParams negative;
   negative.no_evidence_nats = -1;
   EXPECT_THROW(CoordinateParticleFilter(1, {{"a", {0}}}, negative), InputError);
+}
+
+TEST(WorkerPool, RefusesMoreThanTheBound) {
+  const std::string message =
+      test_support::error_of([] { WorkerPool pool(kMaxWorkerThreads + 1); });
+  EXPECT_NE(message.find(std::to_string(kMaxWorkerThreads)), std::string::npos) << message;
+}
+
+// Starts kMaxWorkerThreads workers under an address-space limit that leaves
+// room for a few thread stacks only; exits 0 when that is the documented
+// error, 3 for another error, 4 when the limit did not bite.
+[[noreturn]] void start_pool_beyond_the_address_space() {
+  long pages = 0;
+  std::ifstream("/proc/self/statm") >> pages;
+  const rlim_t room = rlim_t(pages) * rlim_t(sysconf(_SC_PAGESIZE)) + (rlim_t(64) << 20);
+  const rlimit limit{room, room};
+  setrlimit(RLIMIT_AS, &limit);
+  try {
+    WorkerPool pool(kMaxWorkerThreads);
+  } catch (const std::runtime_error& e) {
+    std::_Exit(std::string(e.what()).find("cannot start worker thread") == 0 ? 0 : 3);
+  }
+  std::_Exit(4);
+}
+
+// A thread count the system cannot start is an error, not a deadlock or a
+// std::terminate from threads destroyed unjoined. In a child process, so the
+// limit does not reach the other tests.
+TEST(WorkerPoolDeathTest, ThreadsTheSystemCannotStartAreAnError) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(start_pool_beyond_the_address_space(), ::testing::ExitedWithCode(0), "");
 }
 
 }  // namespace

@@ -162,6 +162,27 @@ TEST(RobotModel, UnsupportedJointTypesNameTheJointAndFile) {
   EXPECT_NO_THROW(RobotModel::from_urdf_string(joint_urdf("revolute"), ""));
 }
 
+// Link 'upper' is the child of two joints: base_link -> upper -> fore ->
+// upper is a kinematic loop, which a tree walk would follow forever.
+constexpr char kLoop[] = R"(<robot name="loop">
+  <link name="base_link"/><link name="upper"/><link name="fore"/>
+  <joint name="shoulder" type="revolute"><parent link="base_link"/><child link="upper"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="wrist" type="fixed"><parent link="fore"/><child link="upper"/></joint>
+</robot>
+)";
+
+TEST(RobotModel, KinematicLoopNamesTheLinkAndBothJoints) {
+  const fs::path path = test_dir() / "loop.urdf";
+  write_file(path, kLoop);
+  const std::string msg = error_of([&] { RobotModel::from_urdf_file(path.string()); });
+  EXPECT_TRUE(contains(msg, path.string()) && contains(msg, "link 'upper'") &&
+              contains(msg, "'shoulder'") && contains(msg, "'wrist'"))
+      << msg;
+}
+
 TEST(RobotModel, MissingCameraFrameIsNamed) {
   RobotModelOptions options;
   options.camera_frame = "head_camera";

@@ -90,5 +90,19 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
             std::string::npos);
 }
 
+TEST(TrackerConfigTest, ThreadsHaveTheWorkerPoolsBound) {
+  const std::string above = tracker_config_error(
+      "particle_filter: {threads: " + std::to_string(kMaxWorkerThreads + 1) + "}\n");
+  EXPECT_NE(above.find("particle_filter.threads"), std::string::npos) << above;
+  EXPECT_EQ(tracker_config_error("particle_filter: {threads: " + std::to_string(kMaxWorkerThreads) +
+                                 "}\n"),
+            "");
+  // Set in code, past the file reader: validate() holds the same bound.
+  TrackerConfig config;
+  config.threads = kMaxWorkerThreads + 1;
+  const std::string code = test_support::error_of([&] { config.validate("c"); });
+  EXPECT_NE(code.find("particle_filter.threads"), std::string::npos) << code;
+}
+
 }  // namespace
 }  // namespace arttrack

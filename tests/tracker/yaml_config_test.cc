@@ -84,6 +84,20 @@ TEST_F(YamlConfigTest, MalformedYamlNamesFileAndLine) {
             std::string::npos);
 }
 
+// yaml-cpp keeps both entries of a duplicated key and a lookup takes one.
+TEST_F(YamlConfigTest, DuplicatedKeyNamesFileKeyAndLine) {
+  const auto f = write("dup.yaml", "a: 1\ncamera:\n  fovy_deg: 45\n  width: 64\n  fovy_deg: 60\n");
+  const std::string msg = message_of([&] { load_yaml_file(f); });
+  EXPECT_NE(msg.find("dup.yaml:5:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'camera.fovy_deg' appears twice (first at line 3)"), std::string::npos)
+      << msg;
+  const std::string top = message_of([&] { load_yaml_string("x: 1\ny: 2\nx: 3\n", "t.yaml"); });
+  EXPECT_NE(top.find("t.yaml:3: key 'x' appears twice"), std::string::npos) << top;
+  const std::string in_list =
+      message_of([&] { load_yaml_string("l:\n  - {n: 1, n: 2}\n", "t.yaml"); });
+  EXPECT_NE(in_list.find("'l[0].n'"), std::string::npos) << in_list;
+}
+
 TEST_F(YamlConfigTest, OverridesCreateAndReplaceKeys) {
   YamlDocument doc = load_yaml_string("encoders: {bias_deg: 1}\n", "s.yaml");
   apply_override(doc, "encoders.bias_deg=5");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <sstream>
 
 namespace arttrack {
 
@@ -15,6 +16,30 @@ CameraIntrinsics CameraIntrinsics::from_vertical_fov(int width, int height, doub
   k.cx = 0.5 * width;
   k.cy = 0.5 * height;
   return k;
+}
+
+std::string CameraIntrinsics::problem() const {
+  if (width <= 0 || height <= 0) return "width, height: must be positive";
+  const auto focal = [](const char* name, double f, int size) -> std::string {
+    constexpr double kDeg = 3.14159265358979323846 / 180;
+    const double lo = 0.5 * size / std::tan(0.5 * kMaxFovDeg * kDeg);
+    const double hi = 0.5 * size / std::tan(0.5 * kMinFovDeg * kDeg);
+    if (f >= lo && f <= hi) return "";
+    std::ostringstream out;
+    out << name << ": " << f << " px must be in [" << lo << ", " << hi << "] for " << size
+        << " pixels (a field of view from " << kMinFovDeg << " to " << kMaxFovDeg << " degrees)";
+    return out.str();
+  };
+  const auto centre = [](const char* name, double c, int size) -> std::string {
+    if (c >= 0 && c <= size) return "";
+    std::ostringstream out;
+    out << name << ": " << c << " px must be inside the image, in [0, " << size << "]";
+    return out.str();
+  };
+  for (const std::string& p : {focal("fx", fx, width), focal("fy", fy, height),
+                               centre("cx", cx, width), centre("cy", cy, height)})
+    if (!p.empty()) return p;
+  return "";
 }
 
 CameraIntrinsics CameraIntrinsics::scaled_to(int new_width, int new_height) const {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 
 #include "arttrack/tracker/error.h"
 
@@ -13,19 +14,40 @@ namespace arttrack {
 // ---------------------------------------------------------------- WorkerPool
 
 WorkerPool::WorkerPool(int num_workers) {
-  if (num_workers <= 0) num_workers = int(std::max(1u, std::thread::hardware_concurrency()));
+  if (num_workers > kMaxWorkerThreads) {
+    throw InputError("worker threads: " + std::to_string(num_workers) + " is more than the " +
+                     std::to_string(kMaxWorkerThreads) + " allowed");
+  }
+  if (num_workers <= 0) {
+    num_workers =
+        int(std::clamp(std::thread::hardware_concurrency(), 1u, unsigned(kMaxWorkerThreads)));
+  }
   num_workers_ = num_workers;
   threads_.reserve(num_workers_ - 1);
-  for (int w = 1; w < num_workers_; ++w) threads_.emplace_back([this, w] { worker_loop(w); });
+  for (int w = 1; w < num_workers_; ++w) {
+    try {
+      threads_.emplace_back([this, w] { worker_loop(w); });
+    } catch (const std::exception& e) {
+      // Workers already started wait on start_: stop them before the
+      // members they use are destroyed.
+      stop_and_join();
+      throw std::runtime_error("cannot start worker thread " + std::to_string(w + 1) + " of " +
+                               std::to_string(num_workers_) + " (" + e.what() +
+                               "): ask for fewer threads");
+    }
+  }
 }
 
-WorkerPool::~WorkerPool() {
+WorkerPool::~WorkerPool() { stop_and_join(); }
+
+void WorkerPool::stop_and_join() {
   {
     std::lock_guard lock(mutex_);
     stop_ = true;
   }
   start_.notify_all();
   for (std::thread& t : threads_) t.join();
+  threads_.clear();
 }
 
 void WorkerPool::worker_loop(int worker) {

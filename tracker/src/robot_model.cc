@@ -178,6 +178,15 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
   model.options_ = options;
   std::map<std::string, TriangleMesh> file_cache;
 
+  // A link that is the child of two joints closes a kinematic loop: the walk
+  // below would never end.
+  std::map<std::string, std::string> parent_joint;  // link -> its joint
+  for (const auto& [name, joint] : urdf_model->joints_) {
+    if (const auto [it, added] = parent_joint.emplace(joint->child_link_name, name); !added)
+      throw InputError(source + ": link '" + joint->child_link_name + "' is the child of joints '" +
+                       it->second + "' and '" + name + "'; a URDF is a tree (no kinematic loops)");
+  }
+
   // Depth-first walk from the root: link indices in preorder, so every
   // parent precedes its children and each subtree is a contiguous range.
   struct Pending {

@@ -450,10 +450,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   ++stats.images_applied;
   stats.last_evaluations_per_image = cpf->num_evaluations();
   stats.likelihood_evaluations += cpf->num_evaluations();
-  stats.refilter_ms.push_back(ms_since(refilter_start));
-  stats.image_update_ms.push_back(ms_since(start));
-  stats.image_stamp_s.push_back(image.stamp_s);
-  stats.image_latency_ms.push_back(ms_since(image.received));
+  stats.images.add(
+      {image.stamp_s, ms_since(start), ms_since(refilter_start), ms_since(image.received)});
 }
 
 // Annealed search (Deutscher et al.'s annealing, as coarse-to-fine depth

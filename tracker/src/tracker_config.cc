@@ -67,6 +67,9 @@ void TrackerConfig::validate(const std::string& context) const {
   if (particle_filter.num_particles < 1) fail("particle_filter.particles must be at least 1");
   if (!(particle_filter.max_kl_divergence >= 0)) fail("particle_filter.max_kl_divergence < 0");
   if (!(particle_filter.proposal_scale > 0)) fail("particle_filter.proposal_scale must be > 0");
+  if (threads < 0 || threads > kMaxWorkerThreads)
+    fail("particle_filter.threads = " + std::to_string(threads) + " must be in [0, " +
+         std::to_string(kMaxWorkerThreads) + "]");
   if (!(camera_delay_s >= 0) || !std::isfinite(camera_delay_s))
     fail("timing.camera_delay_s must be a finite number >= 0");
   if (buffer_capacity < 2) fail("timing.buffer_capacity must be at least 2");
@@ -171,7 +174,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
       pf.number("bandwidth_factor", c.particle_filter.bandwidth_factor, 0, 10);
   c.likelihood_exponent = pf.number("likelihood_exponent", c.likelihood_exponent, 1e-3, 1);
   c.seed = pf.get<unsigned long long>("seed", c.seed);
-  c.threads = int(pf.number("threads", c.threads, 0, 1024));
+  c.threads = int(pf.number("threads", c.threads, 0, kMaxWorkerThreads));
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});

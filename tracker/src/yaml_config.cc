@@ -1,6 +1,7 @@
 #include "arttrack/tracker/yaml_config.h"
 
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
@@ -21,10 +22,34 @@ YAML::Node merge(const YAML::Node& base, const YAML::Node& over) {
   return out;
 }
 
+// A key given twice in one map: yaml-cpp keeps both and a lookup silently
+// takes one of them. `path` is the dotted path of `node` ("" at the top).
+void check_unique_keys(const YAML::Node& node, const std::string& source,
+                       const std::string& path = "") {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      check_unique_keys(node[i], source, path + "[" + std::to_string(i) + "]");
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : YAML::Dump(kv.first);
+    const std::string key_path = path.empty() ? key : path + "." + key;
+    const int line = kv.first.Mark().line + 1;
+    if (const auto [it, added] = first_line.emplace(key, line); !added)
+      throw InputError(source + ":" + std::to_string(line) + ": key '" + key_path +
+                       "' appears twice (first at line " + std::to_string(it->second) + ")");
+    check_unique_keys(kv.second, source, key_path);
+  }
+}
+
 YAML::Node parse_file(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path + ": file not found");
   try {
-    return YAML::LoadFile(path);
+    YAML::Node node = YAML::LoadFile(path);
+    check_unique_keys(node, path);
+    return node;
   } catch (const YAML::ParserException& e) {
     throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
   } catch (const YAML::BadFile&) {
@@ -68,6 +93,7 @@ YamlDocument load_yaml_file(const std::string& path) {
 YamlDocument load_yaml_string(const std::string& text, const std::string& source) {
   try {
     YAML::Node node = YAML::Load(text);
+    check_unique_keys(node, source);
     if (node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
     if (!node.IsMap()) throw InputError(source + ": the top level must be a map of keys");
     return {node, source};

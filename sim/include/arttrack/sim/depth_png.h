@@ -14,8 +14,13 @@ namespace arttrack::sim {
 // write): InputError naming the file.
 void write_depth_png_mm(const std::filesystem::path& path, const DepthImage& depth);
 
-// Reads a 16-bit (or 8-bit) single-channel PNG of millimetres as metres.
-// Missing file, not a PNG, colour or alpha channels: InputError naming the file.
+// Largest width or height read_depth_png_mm accepts, pixels (checked on the
+// header, before anything is allocated): beyond any depth camera.
+inline constexpr int kMaxDepthPngSide = 8192;
+
+// Reads a 16-bit single-channel PNG of millimetres as metres. Missing file,
+// not a PNG, colour or alpha channels, another bit depth than 16, more than
+// kMaxDepthPngSide pixels wide or high: InputError naming the file.
 DepthImage read_depth_png_mm(const std::filesystem::path& path);
 
 // Writes a jet-coloured RGB preview: near red ... far blue between min_m and

@@ -71,7 +71,10 @@ class Simulator {
   void set_occluder_pose(int occluder, const Eigen::Isometry3d& T_world_occluder);
 
   // One physics step of the scene's timestep, then all poses and forces are
-  // recomputed for the new state (mj_step, mj_forward).
+  // recomputed for the new state (mj_step, mj_forward). Unstable physics (a
+  // MuJoCo bad-state warning, its automatic reset of the clock, or a
+  // non-finite state) throws InputError naming the simulated time and the
+  // likely cause, instead of carrying on from a reset state.
   void step();
   // Steps until time_s() >= t_s (within half a step), asking `targets` for
   // the servo targets before every step (none: keep the current targets).

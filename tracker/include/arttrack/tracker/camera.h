@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace arttrack {
@@ -31,6 +32,16 @@ struct CameraIntrinsics {
   CameraIntrinsics scaled_to(int new_width, int new_height) const;
 
   bool operator==(const CameraIntrinsics&) const = default;
+
+  // Limits of a usable camera: the field of view of each axis,
+  // 2 atan(width / (2 fx)) and 2 atan(height / (2 fy)), in [kMinFovDeg,
+  // kMaxFovDeg], and the principal point inside the image (cx in [0, width],
+  // cy in [0, height]).
+  static constexpr double kMinFovDeg = 1;
+  static constexpr double kMaxFovDeg = 170;
+  // The first field ("width", "fx", "cx", ...) outside those limits, with
+  // what would be right, as "fx: ..."; "" when the intrinsics are usable.
+  std::string problem() const;
 };
 
 // A rectangle of pixels [u0, u1) x [v0, v1); empty when u0 >= u1 or v0 >= v1.

@@ -52,11 +52,19 @@
 
 namespace arttrack {
 
+// Upper bound on a WorkerPool's workers (particle_filter.threads, arttrack
+// bench --threads): more than any machine this runs on has cores, few enough
+// that every worker's workspace fits in memory.
+inline constexpr int kMaxWorkerThreads = 256;
+
 // Worker threads kept alive between calls, to split particles across cores.
 // One parallel_for at a time (not re-entrant); the calling thread works too.
 class WorkerPool {
  public:
-  // num_workers <= 0: one per hardware thread. 1: everything in the caller.
+  // num_workers <= 0: one per hardware thread (at most kMaxWorkerThreads).
+  // 1: everything in the caller. Throws InputError above kMaxWorkerThreads,
+  // std::runtime_error when the system cannot start that many threads (the
+  // ones already started are stopped and joined first).
   explicit WorkerPool(int num_workers = 0);
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
@@ -80,6 +88,7 @@ class WorkerPool {
   using Call = void (*)(void*, int, int, int);
   void run(int n, Call call, void* context);
   void worker_loop(int worker);
+  void stop_and_join();
 
   int num_workers_ = 1;
   std::vector<std::thread> threads_;

@@ -43,6 +43,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <span>
@@ -99,7 +100,62 @@ struct TrackerEstimate {
   TrackingHealth health;
 };
 
-// Counters and timings, for reports and benchmarks.
+// Timings of one applied image update.
+struct ImageTiming {
+  double stamp_s = 0;      // the image's time stamp
+  double update_ms = 0;    // wall time of the update
+  double refilter_ms = 0;  // of which: re-filtering the buffered joints
+  // Wall time from its add_depth_image call until the estimate includes it
+  // (waiting included).
+  double latency_ms = 0;
+};
+
+// The timings of the most recent kCapacity applied images (oldest first) and
+// the count and sums of all of them: fixed-size storage whatever the run time.
+// A tracker fed 30 images a second keeps the last 9 minutes; shorter runs
+// keep every image, so their percentiles are those of all images.
+class ImageTimings {
+ public:
+  static constexpr std::size_t kCapacity = 16384;
+
+  void add(const ImageTiming& t) {
+    if (ring_.size() < kCapacity) {
+      if (ring_.empty()) ring_.reserve(kCapacity);  // once: no growth later
+      ring_.push_back(t);
+    } else {
+      ring_[std::size_t(total_ % kCapacity)] = t;
+    }
+    ++total_;
+    sum_update_ms_ += t.update_ms;
+    sum_refilter_ms_ += t.refilter_ms;
+  }
+  // Images kept, min(total(), kCapacity).
+  std::size_t size() const { return ring_.size(); }
+  bool empty() const { return ring_.empty(); }
+  // Images ever added.
+  long long total() const { return total_; }
+  // The k-th oldest image kept, k < size().
+  const ImageTiming& operator[](std::size_t k) const {
+    return ring_.size() < kCapacity ? ring_[k] : ring_[std::size_t((total_ + k) % kCapacity)];
+  }
+  // Means over all images ever added (0 without any).
+  double mean_update_ms() const { return total_ ? sum_update_ms_ / double(total_) : 0.0; }
+  double mean_refilter_ms() const { return total_ ? sum_refilter_ms_ / double(total_) : 0.0; }
+  // One field of the images kept, oldest first.
+  std::vector<double> values(double ImageTiming::*field) const {
+    std::vector<double> out(size());
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = (*this)[k].*field;
+    return out;
+  }
+
+ private:
+  std::vector<ImageTiming> ring_;
+  long long total_ = 0;
+  double sum_update_ms_ = 0, sum_refilter_ms_ = 0;
+};
+
+// Counters and timings, for reports and benchmarks. Fixed size (timings:
+// ImageTimings::kCapacity images at most), whatever the run time.
 struct TrackerStats {
   int joint_measurements = 0;
   int images_received = 0;
@@ -109,12 +165,7 @@ struct TrackerStats {
   int images_dropped_busy = 0;     // asynchronous: arrived while an update ran and a newer one came
   long long likelihood_evaluations = 0;
   int last_evaluations_per_image = 0;
-  std::vector<double> image_update_ms;  // wall time of each applied image update
-  std::vector<double> refilter_ms;      // of which: re-filtering the buffered joints
-  // Per applied image, same order: its time stamp, and the wall time from its
-  // add_depth_image call until the estimate includes it (waiting included).
-  std::vector<double> image_stamp_s;
-  std::vector<double> image_latency_ms;
+  ImageTimings images;  // of the applied images
 };
 
 class Tracker {
