@@ -85,6 +85,7 @@ class BenchSink : public sim::MeasurementSink {
     config_.seed = start.tracker_seed;
     tracker_ = std::make_unique<Tracker>(robot_, config_, start.encoder_joints);
     camera_ = start.camera;
+    trace_ = sim::ErrorTrace(0, start.end_effectors.size());
   }
 
   void joints(int, double time_s, std::span<const double> readings_rad) override {
@@ -106,9 +107,14 @@ class BenchSink : public sim::MeasurementSink {
   }
 
   void truth(int, const sim::TruthSample& truth) override {
+    // One sample per instant with every end effector (scored as `run`
+    // does: per end effector and the worst of them).
     const TrackerEstimate e = tracker_->estimate();
+    sim::ScoredSample sample;
+    sample.time_s = truth.time_s;
     for (std::size_t k = 0; k < truth.T_camera_ee.size(); ++k)
-      trace_.add(truth.time_s, sim::pose_error(e.T_camera_ee[k], truth.T_camera_ee[k]));
+      sample.end_effectors.push_back(sim::pose_error(e.T_camera_ee[k], truth.T_camera_ee[k]));
+    trace_.add(sample);
   }
 
   const Tracker& tracker() const { return *tracker_; }
@@ -197,7 +203,8 @@ void run_bench(const BenchArgs& args) {
   const sim::Percentiles image_ms = sim::percentiles(stats.images.values(&ImageTiming::update_ms));
   const sim::Percentiles refilter_ms =
       sim::percentiles(stats.images.values(&ImageTiming::refilter_ms));
-  sim::MethodScores scores(method_name(TrackingMethod::kFullFusion), {});
+  sim::MethodScores scores(method_name(TrackingMethod::kFullFusion), {},
+                           scenario.scoring.end_effectors);
   scores.add_run(sink.trace());
   const sim::MethodSummary summary = scores.summary(scenario.scoring.options);
   const double realtime_factor = result.duration_s / sink.processing_s();
