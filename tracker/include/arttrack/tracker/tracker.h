@@ -22,18 +22,19 @@
 //   a nearly aligned arm credit, so the search has a basin to follow), each
 //   pass proposing around the previous one, the last targeting the filter's
 //   prior exactly (importance-corrected).
-// - Re-acquisition (augmented MCL). Every acquisition.period_s, and when the
-//   health check says lost, the prior of every joint whose bias is estimated
-//   is re-opened around the encoder reading with a broad bias, searched the
-//   same way, and each kinematic chain takes the result when the image plus
-//   that prior prefer it: a chain in a wrong mode, or whose encoder bias
-//   jumped, comes back; a right one keeps its belief.
+// - Re-acquisition (augmented MCL). When the health check says lost (and,
+//   if acquisition.period_s > 0, periodically), the prior of every joint
+//   whose bias is estimated is re-opened around the encoder reading with a
+//   broad bias and searched the same way; each chain the health check found
+//   poor (every chain, for the periodic search) takes the result when the
+//   image plus that prior prefer it: a chain whose encoder bias jumped comes
+//   back, a chain out of view keeps what the encoders say.
 // - Health. After each image the robot is rendered at the estimate's mean
 //   and compared with the image: the share of its pixels the camera sees
 //   through (contradicted) or confirms (explained), whole and per chain; a
 //   contradicted share above a threshold for a few images is "lost".
-// - A floor on the moment-matched variance (CoordinateParticleFilterParams::
-//   bandwidth_factor), so that collapsed weights do not claim certainty.
+// - An optional floor on the moment-matched variance
+//   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //
 // Threads: in synchronous mode everything happens in the caller's thread and
 // the numbers are a deterministic function of the input. In asynchronous
