@@ -720,17 +720,24 @@ void box_section(std::ostringstream& o, const ScenarioResult& r) {
   }
 }
 
-void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
-  if (r.runs.empty()) return;
+// A chart over the run's time axis, the frame every over-time chart shares.
+LineChart time_chart(const ScenarioResult& r, const std::string& id, int height,
+                     const std::string& y_label) {
   LineChart c;
-  c.id = "error-time";
+  c.id = id;
   c.frame.width = 1160;
-  c.frame.height = 340;
+  c.frame.height = height;
   c.x_label = "time, s";
-  c.y_label = "translation error, mm";
-  c.allow_log = true;
+  c.y_label = y_label;
   c.include_zero = true;
   c.x_hi = r.duration_s > 0 ? r.duration_s : 1.0;
+  return c;
+}
+
+void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
+  if (r.runs.empty()) return;
+  LineChart c = time_chart(r, "error-time", 340, "translation error, mm");
+  c.allow_log = true;
   const std::string ees = end_effector_list(r);
   const bool median = r.runs.size() > 1;
   for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
@@ -784,15 +791,8 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
 void health_section(std::ostringstream& o, const ScenarioResult& r) {
   if (r.runs.empty()) return;
   const RunResult& run = r.runs[0];
-  LineChart c;
-  c.id = "health-time";
-  c.frame.width = 1160;
-  c.frame.height = 300;
-  c.x_label = "time, s";
-  c.y_label = "share of the estimate's robot pixels, %";
-  c.include_zero = true;
+  LineChart c = time_chart(r, "health-time", 300, "share of the estimate's robot pixels, %");
   c.min_span = 100;
-  c.x_hi = r.duration_s > 0 ? r.duration_s : 1.0;
   std::vector<std::string> lost;
   for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
     const MethodRun* m = method_run(run, r.methods[mi]);
