@@ -113,6 +113,7 @@ struct Tracker::Impl {
   std::unique_ptr<HypothesisEvaluator> search_evaluator;
   std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
   std::vector<double> search_mean, search_std, open_mean, open_std, candidate;
+  std::vector<double> reading_at_t;      // encoder readings at the image's time (DOF order)
   std::vector<std::vector<int>> chains;  // physical DOFs per kinematic chain
   std::vector<LinkSet> chain_links;
   double last_acquisition_s = kNoTime;
@@ -377,7 +378,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   // readings keep coming in.
   for (int j = 0; j < n; ++j) prior_std[j] = std::sqrt(std::max(0.0, prior.var_a[j]));
   // The encoder readings at the image's time (DOF order), for acquisitions.
-  std::vector<double> reading_at_t;
+  reading_at_t.clear();  // keeps its capacity: no allocation after the first image
   if (acquisition_on) {
     const int i = buffer->last_at_or_before(t);
     if (i >= 0) {
