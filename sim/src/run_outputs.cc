@@ -146,9 +146,10 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
   for (const std::string& e : r.end_effectors)
     out << ",translation_m_" << e << ",rotation_rad_" << e;
   for (const std::string& j : r.joint_names)
-    out << ',' << j << "_true_rad," << j << "_est_rad," << j << "_true_bias_rad," << j
-        << "_est_bias_rad";
+    out << ',' << j << "_true_rad," << j << "_est_rad," << j << "_std_rad," << j
+        << "_true_bias_rad," << j << "_est_bias_rad," << j << "_bias_std_rad";
   out << ",cam_x_m,cam_y_m,cam_z_m,cam_roll_rad,cam_pitch_rad,cam_yaw_rad"
+      << ",cam_x_std_m,cam_y_std_m,cam_z_std_m,cam_roll_std_rad,cam_pitch_std_rad,cam_yaw_std_rad"
       << ",camera_translation_m,camera_rotation_rad"
       << ",cam_true_x_m,cam_true_y_m,cam_true_z_m,cam_true_roll_rad,cam_true_pitch_rad,"
          "cam_true_yaw_rad,health_state,health_explained_fraction,"
@@ -166,9 +167,11 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
               << text::csv_number(e.rotation_rad);
         for (Eigen::Index j = 0; j < truth.angle_rad.size(); ++j)
           out << ',' << text::csv_number(truth.angle_rad[j]) << ','
-              << text::csv_number(s.angle_rad[j]) << ',' << text::csv_number(truth.bias_rad[j])
-              << ',' << text::csv_number(s.bias_rad[j]);
+              << text::csv_number(s.angle_rad[j]) << ',' << text::csv_number(s.angle_std_rad[j])
+              << ',' << text::csv_number(truth.bias_rad[j]) << ','
+              << text::csv_number(s.bias_rad[j]) << ',' << text::csv_number(s.bias_std_rad[j]);
         for (int k = 0; k < 6; ++k) out << ',' << text::csv_number(s.camera_offset[k]);
+        for (int k = 0; k < 6; ++k) out << ',' << text::csv_number(s.camera_offset_std[k]);
         out << ',' << text::csv_number(s.camera_error.translation_m) << ','
             << text::csv_number(s.camera_error.rotation_rad);
         for (int k = 0; k < 6; ++k)

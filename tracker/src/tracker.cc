@@ -19,8 +19,10 @@
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/gaussian_fold.h"
 #include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/image_information.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/posterior_covariance.h"
 
 namespace arttrack {
 namespace {
@@ -130,12 +132,20 @@ struct Tracker::Impl {
   Eigen::VectorXd check_q;
   DepthImage check_image;
 
+  // The reported uncertainty (posterior_covariance.h): the image thread's,
+  // and the copy estimate() reads (guarded by mutex).
+  PosteriorCovariance covariance, published_covariance;
+  std::unique_ptr<ImageInformation> information;
+  Eigen::VectorXd covariance_start;
+  std::vector<char> reopened;  // per DOF: re-acquisition moved it at this image
+
   void search(std::span<const double> mean, std::span<const double> stddev,
               const CameraIntrinsics& camera, const DepthImage& observed);
   double score(std::span<const double> q);
   void reacquire(JointBelief& belief, std::span<const double> reading,
                  const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
   void update_health(const JointBelief& belief, const DepthImage& observed, double stamp_s);
+  void update_covariance(const JointBelief& belief, double time_s);
 
   bool applicable(const PendingImage& p) const {
     return !use_encoders || (initialized && p.apply_time_s <= time_s);
@@ -320,6 +330,32 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       open_std.assign(n, 0.0);
       candidate.assign(n, 0.0);
     }
+    // The reported covariance's states: every DOF the particle filter samples,
+    // but the encoder joints whose bias is not estimated (their encoder says
+    // their angle).
+    std::vector<char> sampled(n, 0);
+    for (const SamplingBlock& b : cpf->blocks())
+      for (int j : b.coordinates) sampled[j] = 1;
+    std::vector<PosteriorCovariance::State> states;
+    std::vector<int> dofs;
+    for (int j = 0; j < n; ++j) {
+      if (!sampled[j]) continue;
+      if (j < n_phys && use_encoders) {
+        if (!phys_params[j].estimate_bias) continue;
+        states.push_back({j, PosteriorCovariance::Kind::kBias,
+                          filter_model->bias_decay_rate_per_s()[j],
+                          filter_model->bias_rate_var()[j]});
+      } else {
+        states.push_back(
+            {j, PosteriorCovariance::Kind::kAngle, 0.0, filter_model->angle_rate_var()[j]});
+      }
+      dofs.push_back(j);
+    }
+    covariance = PosteriorCovariance(std::move(states));
+    published_covariance = covariance;
+    information = std::make_unique<ImageInformation>(std::move(dofs));
+    covariance_start.resize(covariance.size());
+    reopened.assign(n, 0);
     if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
 }
@@ -422,8 +458,10 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     }
   }
   update_health(prior, image.image, image.stamp_s);
+  update_covariance(prior, t);
   if (config.asynchronous) lock.lock();
   published_health = health;
+  published_covariance = covariance;
 
   // Re-filter the joint readings after the image (paper Sec. IV-C).
   const auto refilter_start = Clock::now();
@@ -535,6 +573,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
         if (!bias_estimated[j]) continue;
         const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};
         belief.set_joint(j, fold_angle_marginal(reopened, found[j], found_var[j]));
+        this->reopened[j] = 1;
       }
       ++health.chains_reacquired;
     } else {
@@ -545,6 +584,34 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
   health.last_acquisition_ms = ms_since(start);
   last_acquisition_s = time_s;
   poor_images = 0;
+}
+
+// The reported covariance after an image at time_s (belief: after its
+// fold-back). It starts from the prior's angle variances at the first image;
+// a chain that re-acquisition moved starts again from the broad prior it was
+// searched with.
+void Tracker::Impl::update_covariance(const JointBelief& belief, double time_s) {
+  if (covariance.size() == 0) return;
+  const auto& states = covariance.states();
+  if (!covariance.started()) {
+    for (int i = 0; i < covariance.size(); ++i) {
+      const double sd = prior_std[states[std::size_t(i)].dof];
+      covariance_start[i] = sd * sd;
+    }
+    covariance.reset(covariance_start, time_s);
+  } else {
+    covariance.predict_to(time_s);
+  }
+  const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
+  for (int i = 0; i < covariance.size(); ++i) {
+    const int dof = states[std::size_t(i)].dof;
+    if (reopened[dof]) covariance.restart_state(i, var_b);
+    reopened[dof] = 0;
+  }
+  for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
+  const Eigen::MatrixXd& info =
+      information->compute(*check_renderer, {check_q.data(), std::size_t(n)}, likelihood);
+  covariance.update(info, config.image_information_scale);
 }
 
 // Health of the estimate (TrackingHealth): its robot rendered at the belief's
@@ -741,10 +808,13 @@ TrackerEstimate Tracker::estimate() const {
   e.bias_rad.resize(s.n_phys);
   e.bias_std_rad.resize(s.n_phys);
   const bool raw = s.config.method == TrackingMethod::kEncodersOnly;
+  const auto var_q = s.filter_model->encoder_var_rad2();
+  // Encoders only: the reading, off by a bias it does not estimate (bias
+  // std 0), which the bias prior's stationary variance describes.
+  const auto var_b0 = s.filter_model->initial_var_b();
   for (int j = 0; j < s.n_phys; ++j) {
     e.angle_rad[j] = raw ? s.readings_bank[j] : s.belief.mean_a[j];
-    e.angle_std_rad[j] =
-        raw ? std::sqrt(s.filter_model->encoder_var_rad2()[j]) : std::sqrt(s.belief.var_a[j]);
+    e.angle_std_rad[j] = std::sqrt(raw ? var_q[j] + var_b0[j] : s.belief.var_a[j]);
     e.bias_rad[j] = raw ? 0.0 : s.belief.mean_b[j];
     e.bias_std_rad[j] = raw ? 0.0 : std::sqrt(std::max(0.0, s.belief.var_b[j]));
   }
@@ -752,6 +822,28 @@ TrackerEstimate Tracker::estimate() const {
     const int j = s.n_phys + k;
     e.camera_offset[k] = raw ? 0.0 : s.belief.mean_a[j];
     e.camera_offset_std[k] = raw ? 0.0 : std::sqrt(s.belief.var_a[j]);
+  }
+  // After the first image, the DOFs the images inform report the full
+  // covariance's marginals (posterior_covariance.h), predicted to now.
+  const PosteriorCovariance& cov = s.published_covariance;
+  Eigen::MatrixXd angle_cov;
+  if (cov.started()) {
+    PosteriorCovariance now = cov;
+    now.predict_to(std::max(cov.time_s(), s.time_s));
+    angle_cov = now.angle_covariance();
+    for (int i = 0; i < now.size(); ++i) {
+      const PosteriorCovariance::State& st = now.states()[std::size_t(i)];
+      const double var = std::max(0.0, angle_cov(i, i));
+      if (st.kind == PosteriorCovariance::Kind::kBias) {
+        e.bias_std_rad[st.dof] = std::sqrt(var);
+        angle_cov(i, i) = var + var_q[st.dof];  // a = q - b: plus the encoder's noise
+        e.angle_std_rad[st.dof] = std::sqrt(angle_cov(i, i));
+      } else if (st.dof < s.n_phys) {
+        e.angle_std_rad[st.dof] = std::sqrt(var);
+      } else {
+        e.camera_offset_std[st.dof - s.n_phys] = std::sqrt(var);
+      }
+    }
   }
   for (int j = 0; j < s.n_phys; ++j) s.estimate_q[j] = e.angle_rad[j];
   for (int k = 0; k < 6; ++k) s.estimate_q[s.n_phys + k] = e.camera_offset[k];
@@ -784,8 +876,15 @@ TrackerEstimate Tracker::estimate() const {
     }
     s.estimate_q[j] = q0;
   }
-  for (const auto& J : jacobians)
-    e.T_camera_ee_covariance.push_back(J * variance.asDiagonal() * J.transpose());
+  // The DOFs' covariance: independent, but where the full covariance knows better.
+  Eigen::MatrixXd dof_cov = variance.asDiagonal();
+  if (cov.started()) {
+    for (int a = 0; a < cov.size(); ++a)
+      for (int b = 0; b < cov.size(); ++b)
+        dof_cov(cov.states()[std::size_t(a)].dof, cov.states()[std::size_t(b)].dof) =
+            angle_cov(a, b);
+  }
+  for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
   e.health = s.published_health;
   return e;
 }

@@ -82,6 +82,8 @@ void TrackerConfig::validate(const std::string& context) const {
     fail("render.sphere_segments must be 0 (the model's) or at least 4");
   if (!(likelihood_exponent > 0 && likelihood_exponent <= 1))
     fail("particle_filter.likelihood_exponent must be in (0, 1]");
+  if (!(image_information_scale > 0 && image_information_scale <= 1))
+    fail("uncertainty.image_information_scale must be in (0, 1]");
   if (acquisition.passes < 1 || acquisition.passes > 10)
     fail("acquisition.passes must be in [1, 10]");
   if (!(acquisition.coarse_noise_std_m >= depth_model.noise_std_m &&
@@ -179,6 +181,10 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
   }
+
+  c.image_information_scale =
+      root.child("uncertainty")
+          .number("image_information_scale", c.image_information_scale, 1e-6, 1);
 
   const ConfigNode acq = root.child("acquisition");
   TrackerConfig::Acquisition& a = c.acquisition;

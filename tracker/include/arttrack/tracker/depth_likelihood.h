@@ -124,6 +124,14 @@ class DepthLikelihood {
   // Number of valid pixels in the current observation.
   int num_valid_pixels() const { return num_valid_; }
 
+  // Observed depth of pixel `index` (row-major, width() x height()) of the
+  // current observation, metres; 0 where the pixel is invalid.
+  double observed_depth_m(int index) const {
+    return pixels_[std::size_t(index)].inv_p_inf > 0 ? pixels_[std::size_t(index)].z : 0.0;
+  }
+  // The depth noise sigma at depth z_m, metres.
+  double noise_std_at_m(double z_m) const { return sigma_m(z_m); }
+
  private:
   // Per observed pixel, computed once per image, so that a covered pixel
   // costs at most two exps, one erfc and a few multiplications (log_ratio()).

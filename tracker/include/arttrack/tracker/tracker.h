@@ -33,6 +33,10 @@
 //   and compared with the image: the share of its pixels the camera sees
 //   through (contradicted) or confirms (explained), whole and per chain; a
 //   contradicted share above a threshold for a few images is "lost".
+// - Reported uncertainty. The standard deviations of the biases, angles and
+//   camera offsets are the marginals of a full covariance updated with each
+//   image's Gauss-Newton information (posterior_covariance.h,
+//   image_information.h), not the particle filter's collapsed moments.
 // - An optional floor on the moment-matched variance
 //   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //
@@ -94,9 +98,9 @@ struct TrackerEstimate {
   // frame, in TrackerConfig::end_effectors order.
   std::vector<Eigen::Isometry3d> T_camera_ee;
   // Their uncertainty: covariance of (position m, rotation vector rad, both
-  // in the estimated camera frame), from the angle and camera-offset
-  // standard deviations through the kinematics' Jacobian (first order,
-  // joints independent as in the belief).
+  // in the estimated camera frame), from the DOFs' covariance through the
+  // kinematics' Jacobian (first order; the biases' and camera offsets' full
+  // covariance after the first image, posterior_covariance.h).
   std::vector<Eigen::Matrix<double, 6, 6>> T_camera_ee_covariance;
   TrackingHealth health;
 };

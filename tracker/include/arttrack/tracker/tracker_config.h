@@ -81,6 +81,10 @@ struct TrackerConfig {
   // measurement; neighbouring pixels share model and calibration errors, so
   // fewer than that is honest.
   double likelihood_exponent = 1.0;
+  // The reported uncertainty (posterior_covariance.h): an image's
+  // information counts this much, in (0, 1] (1: every explained pixel an
+  // independent measurement).
+  double image_information_scale = 1.0;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the
   // encoders' configuration, at the first image, periodically and when the
   // health check says the estimate is lost. Full fusion only.

@@ -1,0 +1,84 @@
+// How much one depth image says about a configuration: the Gauss-Newton
+// (Fisher) information of the pixel likelihood about a set of DOFs, at one
+// configuration (docs/accuracy.md, "Consistency").
+//
+// The Coordinate Particle Filter gives a good mean but a poor covariance: a
+// few particles per coordinate, weighted by a sharp likelihood, collapse to
+// one, and coordinate-wise moments cannot show that the image pins some
+// combinations of joints (the hand's pose in the camera) and leaves others
+// almost free (the camera's pose against every arm's biases). This module
+// gives the matrix a Laplace approximation needs instead. For the pixels
+// where the robot rendered at q is seen (valid observed depth z within
+// `inlier_sigmas` noise sigmas of the rendered depth r, and every
+// perturbed render covering the pixel too), the visible branch of the pixel
+// model is N(z; r(q), sigma(z)^2) (depth_likelihood.h), whose Fisher
+// information is
+//   I = sum_pixels  grad r(q) grad r(q)^T / sigma^2,
+// grad r by central differences of the rendered depth, one DOF at a time.
+// Only interior pixels count: how the silhouette moves is not
+// differentiable, so the edges' information is left out (the matrix errs on
+// the side of less information). Occluded and unexplained pixels say
+// nothing.
+//
+// Cost: 2 renders per DOF at the likelihood's resolution. Allocation-free
+// after the first call with a given image size and DOF set.
+#pragma once
+
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
+
+namespace arttrack {
+
+struct ImageInformationParams {
+  // Central-difference steps: radians for revolute DOFs, metres for prismatic ones.
+  double revolute_step_rad = 2e-3;
+  double prismatic_step_m = 1e-3;
+  // A pixel counts when |z - r| is below this many noise sigmas.
+  double inlier_sigmas = 3;
+};
+
+class ImageInformation {
+ public:
+  // `dofs`: the DOF indices of `renderer.model()` the matrix is about, in
+  // its row order.
+  ImageInformation(std::vector<int> dofs, const ImageInformationParams& params = {});
+
+  const std::vector<int>& dofs() const { return dofs_; }
+
+  // The information matrix about dofs() of the likelihood's current
+  // observation, at configuration q (size model.num_joints()). The renderer's
+  // camera must have the likelihood's size. Returns a reference to an
+  // internal matrix, valid until the next call.
+  const Eigen::MatrixXd& compute(DepthRenderer& renderer, std::span<const double> q,
+                                 const DepthLikelihood& likelihood);
+
+  // The matrix of the last compute().
+  const Eigen::MatrixXd& information_matrix() const { return information_; }
+  // The Gauss-Newton gradient of the last compute(): sum over the same
+  // pixels of grad r (z - r) / sigma^2 (the log-likelihood's gradient of the
+  // visible branch), in dofs() order.
+  const Eigen::VectorXd& gradient() const { return gradient_; }
+  // Pixels that contributed to the last compute().
+  int pixels_used() const { return pixels_used_; }
+
+ private:
+  std::vector<int> dofs_;
+  ImageInformationParams params_;
+  KinematicsState kinematics_;
+  Eigen::VectorXd q_;
+  DepthImage base_, plus_, minus_;
+  Eigen::MatrixXf gradients_;  // pixel x DOF: d r / d q_dof / sigma (0 where unused)
+  std::vector<char> used_;     // per pixel
+  Eigen::VectorXf residuals_;  // per pixel: (z - r) / sigma (0 where unused)
+  Eigen::MatrixXd information_;
+  Eigen::VectorXd gradient_;
+  int pixels_used_ = 0;
+};
+
+}  // namespace arttrack
