@@ -79,6 +79,9 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
       gradients_.row(p).setZero();
     }
   }
+  pixels_per_dof_.assign(std::size_t(m), 0);
+  for (int k = 0; k < m; ++k)
+    for (int p = 0; p < num_pixels; ++p) pixels_per_dof_[std::size_t(k)] += gradients_(p, k) != 0;
   information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
   return information_;

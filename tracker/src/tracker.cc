@@ -137,7 +137,11 @@ struct Tracker::Impl {
   PosteriorCovariance covariance, published_covariance;
   std::unique_ptr<ImageInformation> information;
   Eigen::VectorXd covariance_start;
-  std::vector<char> reopened;  // per DOF: re-acquisition moved it at this image
+  std::vector<char> reopened;      // per DOF: re-acquisition moved it at this image
+  bool refine_on = false;          // the Gauss-Newton refinement of the mean (full fusion)
+  std::vector<double> prior_mean;  // the image's prior mean, before the particle filter
+  Eigen::VectorXd refine_x, refine_delta, refine_rhs, refine_var_q;
+  Eigen::MatrixXd refine_prior, refine_system;
 
   void search(std::span<const double> mean, std::span<const double> stddev,
               const CameraIntrinsics& camera, const DepthImage& observed);
@@ -145,7 +149,9 @@ struct Tracker::Impl {
   void reacquire(JointBelief& belief, std::span<const double> reading,
                  const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
   void update_health(const JointBelief& belief, const DepthImage& observed, double stamp_s);
-  void update_covariance(const JointBelief& belief, double time_s);
+  void update_covariance(JointBelief& belief, double time_s);
+  bool refine(JointBelief& belief, const Eigen::MatrixXd& information,
+              const Eigen::VectorXd& gradient);
 
   bool applicable(const PendingImage& p) const {
     return !use_encoders || (initialized && p.apply_time_s <= time_s);
@@ -356,6 +362,14 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     information = std::make_unique<ImageInformation>(std::move(dofs));
     covariance_start.resize(covariance.size());
     reopened.assign(n, 0);
+    refine_on = config.method == TrackingMethod::kFullFusion && config.refine_mean;
+    prior_mean.assign(n, 0.0);
+    refine_var_q = Eigen::VectorXd::Zero(covariance.size());
+    for (int i = 0; i < covariance.size(); ++i) {
+      const auto& st = covariance.states()[std::size_t(i)];
+      if (st.kind == PosteriorCovariance::Kind::kBias)
+        refine_var_q[i] = filter_model->encoder_var_rad2()[st.dof];
+    }
     if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
 }
@@ -413,6 +427,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   // The particle filter runs without the lock in asynchronous mode, so joint
   // readings keep coming in.
   for (int j = 0; j < n; ++j) prior_std[j] = std::sqrt(std::max(0.0, prior.var_a[j]));
+  std::copy(prior.mean_a.begin(), prior.mean_a.end(), prior_mean.begin());
   // The encoder readings at the image's time (DOF order), for acquisitions.
   reading_at_t.clear();  // keeps its capacity: no allocation after the first image
   if (acquisition_on) {
@@ -457,8 +472,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
       reacquire(prior, reading_at_t, camera, image.image, t);
     }
   }
-  update_health(prior, image.image, image.stamp_s);
   update_covariance(prior, t);
+  update_health(prior, image.image, image.stamp_s);
   if (config.asynchronous) lock.lock();
   published_health = health;
   published_covariance = covariance;
@@ -590,7 +605,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
 // fold-back). It starts from the prior's angle variances at the first image;
 // a chain that re-acquisition moved starts again from the broad prior it was
 // searched with.
-void Tracker::Impl::update_covariance(const JointBelief& belief, double time_s) {
+void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
   if (covariance.size() == 0) return;
   const auto& states = covariance.states();
   if (!covariance.started()) {
@@ -603,15 +618,103 @@ void Tracker::Impl::update_covariance(const JointBelief& belief, double time_s) 
     covariance.predict_to(time_s);
   }
   const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
+  bool any_reopened = false;
   for (int i = 0; i < covariance.size(); ++i) {
     const int dof = states[std::size_t(i)].dof;
     if (reopened[dof]) covariance.restart_state(i, var_b);
+    any_reopened = any_reopened || reopened[dof];
     reopened[dof] = 0;
   }
   for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
   const Eigen::MatrixXd& info =
       information->compute(*check_renderer, {check_q.data(), std::size_t(n)}, likelihood);
+  if (refine_on && !any_reopened && information->pixels_used() > 0)
+    health.refinements_accepted += refine(belief, info, information->gradient());
   covariance.update(info, config.image_information_scale);
+}
+
+// One Gauss-Newton step on the particle filter's target, prior x
+// likelihood^beta, linearised at its mean (DART's local refinement on the
+// depth residuals, with the full prior covariance): the coordinate-wise
+// particles cannot move along a narrow diagonal ridge (the camera turning
+// while every arm turns back), and were seen to lag along it by a degree
+// while the image's gradient pointed at the truth. With theta the mean, mu
+// the prior's, P its angle covariance, I and g the image's information and
+// gradient (image_information.h):
+//   delta = (P^-1 + beta I)^-1 (beta g - P^-1 (theta - mu)),
+// over the DOFs at least refinement.min_pixels explained pixels depend on
+// (the others held), shortened to the particles' spread. The full step
+// or its half is taken when it raises the target with the exact pixel model
+// (occlusion, outliers and edges included); otherwise the mean stays.
+bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& information,
+                           const Eigen::VectorXd& gradient) {
+  const auto& states = covariance.states();
+  const int m = covariance.size();
+  const double beta = config.likelihood_exponent;
+  refine_prior = covariance.angle_covariance();
+  refine_prior.diagonal() += refine_var_q;
+  refine_x.resize(m);
+  for (int i = 0; i < m; ++i) {
+    const int dof = states[std::size_t(i)].dof;
+    refine_x[i] = belief.mean_a[dof] - prior_mean[dof];  // theta - mu
+  }
+  // Only DOFs that enough explained pixels depend on move; the others (an
+  // arm out of view, with a few pixels that happen to match the table) keep
+  // the particles' mean: a broad prior would let those few pixels drag them.
+  // The step is the MAP over the moving ones with the others held.
+  const auto prior_ldlt = refine_prior.ldlt();
+  refine_system = prior_ldlt.solve(Eigen::MatrixXd::Identity(m, m));  // P^-1
+  refine_rhs = beta * gradient - refine_system * refine_x;
+  refine_system += beta * information;
+  const std::vector<int>& pixels = this->information->pixels_per_dof();
+  int moving = 0;
+  for (int i = 0; i < m; ++i) {
+    if (pixels[std::size_t(i)] >= config.refinement_min_pixels) {
+      ++moving;
+      continue;
+    }
+    refine_system.row(i).setZero();
+    refine_system.col(i).setZero();
+    refine_system(i, i) = 1;
+    refine_rhs[i] = 0;
+  }
+  if (moving == 0) return false;
+  refine_delta = refine_system.partialPivLu().solve(refine_rhs);
+  if (!refine_delta.allFinite()) return false;
+  // Trust region: no DOF moves further than the particles' own spread (the
+  // prior's standard deviation at this image); a longer step is shortened
+  // along its direction. A step beyond where the particles looked is a
+  // linearisation far from its point, and could cross into another mode.
+  double longest = 0;
+  for (int i = 0; i < m; ++i) {
+    const double spread = prior_std[states[std::size_t(i)].dof];
+    if (refine_delta[i] != 0) longest = std::max(longest, std::abs(refine_delta[i]) / spread);
+  }
+  if (!std::isfinite(longest)) return false;
+  if (longest > 1) refine_delta /= longest;
+  auto target = [&](double fraction) {
+    for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
+    for (int i = 0; i < m; ++i) check_q[states[std::size_t(i)].dof] += fraction * refine_delta[i];
+    const Eigen::VectorXd d = refine_x + fraction * refine_delta;
+    return -0.5 * d.dot(prior_ldlt.solve(d)) + score({check_q.data(), std::size_t(n)});
+  };
+  const double current = target(0);
+  double best = current, best_fraction = 0;
+  for (double fraction : {1.0, 0.5}) {
+    const double value = target(fraction);
+    if (value > best) {
+      best = value;
+      best_fraction = fraction;
+    }
+  }
+  if (best_fraction == 0) return false;
+  for (int i = 0; i < m; ++i) {
+    const int dof = states[std::size_t(i)].dof;
+    belief.set_joint(dof, fold_angle_marginal(belief.joint(dof),
+                                              belief.mean_a[dof] + best_fraction * refine_delta[i],
+                                              belief.var_a[dof]));
+  }
+  return true;
 }
 
 // Health of the estimate (TrackingHealth): its robot rendered at the belief's

@@ -82,6 +82,7 @@ void TrackerConfig::validate(const std::string& context) const {
     fail("render.sphere_segments must be 0 (the model's) or at least 4");
   if (!(likelihood_exponent > 0 && likelihood_exponent <= 1))
     fail("particle_filter.likelihood_exponent must be in (0, 1]");
+  if (refinement_min_pixels < 1) fail("refinement.min_pixels must be >= 1");
   if (!(image_information_scale > 0 && image_information_scale <= 1))
     fail("uncertainty.image_information_scale must be in (0, 1]");
   if (acquisition.passes < 1 || acquisition.passes > 10)
@@ -185,6 +186,9 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   c.image_information_scale =
       root.child("uncertainty")
           .number("image_information_scale", c.image_information_scale, 1e-6, 1);
+  const ConfigNode refinement = root.child("refinement");
+  c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
+  c.refinement_min_pixels = int(refinement.number("min_pixels", c.refinement_min_pixels, 1, 1e7));
 
   const ConfigNode acq = root.child("acquisition");
   TrackerConfig::Acquisition& a = c.acquisition;

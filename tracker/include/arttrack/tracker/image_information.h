@@ -64,8 +64,10 @@ class ImageInformation {
   // pixels of grad r (z - r) / sigma^2 (the log-likelihood's gradient of the
   // visible branch), in dofs() order.
   const Eigen::VectorXd& gradient() const { return gradient_; }
-  // Pixels that contributed to the last compute().
+  // Pixels that contributed to the last compute(), in all and per DOF (those
+  // whose depth the DOF changes).
   int pixels_used() const { return pixels_used_; }
+  const std::vector<int>& pixels_per_dof() const { return pixels_per_dof_; }
 
  private:
   std::vector<int> dofs_;
@@ -79,6 +81,7 @@ class ImageInformation {
   Eigen::MatrixXd information_;
   Eigen::VectorXd gradient_;
   int pixels_used_ = 0;
+  std::vector<int> pixels_per_dof_;
 };
 
 }  // namespace arttrack

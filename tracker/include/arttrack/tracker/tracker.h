@@ -33,6 +33,12 @@
 //   and compared with the image: the share of its pixels the camera sees
 //   through (contradicted) or confirms (explained), whole and per chain; a
 //   contradicted share above a threshold for a few images is "lost".
+// - Refinement (off by default: docs/accuracy.md). After the particles, one
+//   Gauss-Newton step on the depth
+//   residuals with the full prior covariance (DART's local refinement),
+//   taken only if it raises the exact target: it moves the mean along the
+//   ridge between the camera's pose and the arms' biases, where the
+//   coordinate-wise particles lag.
 // - Reported uncertainty. The standard deviations of the biases, angles and
 //   camera offsets are the marginals of a full covariance updated with each
 //   image's Gauss-Newton information (posterior_covariance.h,
@@ -80,6 +86,7 @@ struct TrackingHealth {
   std::vector<ChainHealth> chains;  // per kinematic chain below the root
   int acquisitions = 0;             // annealed searches run so far
   int chains_reacquired = 0;        // chains that took a search's result
+  int refinements_accepted = 0;     // Gauss-Newton steps taken (tracker.h)
   double last_acquisition_ms = 0;   // wall time of the newest search
 };
 const char* health_state_name(TrackingHealth::State state);

@@ -85,6 +85,12 @@ struct TrackerConfig {
   // information counts this much, in (0, 1] (1: every explained pixel an
   // independent measurement).
   double image_information_scale = 1.0;
+  // Full fusion: one Gauss-Newton step on the mean after the particle
+  // filter (tracker.h, "Refinement").
+  bool refine_mean = false;
+  // A DOF takes part in the step when at least this many explained pixels
+  // depend on it.
+  int refinement_min_pixels = 30;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the
   // encoders' configuration, at the first image, periodically and when the
   // health check says the estimate is lost. Full fusion only.
