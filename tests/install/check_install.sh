@@ -40,9 +40,12 @@ for lib in "$libdir"/libarttrack_tracker.a "$libdir"/libarttrack_tracker.so; do
 done
 [ -f "$prefix/include/arttrack/tracker/tracker.h" ] || fail "tracker.h not installed"
 [ -f "$prefix/include/arttrack/tracker/version.h" ] || fail "version.h not installed"
-if grep -q "yaml-cpp" "$prefix/include/arttrack/tracker/tracker.h" \
-  "$prefix/include/arttrack/tracker/tracker_config.h"; then
-  fail "the public tracker header includes yaml-cpp"
+# The public tracker header pulls in no yaml-cpp header (-H lists every include).
+c++ -std=c++20 -fsyntax-only -H -x c++ "$prefix/include/arttrack/tracker/tracker.h" \
+  -I"$prefix/include" $(pkg-config --cflags eigen3) 2> "$tmp/includes.txt" ||
+  { cat "$tmp/includes.txt" >&2; fail "tracker.h does not compile on its own"; }
+if grep -q "yaml" "$tmp/includes.txt"; then
+  fail "the public header tracker.h includes yaml-cpp: $(grep yaml "$tmp/includes.txt" | head -1)"
 fi
 
 # 3. The example against the installed CMake package, shared and static.
