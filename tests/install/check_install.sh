@@ -7,16 +7,18 @@
 #   3. examples/ configured as its own project against the installed package
 #      (find_package(arttrack)), linked shared and static, built and run;
 #   4. the same example compiled with `pkg-config --cflags --libs arttrack`.
-# Usage: check_install.sh SOURCE_DIR BUILD_DIR
+# Usage: check_install.sh SOURCE_DIR BUILD_DIR [CMAKE_GENERATOR]
+# (the generator of the build, so that no other build tool is needed).
 set -euo pipefail
 src=$(cd "$1" && pwd)
 build=$(cd "$2" && pwd)
+generator=${3:-Unix Makefiles}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "check_install: $*" >&2; exit 1; }
 
 # 1. Tracker only: configure, then check what was looked for.
-cmake -S "$src" -B "$tmp/tracker-only" -DARTTRACK_BUILD_SIM=OFF > "$tmp/tracker-only.log" 2>&1 ||
+cmake -S "$src" -B "$tmp/tracker-only" -G "$generator" -DARTTRACK_BUILD_SIM=OFF > "$tmp/tracker-only.log" 2>&1 ||
   { cat "$tmp/tracker-only.log" >&2; fail "tracker-only configure failed"; }
 for pkg in mujoco GTest benchmark NLopt CLI11 tinyxml2 nlohmann_json; do
   if grep -q "^${pkg}_DIR:" "$tmp/tracker-only/CMakeCache.txt"; then
@@ -52,7 +54,7 @@ fi
 for kind in shared static; do
   static=OFF
   [ "$kind" = static ] && static=ON
-  cmake -S "$src/examples" -B "$tmp/example-$kind" -DCMAKE_BUILD_TYPE=Release \
+  cmake -S "$src/examples" -B "$tmp/example-$kind" -G "$generator" -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_PREFIX_PATH="$prefix" -DARTTRACK_EXAMPLE_STATIC=$static > "$tmp/example.log" 2>&1 ||
     { cat "$tmp/example.log" >&2; fail "examples/ ($kind) does not configure"; }
   cmake --build "$tmp/example-$kind" > "$tmp/example.log" 2>&1 ||
