@@ -5,7 +5,7 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/tracker_config.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::test_support {

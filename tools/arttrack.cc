@@ -5,11 +5,13 @@
 #include <exception>
 #include <iostream>
 
+#include "arttrack/tracker/version.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"arttrack: probabilistic articulated robot tracking and its MuJoCo testbed"};
   app.require_subcommand(1);
+  // The version of the project and of the tracker library it links.
   app.set_version_flag("--version", "arttrack " ARTTRACK_VERSION);
   arttrack::cli::register_render(app);
   arttrack::cli::register_run(app);

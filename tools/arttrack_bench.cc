@@ -152,7 +152,7 @@ void run_bench(const BenchArgs& args) {
     throw UsageError("--sphere-segments must be >= 4");
 
   TrackerConfig config = scenario.tracker;
-  config.source = scenario.tracker_file.string();
+  config.source = scenario.tracker_document.file;
   config.method = TrackingMethod::kFullFusion;
   config.asynchronous = false;
   if (args.threads >= 0) config.threads = args.threads;

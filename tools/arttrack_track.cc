@@ -80,7 +80,7 @@ void register_track(CLI::App& app) {
   cmd->add_option("dataset", args->dataset, "Dataset folder (docs/datasets.md)")->required();
   cmd->add_option("--config", args->config,
                   "Tracker configuration (default: the dataset's tracker.yaml, else "
-                  "tracker/config/default.yaml)");
+                  "the built-in tracker/config/default.yaml)");
   cmd->add_option("--urdf", args->urdf, "Nominal robot URDF (default: the dataset's)");
   cmd->add_option("--methods", args->methods,
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "

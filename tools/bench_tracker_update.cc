@@ -49,6 +49,7 @@ const Fixture& fixture() {
 
 TrackerConfig config_for(int width, int height, int particles) {
   TrackerConfig c;
+  c.end_effectors = {"left_ee", "right_ee"};  // the dual-arm robot's, as the runner sets them
   c.depth_model.width = width;
   c.depth_model.height = height;
   c.particle_filter.num_particles = particles;

@@ -21,6 +21,7 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::sim {
@@ -613,20 +614,12 @@ void write_robot(const Scenario& sc, const fs::path& dir) {
   write_text(dir / "robot.urdf", printer.CStr());
 }
 
-// The scenario's tracker configuration as the runner builds it: its file,
-// the scenario's tracker_overrides, the scene's camera link, the scored end
-// effectors and the run's tracker seed. The method is set per tracker.
-std::string tracker_yaml(const fs::path& scenario_file, const std::vector<std::string>& overrides,
-                         const Scenario& sc, unsigned long long tracker_seed) {
-  YamlDocument scenario_doc = load_yaml_file(scenario_file.string());
-  for (const std::string& o : overrides) apply_override(scenario_doc, o);
-  YamlDocument doc = load_yaml_file(sc.tracker_file.string());
-  if (const YAML::Node over = scenario_doc.root["tracker_overrides"]; over && over.IsMap())
-    for (const auto& kv : over) {
-      YAML::Emitter value;
-      value << YAML::Flow << kv.second;
-      apply_override(doc, kv.first.as<std::string>() + "=" + value.c_str());
-    }
+// The scenario's tracker configuration as the runner builds it: its file
+// with the scene's and the scenario's tracker_overrides, the scene's camera
+// link, the scored end effectors and the run's tracker seed. The method is
+// set per tracker.
+std::string tracker_yaml(const Scenario& sc, unsigned long long tracker_seed) {
+  YamlDocument doc{YAML::Clone(sc.tracker_document.root), sc.tracker_document.file};
   doc.root.remove("method");
   doc.root["camera_frame"] = sc.tracker.camera_frame;
   doc.root["end_effectors"] = sc.tracker.end_effectors;
@@ -635,9 +628,9 @@ std::string tracker_yaml(const fs::path& scenario_file, const std::vector<std::s
   tracker_config_from_yaml(doc);  // it must read back
   YAML::Emitter out;
   out << doc.root;
-  return "# The tracker configuration of the exported run (" + sc.tracker_file.string() +
-         " with the scenario's tracker_overrides and the run's seed); the method is set per "
-         "tracker.\n" +
+  return "# The tracker configuration of the exported run (" + doc.file +
+         " with the scene's and the scenario's tracker_overrides and the run's seed); the "
+         "method is set per tracker.\n" +
          out.c_str() + "\n";
 }
 
@@ -669,8 +662,7 @@ ExportSummary export_scenario(const fs::path& scenario_file,
          << "\ndelay_s: " << number_text(sc.tracker.camera_delay_s) << "\ndepth_unit_m: 0.001\n";
   write_text(out_dir / "camera.yaml", camera.str());
   write_robot(sc, out_dir);
-  write_text(out_dir / "tracker.yaml",
-             tracker_yaml(scenario_file, overrides, sc, start.tracker_seed));
+  write_text(out_dir / "tracker.yaml", tracker_yaml(sc, start.tracker_seed));
 
   YAML::Emitter meta;
   meta << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "source"
@@ -783,11 +775,9 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   // The tracker configuration.
   TrackerConfig base;
   {
-    fs::path file = options.tracker_config ? *options.tracker_config
-                    : d.tracker_file
-                        ? *d.tracker_file
-                        : fs::path(ARTTRACK_SOURCE_DIR) / "tracker/config/default.yaml";
-    base = load_tracker_config(file.string());
+    const std::optional<fs::path> file =
+        options.tracker_config ? options.tracker_config : d.tracker_file;
+    base = file ? load_tracker_config(file->string()) : default_tracker_config();
   }
   base.camera_frame = d.camera.frame;
   if (d.has_truth()) base.end_effectors = d.truth_end_effectors;

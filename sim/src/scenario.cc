@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::sim {
@@ -104,7 +105,7 @@ fs::path resolve_path(const ConfigNode& n, const std::string& key, const fs::pat
 }
 
 // `joints: [names or groups]`, expanded. Empty when absent and !required.
-std::vector<std::string> joint_list(const ConfigNode& n, const UrdfSummary& urdf, bool required) {
+std::vector<std::string> joint_list(const ConfigNode& n, const Scenario& s, bool required) {
   if (!n.has("joints")) {
     if (required) n.fail("joints", "is required but missing");
     return {};
@@ -118,14 +119,33 @@ std::vector<std::string> joint_list(const ConfigNode& n, const UrdfSummary& urdf
   if (names.empty()) n.fail("joints", "must name at least one joint or group");
   std::vector<std::string> out;
   for (const std::string& name : names) {
-    const std::vector<std::string> joints = expand_joint_group(name, urdf.movable_joints);
-    if (joints.empty())
+    const std::vector<std::string> joints =
+        expand_joint_group(name, s.urdf.movable_joints, s.scene.joint_groups);
+    if (joints.empty()) {
+      std::string groups = "all";
+      for (const auto& [group, members] : s.scene.joint_groups) groups += ", " + group;
       n.fail("joints", "names '" + name + "', which is neither a movable joint of " +
-                           urdf.path.string() +
-                           " nor a group of them (left_arm, right_arm, head, arms, all)");
+                           s.urdf.path.string() + " nor a group of them (" + groups +
+                           "; groups are declared in the scene's robot.groups)");
+    }
     out.insert(out.end(), joints.begin(), joints.end());
   }
   return out;
+}
+
+// The scene's joint groups must name movable joints of its URDF, and no
+// group may shadow a joint.
+void check_joint_groups(const Scenario& s) {
+  for (const auto& [group, members] : s.scene.joint_groups) {
+    const std::string key = s.scene.source + ": key 'robot.groups." + group + "'";
+    if (s.urdf.has_joint(group))
+      throw InputError(key + " is also a joint of " + s.urdf.path.string() +
+                       ": give the group another name");
+    for (const std::string& j : members)
+      if (s.urdf.movable_index(j) < 0)
+        throw InputError(key + " names '" + j + "', which is not a movable joint of " +
+                         s.urdf.path.string());
+  }
 }
 
 // The home configuration the scene starts in, clamped into the limits.
@@ -156,7 +176,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   };
   for (const ConfigNode& n : m.list("sinusoids")) {
     SinusoidMotion p;
-    p.joints = joint_list(n, urdf, true);
+    p.joints = joint_list(n, s, true);
     p.amplitude_rad = kDeg * n.number("amplitude_deg", p.amplitude_rad / kDeg, -360, 360);
     p.frequency_hz = n.number("frequency_hz", p.frequency_hz, 1e-6, 100);
     p.phase_rad = kDeg * n.number("phase_deg", 0, -1e4, 1e4);
@@ -167,7 +187,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   }
   for (const ConfigNode& n : m.list("waypoints")) {
     WaypointMotion p;
-    p.joints = joint_list(n, urdf, true);
+    p.joints = joint_list(n, s, true);
     p.times_s = numbers(n, "times_s", 1.0);
     if (!n.has("times_s")) n.fail("times_s", "is required but missing");
     if (!n.has("positions_deg")) n.fail("positions_deg", "is required but missing");
@@ -183,7 +203,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   }
   for (const ConfigNode& n : m.list("random")) {
     RandomMotion p;
-    p.joints = joint_list(n, urdf, true);
+    p.joints = joint_list(n, s, true);
     p.amplitude_rad = kDeg * n.number("amplitude_deg", p.amplitude_rad / kDeg, 1e-6, 360);
     p.speed_scale = n.number("speed_scale", p.speed_scale, 1e-6, 1e3);
     p.base_speed_rad_per_s =
@@ -196,7 +216,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   }
   for (const ConfigNode& n : m.list("out_of_view")) {
     OutOfViewMotion p;
-    p.joints = joint_list(n, urdf, true);
+    p.joints = joint_list(n, s, true);
     if (!n.has("out_of_view_deg")) n.fail("out_of_view_deg", "is required but missing");
     p.out_of_view_rad = numbers(n, "out_of_view_deg", kDeg);
     p.leave_s = n.number("leave_s", p.leave_s, 0, 1e6);
@@ -226,7 +246,7 @@ void read_loads(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s) {
 void read_encoders(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s) {
   for (const ConfigNode& n : root.list("encoders")) {
     EncoderGroupCorruption g;
-    g.joints = joint_list(n, urdf, false);
+    g.joints = joint_list(n, s, false);
     g.offset_rad = kDeg * n.number("offset_deg", 0, -360, 360);
     g.step_amplitude_rad = kDeg * n.number("step_amplitude_deg", 0, -360, 360);
     g.step_period_s = n.number("step_period_s", g.step_period_s, 1e-6, 1e6);
@@ -419,15 +439,29 @@ void read_scoring(const ConfigNode& n, Scenario& s) {
       s.scene.end_effector_links.push_back(ee);
 }
 
+// The tracker configuration: the scenario's `tracker` file (default: the
+// built-in tracker/config/default.yaml), the scene's robot-specific
+// tracker_overrides over it, the scenario's tracker_overrides over those.
 void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
-  s.tracker_file = resolve_path(root, "tracker", "tracker/config/default.yaml", dir);
-  YamlDocument doc = load_yaml_file(s.tracker_file.string());
+  if (root.has("tracker")) {
+    s.tracker_file = resolve_path(root, "tracker", "", dir);
+    s.tracker_document = load_yaml_file(s.tracker_file.string());
+  } else {
+    s.tracker_document = default_tracker_document();
+  }
+  YamlDocument& doc = s.tracker_document;
+  for (const auto& [key, value] : s.scene.tracker_overrides) {
+    try {
+      apply_override(doc, key + "=" + value);
+    } catch (const InputError& e) {
+      throw InputError(s.scene.source + ": key 'robot.tracker_overrides." + key +
+                       "' cannot be applied: " + e.what());
+    }
+  }
   const ConfigNode over = root.child("tracker_overrides");
   for (const std::string& key : over.keys()) {
-    YAML::Emitter value;
-    value << YAML::Flow << over.required<YAML::Node>(key);
     try {
-      apply_override(doc, key + "=" + value.c_str());
+      apply_override(doc, key + "=" + over.flow_text(key));
     } catch (const InputError& e) {
       over.fail(key, std::string("cannot be applied: ") + e.what());
     }
@@ -435,8 +469,10 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
   try {
     s.tracker = tracker_config_from_yaml(doc);
   } catch (const InputError& e) {
-    if (over.keys().empty()) throw;
-    root.fail("tracker_overrides", std::string("give a bad tracker configuration: ") + e.what());
+    if (over.keys().empty() && s.scene.tracker_overrides.empty()) throw;
+    root.fail("tracker_overrides", std::string("(or the scene's robot.tracker_overrides) give a "
+                                               "bad tracker configuration: ") +
+                                       e.what());
   }
   // The tracker's nominal camera is the simulated camera's link.
   s.tracker.camera_frame = s.scene.camera_link;
@@ -444,20 +480,11 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
 
 }  // namespace
 
-std::vector<std::string> expand_joint_group(const std::string& name,
-                                            const std::vector<std::string>& joints) {
-  auto with_prefixes = [&](std::initializer_list<const char*> prefixes) {
-    std::vector<std::string> out;
-    for (const std::string& j : joints)
-      for (const char* p : prefixes)
-        if (j.rfind(p, 0) == 0) out.push_back(j);
-    return out;
-  };
-  if (name == "left_arm") return with_prefixes({"left_arm_"});
-  if (name == "right_arm") return with_prefixes({"right_arm_"});
-  if (name == "head") return with_prefixes({"head_"});
-  if (name == "arms") return with_prefixes({"left_arm_", "right_arm_"});
+std::vector<std::string> expand_joint_group(
+    const std::string& name, const std::vector<std::string>& joints,
+    const std::map<std::string, std::vector<std::string>>& groups) {
   if (name == "all") return joints;
+  if (const auto it = groups.find(name); it != groups.end()) return it->second;
   if (std::find(joints.begin(), joints.end(), name) != joints.end()) return {name};
   return {};
 }
@@ -513,6 +540,7 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir) {
   s.scene_file = resolve_path(root, "scene", "", dir);
   s.scene = load_scene(s.scene_file);
   s.urdf = read_urdf_summary(s.scene.urdf_path);
+  check_joint_groups(s);
 
   s.duration_s = root.number("duration_s", s.duration_s, 1e-3, 1e6);
   s.seed = (std::uint64_t)integer(root, "seed", (long long)s.seed, 0, 9007199254740992.0);

@@ -157,7 +157,7 @@ class Run {
     const GroundTruth g0 = sim_.ground_truth();
     for (std::size_t i = 0; i < setup.methods.size(); ++i) {
       TrackerConfig config = sc.tracker;
-      config.source = sc.tracker_file.string();
+      config.source = sc.tracker_document.file;
       config.method = setup.methods[i];
       config.seed = stream_seed(seed, kTracker);
       config.asynchronous = options.realtime;

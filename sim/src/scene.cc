@@ -92,6 +92,29 @@ void read_robot(const ConfigNode& n, const fs::path& dir, SceneDescription& s) {
       s.initial_joints_rad[name] = scale * joints.required_number(name, -1e4, 1e4);
   }
   s.end_effector_links = n.get<std::vector<std::string>>("end_effectors", s.end_effector_links);
+  // Members are joints or groups declared before.
+  const ConfigNode groups = n.child("groups");
+  for (const std::string& name : groups.keys()) {
+    if (name == "all") groups.fail(name, "is always every movable joint: choose another name");
+    std::vector<std::string> members;
+    try {
+      members = groups.required<std::vector<std::string>>(name);
+    } catch (const InputError&) {
+      groups.fail(name, "must be a list of joint names (or groups declared before it)");
+    }
+    if (members.empty()) groups.fail(name, "must name at least one joint");
+    std::vector<std::string>& joints = s.joint_groups[name];
+    for (const std::string& m : members) {
+      const auto it = s.joint_groups.find(m);
+      if (it != s.joint_groups.end() && m != name)
+        joints.insert(joints.end(), it->second.begin(), it->second.end());
+      else
+        joints.push_back(m);
+    }
+  }
+  const ConfigNode tracker = n.child("tracker_overrides");
+  for (const std::string& key : tracker.keys())
+    s.tracker_overrides.emplace_back(key, tracker.flow_text(key));
 }
 
 void read_camera(const ConfigNode& n, SceneDescription& s) {

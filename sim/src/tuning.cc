@@ -19,7 +19,7 @@
 #include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/tracker_config.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 #include "text_format.h"
 
 namespace arttrack::sim {

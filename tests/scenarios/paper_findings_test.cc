@@ -19,7 +19,7 @@
 // decimetres off for good: 2 of 15 ten-second runs of arm__constant_bias
 // with the paper's occluder model and head biases estimated, 5 of 15 with the
 // independent occluder model (the head tilted the arm out of view), 1 of 15
-// (47 mm) with the head's biases fixed at 0 as tracker/config/default.yaml
+// (47 mm) with the head's biases fixed at 0 as models/scene_default.yaml
 // now has it. A tracker change that reshuffles its random numbers can still
 // hit one and fail these tests. To see a test fail on
 // purpose, see ARTTRACK_SCENARIO_TEST_SET in short_run.h.

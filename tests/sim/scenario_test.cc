@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include "arttrack/tracker/error.h"
@@ -43,8 +44,8 @@ TEST(Scenario, Defaults) {
   EXPECT_EQ(s.runs, 1);
   EXPECT_EQ(s.joint_rate_hz, 1000.0);
   EXPECT_EQ(s.methods, all_method_names());
-  EXPECT_EQ(s.tracker_file,
-            fs::weakly_canonical(fs::path(ARTTRACK_SOURCE_DIR) / "tracker/config/default.yaml"));
+  EXPECT_TRUE(s.tracker_file.empty());  // the built-in default
+  EXPECT_EQ(s.tracker.source, kDefaultTrackerConfigName);
   EXPECT_EQ(s.tracker.method, TrackingMethod::kFullFusion);
   EXPECT_EQ(s.tracker.end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));
   EXPECT_EQ(s.scene.width, 160);  // the scene's camera
@@ -337,15 +338,61 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
 TEST(Scenario, JointGroups) {
   const std::vector<std::string> joints{"left_arm_joint_1", "left_arm_joint_2", "right_arm_joint_1",
                                         "head_pan_joint", "torso_joint"};
-  EXPECT_EQ(expand_joint_group("left_arm", joints),
+  const std::map<std::string, std::vector<std::string>> groups{
+      {"left_arm", {"left_arm_joint_1", "left_arm_joint_2"}}, {"head", {"head_pan_joint"}}};
+  EXPECT_EQ(expand_joint_group("left_arm", joints, groups),
             (std::vector<std::string>{"left_arm_joint_1", "left_arm_joint_2"}));
-  EXPECT_EQ(expand_joint_group("right_arm", joints),
-            (std::vector<std::string>{"right_arm_joint_1"}));
-  EXPECT_EQ(expand_joint_group("arms", joints).size(), 3u);
-  EXPECT_EQ(expand_joint_group("head", joints), (std::vector<std::string>{"head_pan_joint"}));
-  EXPECT_EQ(expand_joint_group("all", joints), joints);
-  EXPECT_EQ(expand_joint_group("torso_joint", joints), (std::vector<std::string>{"torso_joint"}));
-  EXPECT_TRUE(expand_joint_group("legs", joints).empty());
+  EXPECT_EQ(expand_joint_group("head", joints, groups),
+            (std::vector<std::string>{"head_pan_joint"}));
+  EXPECT_EQ(expand_joint_group("all", joints, groups), joints);
+  EXPECT_EQ(expand_joint_group("all", joints, {}), joints);
+  EXPECT_EQ(expand_joint_group("torso_joint", joints, groups),
+            (std::vector<std::string>{"torso_joint"}));
+  // No group is built in but `all`.
+  EXPECT_TRUE(expand_joint_group("right_arm", joints, groups).empty());
+  EXPECT_TRUE(expand_joint_group("left_arm", joints, {}).empty());
+}
+
+// The scene declares the groups (members may be groups declared before) and
+// the robot's tracker settings; both are checked.
+TEST(Scenario, SceneGroupsAndTrackerOverrides) {
+  const test::TestDir dir("scenario_scene_groups");
+  const fs::path f = dir.write("s.yaml", "scene: scene.yaml\nencoders: [{joints: [arms]}]\n");
+  const Scenario s = load_scenario(f);
+  EXPECT_EQ(s.scene.joint_groups.at("arms"),
+            (std::vector<std::string>{"left_arm_joint_1", "left_arm_joint_2", "right_arm_joint_1",
+                                      "right_arm_joint_2"}));
+  ASSERT_EQ(s.encoders.groups.size(), 1u);
+  EXPECT_EQ(s.encoders.groups[0].joints.size(), 4u);
+  EXPECT_FALSE(s.tracker.joint_overrides.at("head_pan_joint").estimate_bias);
+  EXPECT_TRUE(s.tracker.joint_overrides.at("head_pan_joint").encoder_noise_rad > 0);
+  // The scenario's tracker_overrides win over the scene's.
+  const Scenario t =
+      load_scenario(f, {"tracker_overrides={joints.per_joint.head_pan_joint.estimate_bias: true}"});
+  EXPECT_TRUE(t.tracker.joint_overrides.at("head_pan_joint").estimate_bias);
+
+  std::string scene = test::kSceneYaml;
+  const auto at = scene.find("    arms:");
+  dir.write("bad_scene.yaml", scene.substr(0, at) + "    legs: [knee_joint]\n" + scene.substr(at));
+  expect_error(dir.write("b.yaml", "scene: bad_scene.yaml\n"),
+               {"bad_scene.yaml", "'robot.groups.legs'", "knee_joint", "not a movable joint"});
+  dir.write("bad_scene.yaml",
+            scene.substr(0, at) + "    all: [head_pan_joint]\n" + scene.substr(at));
+  expect_error(dir.write("b.yaml", "scene: bad_scene.yaml\n"),
+               {"bad_scene.yaml", "'robot.groups.all'", "always every movable joint"});
+  dir.write("bad_scene.yaml",
+            scene.substr(0, at) + "    head_pan_joint: [head_tilt_joint]\n" + scene.substr(at));
+  expect_error(dir.write("b.yaml", "scene: bad_scene.yaml\n"),
+               {"bad_scene.yaml", "'robot.groups.head_pan_joint'", "also a joint"});
+  const auto over = scene.find("  tracker_overrides:");
+  dir.write("bad_scene.yaml", scene.substr(0, over) +
+                                  "  tracker_overrides: {particle_filter.particles: 0}\n" +
+                                  scene.substr(scene.find("camera:")));
+  expect_error(dir.write("b.yaml", "scene: bad_scene.yaml\n"),
+               {"'tracker_overrides'", "robot.tracker_overrides", "particles"});
+  // A group the scene does not declare: the error lists those it does.
+  expect_error(dir.write("c.yaml", "scene: scene.yaml\nencoders: [{joints: [legs]}]\n"),
+               {"'encoders[0].joints'", "legs", "all, arms, head, left_arm, right_arm"});
 }
 
 TEST(Scenario, OccluderScheduleInterpolates) {

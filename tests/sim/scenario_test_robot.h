@@ -1,7 +1,7 @@
 // A small dual-arm robot for the scenario tests, with the joint naming of the
 // project's robot (left_arm_joint_*, right_arm_joint_*, head_pan_joint,
-// head_tilt_joint, left_ee, right_ee, camera_optical_frame) so that joint
-// groups work, and a head camera that sees both arms: two-link arms
+// head_tilt_joint, left_ee, right_ee, camera_optical_frame) and its joint
+// groups and tracker settings in the scene, and a head camera that sees both arms: two-link arms
 // reaching forward (+x) at shoulder height 1 m, the head 0.5 m behind the
 // shoulders at 1.6 m, tilted down 40 degrees in the scene.
 #pragma once
@@ -98,6 +98,14 @@ robot:
   urdf: robot.urdf
   initial_joints_deg: {head_tilt_joint: 40}
   end_effectors: [left_ee, right_ee]
+  groups:
+    left_arm: [left_arm_joint_1, left_arm_joint_2]
+    right_arm: [right_arm_joint_1, right_arm_joint_2]
+    head: [head_pan_joint, head_tilt_joint]
+    arms: [left_arm, right_arm]
+  tracker_overrides:
+    joints.per_joint.head_pan_joint.estimate_bias: false
+    joints.per_joint.head_tilt_joint.estimate_bias: false
 camera: {width: 160, height: 120, fovy_deg: 50}
 actuators: {kp: 400, kv: 40}
 floor: false

@@ -21,7 +21,7 @@
 #include "../error_of.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/tracker_config.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {

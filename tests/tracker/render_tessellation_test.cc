@@ -11,7 +11,7 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker.h"
-#include "arttrack/tracker/tracker_config.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 
 namespace arttrack {
 namespace {

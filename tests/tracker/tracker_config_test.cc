@@ -6,6 +6,7 @@
 
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 
 namespace arttrack {
 namespace {
@@ -32,12 +33,10 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
   EXPECT_EQ(file.depth_model.width, code.depth_model.width);
   EXPECT_EQ(file.depth_model.occlusion_prior, code.depth_model.occlusion_prior);
   EXPECT_EQ(file.depth_model.occluder_model, code.depth_model.occluder_model);
-  // Robot-specific, so only in the file: the dual-arm robot's head encoders
-  // are taken as exact (see the file for why).
+  // Robot-agnostic: no per-joint overrides (the dual-arm robot's are in
+  // its scene, models/scene_default.yaml).
   EXPECT_TRUE(code.joint_overrides.empty());
-  ASSERT_EQ(file.joint_overrides.size(), 2u);
-  EXPECT_FALSE(file.joint_overrides.at("head_pan_joint").estimate_bias);
-  EXPECT_FALSE(file.joint_overrides.at("head_tilt_joint").estimate_bias);
+  EXPECT_TRUE(file.joint_overrides.empty());
   EXPECT_EQ(file.particle_filter.num_particles, code.particle_filter.num_particles);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);

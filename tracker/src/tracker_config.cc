@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/tracker_config_yaml.h"
 
 namespace arttrack {
 namespace {
@@ -62,7 +63,6 @@ TrackingMethod parse_method(const std::string& name, const std::string& context)
 void TrackerConfig::validate(const std::string& context) const {
   auto fail = [&](const std::string& what) { throw InputError(context + ": " + what); };
   if (camera_frame.empty()) fail("camera_frame is empty");
-  if (end_effectors.empty()) fail("end_effectors is empty: name at least one link");
   depth_model.validate(context);
   if (particle_filter.num_particles < 1) fail("particle_filter.particles must be at least 1");
   if (!(particle_filter.max_kl_divergence >= 0)) fail("particle_filter.max_kl_divergence < 0");
@@ -221,6 +221,14 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
 
 TrackerConfig load_tracker_config(const std::string& path) {
   return tracker_config_from_yaml(load_yaml_file(path));
+}
+
+YamlDocument default_tracker_document() {
+  return load_yaml_string(default_tracker_config_yaml(), kDefaultTrackerConfigName);
+}
+
+TrackerConfig default_tracker_config() {
+  return tracker_config_from_yaml(default_tracker_document());
 }
 
 }  // namespace arttrack

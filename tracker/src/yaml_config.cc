@@ -148,6 +148,12 @@ std::string ConfigNode::path_of(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
 }
 
+std::string ConfigNode::flow_text(const std::string& key) const {
+  YAML::Emitter out;
+  out << YAML::Flow << required<YAML::Node>(key);
+  return out.c_str();
+}
+
 void ConfigNode::fail(const std::string& key, const std::string& problem) const {
   std::string what = "key '" + path_of(key) + "'";
   if (path_of(key).empty()) what = "the document";

@@ -186,8 +186,8 @@ struct TrackOptions {
   // vision_only needs ground-truth angles for its start).
   std::vector<std::string> methods;
   // Tracker configuration (empty: the dataset's tracker.yaml, else
-  // tracker/config/default.yaml). Its camera frame and delay are the
-  // dataset's, its end effectors the ground truth's (if any); it runs
+  // the built-in tracker/config/default.yaml). Its camera frame and delay are
+  // the dataset's, its end effectors the ground truth's (if any); it runs
   // synchronously.
   std::optional<std::filesystem::path> tracker_config;
   // Depth frames kept for reports, evenly spread over the duration.

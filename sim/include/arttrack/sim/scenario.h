@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "arttrack/sim/scoring.h"
 #include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/tracker_config.h"
+#include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::sim {
 
@@ -82,9 +84,12 @@ struct Scenario {
   SceneDescription scene;
   UrdfSummary urdf;
 
-  // Tracker configuration (its method is set per run for each method), and
-  // the file it came from.
+  // Tracker configuration (its method is set per run for each method), the
+  // file it came from (empty: the built-in default, kDefaultTrackerConfigName)
+  // and its document with the scene's and the scenario's tracker_overrides
+  // applied (what `tracker` was read from).
   std::filesystem::path tracker_file;
+  YamlDocument tracker_document;
   TrackerConfig tracker;
   // Methods to run, as named by all_method_names().
   std::vector<std::string> methods;
@@ -123,13 +128,13 @@ Scenario load_scenario(const std::filesystem::path& path,
 // The same from a loaded document; relative paths resolve against `dir`.
 Scenario scenario_from_yaml(const YamlDocument& doc, const std::filesystem::path& dir);
 
-// The joints a group name stands for on a robot: `left_arm`, `right_arm`,
-// `head` (the joints whose names start with "left_arm_", "right_arm_",
-// "head_"), `arms` (both arms) and `all`; any other name is a joint itself.
-// Returns no joints for a group that matches none, and for a name that is
-// neither a group nor one of `joints`.
-std::vector<std::string> expand_joint_group(const std::string& name,
-                                            const std::vector<std::string>& joints);
+// The joints a name stands for on a robot: `all` (every one of `joints`), a
+// group of the scene (`groups`: SceneDescription::joint_groups), else the
+// joint itself. Returns no joints for a name that is neither a group nor
+// one of `joints`.
+std::vector<std::string> expand_joint_group(
+    const std::string& name, const std::vector<std::string>& joints,
+    const std::map<std::string, std::vector<std::string>>& groups);
 
 // The commanded trajectory of a scenario for the simulator's joints
 // (`joint_names`, their limits and home configuration, clamped into the

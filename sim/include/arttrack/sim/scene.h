@@ -75,6 +75,14 @@ struct SceneDescription {
   std::vector<std::string> end_effector_links{"left_ee", "right_ee"};
   // Initial joint angles (URDF joint name -> rad); joints not named start at 0.
   std::map<std::string, double> initial_joints_rad;
+  // Named groups of movable joints (`robot.groups`) that scenarios may use
+  // in place of joint names; `all` (every movable joint) is always there and
+  // is not listed. Checked against the URDF by the scenario.
+  std::map<std::string, std::vector<std::string>> joint_groups;
+  // Tracker settings that belong to this robot (`robot.tracker_overrides`:
+  // dotted tracker key -> value as YAML text), applied over a scenario's
+  // tracker file and under the scenario's own tracker_overrides.
+  std::vector<std::pair<std::string, std::string>> tracker_overrides;
 
   // The depth camera sits at this link, which must be an optical frame
   // (z forward, x right, y down).

@@ -1,9 +1,11 @@
 // Configuration of a Tracker: which of the paper's four methods, the noise of
 // every joint, the depth model, the particle filter, the delay buffer.
 //
-// Plain structs with in-class defaults (the values of tracker/config/
-// default.yaml), filled from YAML by load_tracker_config() and checked there.
-// YAML uses degrees where it says `_deg`; the structs hold radians.
+// Plain structs with in-class defaults, filled from YAML and checked there
+// (tracker_config_yaml.h: this header needs no yaml-cpp). The shipped
+// defaults are tracker/config/default.yaml, compiled into the library
+// (default_tracker_config()); they name no joint or link of a particular
+// robot. YAML uses degrees where it says `_deg`; the structs hold radians.
 #pragma once
 
 #include <map>
@@ -13,7 +15,6 @@
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/joint_filter.h"
-#include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack {
 
@@ -39,8 +40,9 @@ struct TrackerConfig {
 
   // Nominal camera frame in the URDF (optical convention).
   std::string camera_frame = "camera_optical_frame";
-  // Links whose pose in the estimated camera frame the tracker reports.
-  std::vector<std::string> end_effectors = {"left_ee", "right_ee"};
+  // Links whose pose in the estimated camera frame the tracker reports (may
+  // be none).
+  std::vector<std::string> end_effectors;
 
   // Joint filters: defaults for every physical joint, and per-joint overrides
   // (complete structs) keyed by joint name.
@@ -147,10 +149,11 @@ struct TrackerConfig {
   void validate(const std::string& context) const;
 };
 
-// Reads a tracker configuration file (see tracker/config/default.yaml for
-// every key). Unknown keys, wrong types and impossible values are errors
-// naming the file and the key.
-TrackerConfig load_tracker_config(const std::string& path);
-TrackerConfig tracker_config_from_yaml(const YamlDocument& doc);
+// The text of tracker/config/default.yaml as built into the library (every
+// key, documented), and the configuration it gives. The name it goes by in
+// messages: kDefaultTrackerConfigName.
+const char* default_tracker_config_yaml();
+TrackerConfig default_tracker_config();
+inline constexpr const char* kDefaultTrackerConfigName = "tracker/config/default.yaml (built in)";
 
 }  // namespace arttrack

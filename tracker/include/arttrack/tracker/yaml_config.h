@@ -73,6 +73,10 @@ class ConfigNode {
   bool is_map() const { return node_.IsMap(); }
   bool is_sequence() const { return node_.IsSequence(); }
 
+  // The value of `key` as one line of YAML (flow style), e.g. for
+  // apply_override; a missing key is an error.
+  std::string flow_text(const std::string& key) const;
+
   // Throws InputError for every key of this map (and of the sub-maps read
   // through child()/list()) that was never read.
   void finish() const;

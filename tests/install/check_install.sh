@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# The tracker as another project uses it (ctest label: install):
+#   1. a tracker-only configure (-DARTTRACK_BUILD_SIM=OFF) looks for none of
+#      the simulator's, tools' or tests' packages;
+#   2. `cmake --install` of the build into a temporary prefix; no path of the
+#      source tree in the installed libraries;
+#   3. examples/ configured as its own project against the installed package
+#      (find_package(arttrack)), linked shared and static, built and run;
+#   4. the same example compiled with `pkg-config --cflags --libs arttrack`.
+# Usage: check_install.sh SOURCE_DIR BUILD_DIR [CMAKE_GENERATOR]
+# (the generator of the build, so that no other build tool is needed).
+set -euo pipefail
+src=$(cd "$1" && pwd)
+build=$(cd "$2" && pwd)
+generator=${3:-Unix Makefiles}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "check_install: $*" >&2; exit 1; }
+
+# 1. Tracker only: configure, then check what was looked for.
+cmake -S "$src" -B "$tmp/tracker-only" -G "$generator" -DARTTRACK_BUILD_SIM=OFF > "$tmp/tracker-only.log" 2>&1 ||
+  { cat "$tmp/tracker-only.log" >&2; fail "tracker-only configure failed"; }
+for pkg in mujoco GTest benchmark NLopt CLI11 tinyxml2 nlohmann_json; do
+  if grep -q "^${pkg}_DIR:" "$tmp/tracker-only/CMakeCache.txt"; then
+    fail "the tracker-only configure looked for $pkg"
+  fi
+done
+if grep -qE "/(arttrack_sim|arttrack|scenario_test)\.dir" \
+  "$tmp/tracker-only/CMakeFiles/TargetDirectories.txt"; then
+  fail "the tracker-only configure has simulator, tool or test targets"
+fi
+
+# 2. Install the full build's tracker.
+prefix="$tmp/prefix"
+cmake --install "$build" --prefix "$prefix" > "$tmp/install.log"
+pc=$(find "$prefix" -name arttrack.pc)
+[ -n "$pc" ] || fail "no arttrack.pc installed under $prefix"
+libdir=$(dirname "$(dirname "$pc")")
+for lib in "$libdir"/libarttrack_tracker.a "$libdir"/libarttrack_tracker.so; do
+  [ -e "$lib" ] || fail "$lib not installed"
+  if grep -qa "$src" "$lib"; then fail "$lib holds the source path $src"; fi
+done
+[ -f "$prefix/include/arttrack/tracker/tracker.h" ] || fail "tracker.h not installed"
+[ -f "$prefix/include/arttrack/tracker/version.h" ] || fail "version.h not installed"
+# The public tracker header pulls in no yaml-cpp header (-H lists every include).
+c++ -std=c++20 -fsyntax-only -H -x c++ "$prefix/include/arttrack/tracker/tracker.h" \
+  -I"$prefix/include" $(pkg-config --cflags eigen3) 2> "$tmp/includes.txt" ||
+  { cat "$tmp/includes.txt" >&2; fail "tracker.h does not compile on its own"; }
+if grep -q "yaml" "$tmp/includes.txt"; then
+  fail "the public header tracker.h includes yaml-cpp: $(grep yaml "$tmp/includes.txt" | head -1)"
+fi
+
+# 3. The example against the installed CMake package, shared and static.
+for kind in shared static; do
+  static=OFF
+  [ "$kind" = static ] && static=ON
+  cmake -S "$src/examples" -B "$tmp/example-$kind" -G "$generator" -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix" -DARTTRACK_EXAMPLE_STATIC=$static > "$tmp/example.log" 2>&1 ||
+    { cat "$tmp/example.log" >&2; fail "examples/ ($kind) does not configure"; }
+  cmake --build "$tmp/example-$kind" > "$tmp/example.log" 2>&1 ||
+    { cat "$tmp/example.log" >&2; fail "examples/ ($kind) does not build"; }
+  if [ "$kind" = shared ]; then
+    ldd "$tmp/example-$kind/track_arm" | grep -q "$libdir/libarttrack_tracker.so" ||
+      fail "the shared example does not use $libdir/libarttrack_tracker.so"
+  fi
+  echo "== track_arm ($kind)"
+  "$tmp/example-$kind/track_arm" || fail "track_arm ($kind) failed"
+done
+"$tmp/example-shared/track_arm" --no-images || fail "track_arm --no-images failed"
+
+# 4. The example with pkg-config alone.
+export PKG_CONFIG_PATH="$libdir/pkgconfig"
+[ "$(pkg-config --modversion arttrack)" = "$(sed -n 's/^#define ARTTRACK_VERSION "\(.*\)"/\1/p' \
+  "$prefix/include/arttrack/tracker/version.h")" ] || fail "arttrack.pc has another version"
+flags=$(pkg-config --cflags --libs arttrack) || fail "pkg-config --cflags --libs arttrack failed"
+echo "== pkg-config --cflags --libs arttrack: $flags"
+# shellcheck disable=SC2086  # the flags are words
+c++ -std=c++20 -O1 "$src/examples/track_arm.cc" $flags -o "$tmp/track_arm_pc" ||
+  fail "the example does not compile with pkg-config's flags"
+LD_LIBRARY_PATH="$libdir" "$tmp/track_arm_pc" > /dev/null || fail "track_arm (pkg-config) failed"
+echo "check_install: ok"
