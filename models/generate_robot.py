@@ -718,18 +718,23 @@ def write_urdf(path, links, joints, use_meshes):
                 out.append("    </%s>" % tag)
         out.append("  </link>")
     for j in joints:
-        out.append('  <joint name="%s" type="%s">' % (j.name, j.type))
-        out.append('    <parent link="%s"/>' % j.parent)
-        out.append('    <child link="%s"/>' % j.child)
-        out.append('    <origin xyz="%s" rpy="%s"/>' % (fmt_vec(j.xyz), fmt_vec(j.rpy)))
-        if j.type == "revolute":
-            out.append('    <axis xyz="%s"/>' % fmt_vec(j.axis))
-            out.append('    <limit lower="%s" upper="%s" effort="%s" velocity="%s"/>' %
-                       (fmt(j.lower), fmt(j.upper), fmt_g(j.effort), fmt(j.velocity)))
-            out.append('    <dynamics damping="%s"/>' % fmt_g(j.damping))
-        out.append("  </joint>")
+        out += joint_lines(j)
     out.append("</robot>")
     write_text(path, "\n".join(out) + "\n")
+
+
+def joint_lines(j, extra=()):
+    """A <joint> element (movable ones with axis, limit and damping), `extra` lines last."""
+    out = ['  <joint name="%s" type="%s">' % (j.name, j.type)]
+    out.append('    <parent link="%s"/>' % j.parent)
+    out.append('    <child link="%s"/>' % j.child)
+    out.append('    <origin xyz="%s" rpy="%s"/>' % (fmt_vec(j.xyz), fmt_vec(j.rpy)))
+    if j.type != "fixed":
+        out.append('    <axis xyz="%s"/>' % fmt_vec(j.axis))
+        out.append('    <limit lower="%s" upper="%s" effort="%s" velocity="%s"/>' %
+                   (fmt(j.lower), fmt(j.upper), fmt_g(j.effort), fmt(j.velocity)))
+        out.append('    <dynamics damping="%s"/>' % fmt_g(j.damping))
+    return out + list(extra) + ["  </joint>"]
 
 
 def write_text(path, text):

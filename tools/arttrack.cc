@@ -1,7 +1,8 @@
 // arttrack: articulated robot tracking in a MuJoCo testbed.
 // Errors a user can cause are printed on one line, with a non-zero exit:
 // 1 for a runtime error (a bad input file, unstable physics, I/O), 2 for a
-// usage error (an unknown option, a missing or out-of-range argument).
+// usage error (an unknown option, a missing or out-of-range argument, an
+// output folder holding a previous run's outputs without --force).
 #include <exception>
 #include <iostream>
 
@@ -13,8 +14,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   // The version of the project and of the tracker library it links.
   app.set_version_flag("--version", "arttrack " ARTTRACK_VERSION);
+  app.footer(
+      "Exit codes: 0 success, 1 runtime error (a bad input file, unstable physics, I/O), "
+      "2 usage error (a wrong option or argument, an output folder holding a previous run's "
+      "outputs without --force).\n");
   arttrack::cli::register_render(app);
   arttrack::cli::register_run(app);
+  arttrack::cli::register_rerun(app);
   arttrack::cli::register_sweep(app);
   arttrack::cli::register_merge(app);
   arttrack::cli::register_tune(app);

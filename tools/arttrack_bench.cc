@@ -1,6 +1,7 @@
 // arttrack bench [SCENARIO.yaml] [--evaluations N] [--resolution WxH] [--json FILE]
 //                [--seed S] [--set k=v ...] [--threads T]
 //                [--cylinder-segments C] [--sphere-segments S]
+//                [--soak MINUTES [--soak-frames K]]
 //
 // How fast the full-fusion tracker runs on a scenario's measurement stream
 // (default: scenarios/default.yaml). The scenario runner simulates run 0 and
@@ -21,6 +22,10 @@
 // tessellation hypotheses are rendered with (the tracker configuration's
 // render section; the renderer's cost per hypothesis scales with the
 // triangles).
+//
+// --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
+// can and prints its resident memory (arttrack_bench_soak.h); fails when it
+// grows by more than 1 MB after the first minute.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -42,6 +47,7 @@
 #include "arttrack/sim/scoring.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker.h"
+#include "arttrack_bench_soak.h"
 #include "commands.h"
 
 namespace arttrack::cli {
@@ -61,6 +67,8 @@ struct BenchArgs {
   int threads = -1;
   int cylinder_segments = 0;
   int sphere_segments = 0;
+  double soak_minutes = 0;
+  int soak_frames = 30;
 };
 
 double seconds_since(Clock::time_point start) {
@@ -146,6 +154,8 @@ void run_bench(const BenchArgs& args) {
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.seed < -1) throw UsageError("--seed must be >= 0");
   if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
+  if (args.evaluations > kMaxEvaluations)
+    throw UsageError("--evaluations must be at most " + std::to_string(kMaxEvaluations));
   if (args.cylinder_segments < 0 || (args.cylinder_segments > 0 && args.cylinder_segments < 3))
     throw UsageError("--cylinder-segments must be >= 3");
   if (args.sphere_segments < 0 || (args.sphere_segments > 0 && args.sphere_segments < 4))
@@ -162,23 +172,31 @@ void run_bench(const BenchArgs& args) {
     std::istringstream in(args.resolution);
     if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w <= 0 || h <= 0)
       throw UsageError("--resolution '" + args.resolution + "': expected WIDTHxHEIGHT, e.g. 80x60");
+    if (w > kMaxResolution || h > kMaxResolution)
+      throw UsageError("--resolution '" + args.resolution + "': width and height must be at most " +
+                       std::to_string(kMaxResolution));
     config.depth_model.width = w;
     config.depth_model.height = h;
   }
 
   // The tracker's nominal robot, as the runner builds it.
-  RobotModelOptions ro;
-  ro.camera_frame = scenario.scene.camera_link;
-  for (const auto& [name, dir] : scenario.scene.package_paths) ro.mesh_search_paths.push_back(dir);
   if (args.cylinder_segments > 0) config.render_cylinder_segments = args.cylinder_segments;
   if (args.sphere_segments > 0) config.render_sphere_segments = args.sphere_segments;
   auto robot = std::make_shared<const RobotModel>(
-      RobotModel::from_urdf_file(scenario.scene.urdf_path.string(), ro));
+      sim::tracker_robot_model(scenario.scene, scenario.tracker_urdf()));
   // Default blocks: one per joint, virtual ones included.
   const int blocks = config.blocks.empty() ? robot->num_joints() : int(config.blocks.size());
   if (args.evaluations > 0)
     config.particle_filter.num_particles = (args.evaluations + blocks - 1) / blocks;
   config.validate(config.source);
+  if (args.soak_minutes > 0) {
+    SoakOptions soak;
+    soak.minutes = args.soak_minutes;
+    soak.frames = args.soak_frames;
+    soak.seed = args.seed;
+    run_soak(std::move(scenario), robot, config, soak);
+    return;
+  }
 
   BenchSink sink(robot, config);
   sim::RunOptions options;
@@ -226,12 +244,14 @@ void run_bench(const BenchArgs& args) {
   j["evaluations_per_image"] = evaluations_per_image;
   j["threads"] = threads;
   // Tessellation the hypotheses are rendered with.
-  j["cylinder_segments"] =
-      config.render_cylinder_segments > 0 ? config.render_cylinder_segments : ro.cylinder_segments;
-  j["sphere_segments"] =
-      config.render_sphere_segments > 0 ? config.render_sphere_segments : ro.sphere_segments;
+  j["cylinder_segments"] = config.render_cylinder_segments > 0 ? config.render_cylinder_segments
+                                                               : robot->options().cylinder_segments;
+  j["sphere_segments"] = config.render_sphere_segments > 0 ? config.render_sphere_segments
+                                                           : robot->options().sphere_segments;
   j["joint_measurements"] = stats.joint_measurements;
+  j["joint_measurements_dropped"] = stats.joint_measurements_dropped;
   j["images"] = {{"received", stats.images_received},
+                 {"dropped_bad_stamp", stats.images_dropped_bad_stamp},
                  {"applied", stats.images_applied},
                  {"dropped_too_old", stats.images_dropped_too_old},
                  {"dropped_backlog", stats.images_dropped_backlog},
@@ -259,9 +279,11 @@ void run_bench(const BenchArgs& args) {
             << " blocks = " << evaluations_per_image << " evaluations per image, " << threads
             << " threads\n";
   std::cout << "  joint update     p50 " << joint_us.p50 << " us, p99 " << joint_us.p99 << " us ("
-            << stats.joint_measurements << ")\n";
+            << stats.joint_measurements << ", " << stats.joint_measurements_dropped
+            << " dropped)\n";
   std::cout << "  image update     p50 " << image_ms.p50 << " ms, p99 " << image_ms.p99 << " ms ("
-            << stats.images_applied << " of " << stats.images_received << " applied)\n";
+            << stats.images_applied << " of " << stats.images_received << " applied, "
+            << stats.images_dropped_bad_stamp << " dropped off the joint clock)\n";
   std::cout << "  of which refilter p50 " << refilter_ms.p50 << " ms, p99 " << refilter_ms.p99
             << " ms\n";
   std::cout << "  realtime factor  " << std::setprecision(2) << realtime_factor << " ("
@@ -313,6 +335,13 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--sphere-segments", args->sphere_segments,
                   "Meridians of URDF spheres in the hypotheses' model (default: the "
                   "configuration's render.sphere_segments, else the model's)");
+  cmd->add_option("--soak", args->soak_minutes,
+                  "Instead: feed one tracker this many minutes of stream (1 kHz joints, 30 Hz "
+                  "images) and check that its resident memory stays within 1 MB after minute 1")
+      ->check(CLI::Range(1.0, 1440.0));
+  cmd->add_option("--soak-frames", args->soak_frames,
+                  "Distinct depth images the soak reuses (default 30)")
+      ->check(CLI::Range(1, 3000));
   cmd->callback([args] { run_bench(*args); });
 }
 

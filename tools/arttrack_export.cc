@@ -27,10 +27,12 @@ struct ExportArgs {
   long long seed = -1;
   std::vector<std::string> overrides;
   std::string out_dir;
+  bool force = false;
 };
 
 void run_export(const ExportArgs& args) {
   if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  check_fresh_output(args.out_dir, {"dataset.yaml", "joints.csv"}, args.force);
   const auto start = std::chrono::steady_clock::now();
   const sim::ExportSummary s =
       sim::export_scenario(args.scenario, args.overrides, args.seed, args.out_dir);
@@ -56,6 +58,7 @@ void register_export(CLI::App& app) {
   cmd->add_option("--out", args->out_dir, "Dataset folder to write")
       ->required()
       ->check(non_empty_name());
+  cmd->add_flag("--force", args->force, "Overwrite a dataset already in --out");
   cmd->callback([args] { run_export(*args); });
 }
 

@@ -21,6 +21,7 @@
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/scene.h"
 #include "arttrack/sim/simulator.h"
+#include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
@@ -78,11 +79,9 @@ void run(const RenderArgs& args) {
 
   // The tracker's model, from the same URDF and camera link.
   RobotModelOptions options;
-  options.camera_frame = scene.camera_link;
   options.add_virtual_camera_joints = false;
   if (args.segments > 0) options.cylinder_segments = options.sphere_segments = args.segments;
-  for (const auto& [name, dir] : scene.package_paths) options.mesh_search_paths.push_back(dir);
-  const RobotModel robot = RobotModel::from_urdf_file(scene.urdf_path.string(), options);
+  const RobotModel robot = sim::tracker_robot_model(scene, scene.urdf_path, options);
   KinematicsState state(robot);
   forward_kinematics(robot, tracker_joints(robot, simulator), state);
   DepthRenderer renderer(robot, camera.intrinsics());

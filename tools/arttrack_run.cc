@@ -1,12 +1,14 @@
 // arttrack run [SCENARIO.yaml] [--runs K] [--seed S] [--methods a,b] [--set k=v ...] [--out DIR]
-//              [--realtime]
+//              [--force] [--realtime]
 //
 // Runs a scenario (default: scenarios/default.yaml): simulates the robot,
 // tracks it with each method, scores them, prints a table of the
 // end-effector errors (a row per end effector and the worst of them, with
 // the lost runs), the consistency and camera errors and the timings, and
 // writes DIR/summary.json, DIR/timeseries.csv, DIR/report.html and
-// DIR/frames/ (default DIR: out/<scenario name>).
+// DIR/frames/ (default DIR: out/<scenario name>); a DIR holding a previous
+// run's outputs is refused unless --force. summary.json records what
+// reproduces the run (arttrack rerun DIR).
 // Progress goes to stderr on long runs. --realtime paces the simulation at
 // wall-clock speed with asynchronous trackers (image updates on their own
 // threads, as on a robot) and prints, per method, the images dropped and the
@@ -41,6 +43,7 @@ struct RunArgs {
   std::vector<std::string> overrides;
   std::string out_dir;
   bool realtime = false;
+  bool force = false;
 };
 
 // --realtime: per method, what the asynchronous tracker did with the images
@@ -86,6 +89,7 @@ void run(const RunArgs& args) {
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
+  if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
   if (args.seed < -1) throw UsageError("--seed must be >= 0");
 
   sim::RunOptions options;
@@ -94,7 +98,17 @@ void run(const RunArgs& args) {
   options.methods = split_commas(args.methods);
   options.realtime = args.realtime;
   for (const std::string& m : options.methods) parse_method(m, "--methods");
+  const fs::path out =
+      args.out_dir.empty() ? fs::path("out") / scenario.name : fs::path(args.out_dir);
+  run_and_write(scenario, options, out, args.force);
+}
 
+}  // namespace
+
+void run_and_write(const sim::Scenario& scenario, sim::RunOptions options, const fs::path& out,
+                   bool force) {
+  // Before the run: a refusal should not cost its time.
+  check_fresh_output(out, {"summary.json", "timeseries.csv"}, force);
   // Progress every few seconds of wall time, so short runs stay quiet.
   const auto start = Clock::now();
   auto last = start;
@@ -109,19 +123,15 @@ void run(const RunArgs& args) {
   };
 
   const sim::ScenarioResult result = sim::run_scenario(scenario, options);
-  const fs::path out =
-      args.out_dir.empty() ? fs::path("out") / scenario.name : fs::path(args.out_dir);
   sim::write_run_outputs(out, result);
   sim::print_summary_table(std::cout, result);
-  if (args.realtime)
+  if (options.realtime)
     print_realtime(std::cout, result, std::chrono::duration<double>(Clock::now() - start).count());
   std::cout << "wrote " << (out / "summary.json").string() << ", "
             << (out / "timeseries.csv").string() << " and " << (out / "frames").string() << "/ in "
             << std::fixed << std::setprecision(1)
             << std::chrono::duration<double>(Clock::now() - start).count() << " s\n";
 }
-
-}  // namespace
 
 void register_run(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
@@ -139,6 +149,7 @@ void register_run(CLI::App& app) {
       ->allow_extra_args(false);
   cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)")
       ->check(non_empty_name());
+  cmd->add_flag("--force", args->force, "Overwrite the outputs of a previous run in --out");
   cmd->add_flag("--realtime", args->realtime,
                 "Pace the simulation at wall-clock speed with asynchronous trackers; report "
                 "dropped images and capture-to-estimate latency");

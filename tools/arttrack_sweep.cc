@@ -77,6 +77,7 @@ void sweep(const SweepArgs& args) {
   for (const std::string& g : args.grid) spec.axes.push_back(sim::parse_grid_axis(g));
   spec.methods = split_commas(args.methods);
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
+  if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
   spec.runs = args.runs;
   spec.fail_threshold_m = args.fail_threshold_m;
   spec.fail_statistic = args.fail_statistic;

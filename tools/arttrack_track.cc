@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 struct TrackArgs {
   std::string dataset, config, urdf, methods, out_dir;
   int every = 0;
+  bool force = false;
 };
 
 void run_track(const TrackArgs& args) {
@@ -48,6 +49,7 @@ void run_track(const TrackArgs& args) {
   };
 
   const fs::path out = args.out_dir;
+  check_fresh_output(out, {"estimate.csv", "summary.json"}, args.force);
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw InputError(out.string() + ": cannot create: " + ec.message());
@@ -57,6 +59,13 @@ void run_track(const TrackArgs& args) {
   estimate.close();
   if (!estimate) throw InputError((out / "estimate.csv").string() + ": write failed");
 
+  for (const sim::MethodRun& m :
+       r.result.runs.empty() ? std::vector<sim::MethodRun>{} : r.result.runs[0].methods)
+    if (m.stats.joint_measurements_dropped || m.stats.images_dropped_bad_stamp)
+      std::cerr << "arttrack track: " << m.method << " dropped "
+                << m.stats.joint_measurements_dropped
+                << " joint measurements (a reading outside its joint's limits or not finite) and "
+                << m.stats.images_dropped_bad_stamp << " images (stamp off the joint clock)\n";
   if (r.frames_missing > 0)
     std::cerr << "arttrack track: " << r.frames_missing << " of " << dataset.frames.size()
               << " depth images missing or unreadable, skipped\n";
@@ -88,6 +97,7 @@ void register_track(CLI::App& app) {
   cmd->add_option("--every", args->every,
                   "Also write an estimate.csv row every N joint readings (default 0)");
   cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
+  cmd->add_flag("--force", args->force, "Overwrite the outputs of a previous run in --out");
   cmd->callback([args] { run_track(*args); });
 }
 

@@ -4,6 +4,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+
+#include "arttrack/sim/scenario.h"
+#include "arttrack/sim/scenario_runner.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::cli {
@@ -12,6 +18,13 @@ namespace arttrack::cli {
 inline constexpr int kExitSuccess = 0;
 inline constexpr int kExitRuntimeError = 1;  // bad input files, unstable physics, I/O, ...
 inline constexpr int kExitUsageError = 2;    // the command line itself is wrong
+
+// Upper bounds of resource-like numbers of the command line, those of the
+// matching configuration keys (scenario `runs`, particle_filter.particles,
+// depth_model.width and height).
+inline constexpr int kMaxRuns = 100000;
+inline constexpr int kMaxEvaluations = 1000000;
+inline constexpr int kMaxResolution = 4096;
 
 // A command-line value a subcommand finds wrong after parsing (exit 2).
 class UsageError : public InputError {
@@ -26,8 +39,27 @@ inline CLI::Validator non_empty_name() {
       [](std::string& s) -> std::string { return s.empty() ? "must not be empty" : ""; }, "NAME");
 }
 
+// An output folder holding any of `outputs` (a previous run's) is not
+// overwritten without --force: a usage error naming the file.
+inline void check_fresh_output(const std::filesystem::path& dir,
+                               std::initializer_list<const char*> outputs, bool force) {
+  if (force) return;
+  for (const char* name : outputs)
+    if (std::filesystem::exists(dir / name))
+      throw UsageError("--out " + dir.string() + " holds a previous run's outputs (" +
+                       (dir / name).string() +
+                       "): choose another folder, or pass --force to overwrite them");
+}
+
+// arttrack run's work after parsing (tools/arttrack_run.cc), shared with
+// arttrack rerun: runs the scenario, writes its outputs into `out` (see
+// check_fresh_output), prints the summary table.
+void run_and_write(const sim::Scenario& scenario, sim::RunOptions options,
+                   const std::filesystem::path& out, bool force);
+
 void register_render(CLI::App& app);
 void register_run(CLI::App& app);
+void register_rerun(CLI::App& app);
 void register_sweep(CLI::App& app);
 void register_merge(CLI::App& app);
 void register_tune(CLI::App& app);

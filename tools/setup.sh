@@ -3,7 +3,11 @@
 #   tools/setup.sh run   install what is missing, build, run the main job
 #   tools/setup.sh test  install what is missing, build, run the whole test suite
 #   tools/setup.sh build install what is missing and build
-# Environment: BUILD_DIR (default build), JOBS (default: number of cores).
+#   tools/setup.sh deps  install what is missing only
+# `test` runs the suite, then the unit and sim tests again under ASan + UBSan
+# (a second build in $BUILD_DIR-sanitize; SANITIZE=0 skips it).
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores),
+# EXTRA_PACKAGES (more Debian packages to install, e.g. clang for tools/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,7 +19,9 @@ jobs=${JOBS:-$(nproc)}
 packages=(cmake g++ ninja-build pkg-config
   libmujoco-dev libqhull-dev libeigen3-dev liburdfdom-dev libassimp-dev
   libosmesa6-dev libegl-dev libyaml-cpp-dev libpng-dev libcli11-dev
-  libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev nlohmann-json3-dev)
+  libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev nlohmann-json3-dev
+  parallel
+  ${EXTRA_PACKAGES:-})
 
 missing=()
 for p in "${packages[@]}"; do
@@ -29,12 +35,27 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
+[ "$mode" = deps ] && exit 0
+
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j "$jobs"
 
 case "$mode" in
   build) ;;
-  run) "$build_dir/arttrack" run "$@" ;;
-  test) ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@" ;;
-  *) echo "setup: unknown mode '$mode' (use run, test or build)" >&2; exit 2 ;;
+  # --force: the main job rewrites out/<scenario> on every call.
+  run) "$build_dir/arttrack" run --force "$@" ;;
+  test)
+    ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@"
+    # Then the unit and sim tests again under AddressSanitizer + UBSan, built
+    # in a second folder (their programs only). SANITIZE=0 skips this.
+    if [ "${SANITIZE:-1}" != 0 ]; then
+      san_dir=${build_dir}-sanitize
+      cmake -S . -B "$san_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DARTTRACK_SANITIZE=ON
+      cmake --build "$san_dir" -j "$jobs" --target unit_sim_tests
+      LSAN_OPTIONS="suppressions=$PWD/tools/lsan.supp:print_suppressions=0" \
+        UBSAN_OPTIONS=print_stacktrace=1 \
+        ctest --test-dir "$san_dir" --output-on-failure -j "$jobs" -L '^(unit|sim)$'
+    fi
+    ;;
+  *) echo "setup: unknown mode '$mode' (use run, test, build or deps)" >&2; exit 2 ;;
 esac

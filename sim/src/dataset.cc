@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "arttrack/sim/depth_png.h"
+#include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
@@ -191,6 +192,21 @@ void read_joints(const fs::path& path, Dataset& d) {
       d.joint_readings_rad.push_back(csv.finite(row, i, header));
   }
   if (d.joint_time_s.empty()) throw InputError(path.string() + ": has no readings");
+}
+
+// The joints of joints.csv against the URDF's, before the ground truth
+// (whose columns are checked against joints.csv) can blame itself for them.
+// track_dataset checks them against the tracker's model in full.
+void check_joint_columns(const fs::path& path, const Dataset& d) {
+  const UrdfSummary urdf = read_urdf_summary(d.urdf);
+  for (const std::string& name : d.joint_names)
+    if (!urdf.has_joint(name))
+      throw InputError(path.string() + ":1: joint '" + name + "' is not a joint of " +
+                       d.urdf.string());
+  for (const std::string& name : urdf.movable_joints)
+    if (std::find(d.joint_names.begin(), d.joint_names.end(), name) == d.joint_names.end())
+      throw InputError(path.string() + ":1: has no column for joint '" + name + "' of " +
+                       d.urdf.string());
 }
 
 void read_frames(const fs::path& depth_dir, Dataset& d) {
@@ -376,7 +392,11 @@ void read_dataset_yaml(const fs::path& path, Dataset& d) {
   const YamlDocument doc = load_yaml_file(path.string());
   const ConfigNode n = ConfigNode::root(doc);
   d.name = n.get<std::string>("name", d.name);
-  n.get<std::string>("source", "");  // informational
+  // Informational: where it was exported from (the scenario resolved).
+  n.get<std::string>("source", "");
+  n.get<std::string>("version", "");
+  n.get<std::vector<std::string>>("overrides", {});
+  n.get<std::string>("scenario", "");
   if (n.has("seed")) {
     const double seed = n.number("seed", 0, 0, 9007199254740992.0);
     if (seed != std::floor(seed)) n.fail("seed", "must be a whole number");
@@ -410,6 +430,7 @@ Dataset load_dataset(const fs::path& dir, const std::optional<fs::path>& urdf_ov
   d.camera = read_camera_yaml(dir / "camera.yaml");
   read_robot(dir, urdf_override, d);
   read_joints(dir / "joints.csv", d);
+  check_joint_columns(dir / "joints.csv", d);
   read_frames(dir / "depth", d);
   read_truth(dir / "ground_truth.csv", d);
   read_dataset_yaml(dir / "dataset.yaml", d);
@@ -572,20 +593,13 @@ void write_text(const fs::path& path, const std::string& text) {
   if (!out) throw InputError(path.string() + ": write failed");
 }
 
-// The nominal URDF with every mesh copied into DIR/meshes/ and named
-// relative to it, so that the dataset loads from anywhere.
+// The tracker's URDF (with the scene's camera mount) with every mesh copied into DIR/meshes/ and
+// named relative to it, so that the dataset loads from anywhere.
 void write_robot(const Scenario& sc, const fs::path& dir) {
-  std::ifstream in(sc.scene.urdf_path);
-  if (!in) throw InputError(sc.scene.urdf_path.string() + ": cannot read the URDF");
-  std::stringstream xml;
-  xml << in.rdbuf();
-  // An empty perturbation only resolves the mesh file names.
-  const std::string resolved =
-      perturb_urdf_text(xml.str(), sc.scene.urdf_path.string(), sc.scene.urdf_path.parent_path(),
-                        sc.scene.package_paths, UrdfPerturbation{});
+  const std::string resolved = mounted_urdf_text(sc.scene, sc.tracker_urdf());
   tinyxml2::XMLDocument doc;
   if (doc.Parse(resolved.c_str(), resolved.size()) != tinyxml2::XML_SUCCESS)
-    throw InputError(sc.scene.urdf_path.string() + ": cannot parse the URDF");
+    throw InputError(sc.tracker_urdf().string() + ": cannot parse the URDF");
   std::map<fs::path, std::string> copied;  // source -> name in meshes/
   std::set<std::string> used;
   std::vector<tinyxml2::XMLElement*> stack{doc.RootElement()};
@@ -675,7 +689,9 @@ ExportSummary export_scenario(const fs::path& scenario_file,
        << number_text(sc.scoring.options.convergence_threshold_m) << YAML::Key << "lost_threshold_m"
        << YAML::Value << number_text(sc.scoring.options.lost_threshold_m) << YAML::Key
        << "lost_after_s" << YAML::Value << number_text(sc.scoring.options.lost_after_s)
-       << YAML::EndMap << YAML::EndMap;
+       << YAML::EndMap << YAML::Key << "version" << YAML::Value << result.recipe.version
+       << YAML::Key << "overrides" << YAML::Value << YAML::Flow << overrides << YAML::Key
+       << "scenario" << YAML::Value << YAML::Literal << sc.resolved_yaml << YAML::EndMap;
   write_text(
       out_dir / "dataset.yaml",
       std::string("# Exported by arttrack export: run 0 of the scenario.\n") + meta.c_str() + "\n");
@@ -783,6 +799,17 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   if (d.has_truth()) base.end_effectors = d.truth_end_effectors;
   if (d.camera.delay_s) base.camera_delay_s = *d.camera.delay_s;
   base.asynchronous = false;
+  // Image and joint clocks apart (another epoch or unit) would have the
+  // tracker drop every image: refused, naming the first such row.
+  const double joints_from_s = d.joint_time_s.front(), joints_to_s = d.joint_time_s.back();
+  for (const DatasetFrame& f : d.frames)
+    if (!(f.stamp_s >= joints_from_s - base.max_image_clock_offset_s &&
+          f.stamp_s <= joints_to_s + base.max_image_clock_offset_s))
+      throw InputError(f.where + ": image stamped " + number_text(f.stamp_s) +
+                       " s is more than input_checks.max_image_clock_offset_s = " +
+                       number_text(base.max_image_clock_offset_s) + " s outside the " +
+                       number_text(joints_from_s) + " .. " + number_text(joints_to_s) + " s of " +
+                       joints_csv.string() + ": the image and joint clocks differ");
 
   // The methods.
   std::vector<std::string> names = options.methods.empty() ? d.methods : options.methods;

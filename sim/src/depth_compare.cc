@@ -1,8 +1,9 @@
 #include "arttrack/sim/depth_compare.h"
 
-#include <cassert>
 #include <cmath>
 #include <cstdio>
+
+#include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
 
@@ -26,7 +27,7 @@ std::string DepthAgreement::summary() const {
 }
 
 DepthAgreement compare_depth(const DepthImage& a, const DepthImage& b, double tolerance_m) {
-  assert(a.width == b.width && a.height == b.height);
+  ARTTRACK_CHECK_ARGUMENT(a.width == b.width && a.height == b.height);
   DepthAgreement r;
   r.tolerance_m = tolerance_m;
   for (size_t i = 0; i < a.depth_m.size(); ++i) {

@@ -76,7 +76,10 @@ void read_with_assimp(const fs::path& path, const std::string& context,
   Assimp::Importer importer;
   // URDF meshes are used in their file's own axes (ROS does the same).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate);
+  // Validation refuses face indices beyond the vertices, mesh indices
+  // beyond the meshes and the like, which the walk below would follow.
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_ValidateDataStructure);
   if (!scene || !scene->mRootNode)
     throw InputError(context + ": cannot read mesh '" + path.string() +
                      "': " + importer.GetErrorString());

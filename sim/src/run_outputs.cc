@@ -8,10 +8,13 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/report.h"
+#include "arttrack/sim/scenario.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/yaml_config.h"
 #include "text_format.h"
 
 namespace arttrack::sim {
@@ -97,6 +100,31 @@ Json joints_json(const MethodSummary& m) {
   return joints;
 }
 
+// The inputs a method's trackers dropped, over all runs.
+TrackerStats dropped_inputs(const ScenarioResult& r, std::size_t method) {
+  TrackerStats sum;
+  for (const RunResult& run : r.runs)
+    if (method < run.methods.size()) {
+      sum.joint_measurements_dropped += run.methods[method].stats.joint_measurements_dropped;
+      sum.images_dropped_bad_stamp += run.methods[method].stats.images_dropped_bad_stamp;
+    }
+  return sum;
+}
+
+Json recipe_json(const RunRecipe& p) {
+  if (p.scenario_yaml.empty()) return nullptr;
+  return Json{{"version", p.version},
+              {"scenario_file", p.scenario_file},
+              {"scenario_dir", p.scenario_dir},
+              {"overrides", p.overrides},
+              {"seed", p.seed},
+              {"runs", p.runs},
+              {"methods", p.methods},
+              {"realtime", p.realtime},
+              {"scenario", p.scenario_yaml},
+              {"tracker", p.tracker_yaml}};
+}
+
 }  // namespace
 
 std::string summary_json(const ScenarioResult& r) {
@@ -138,6 +166,14 @@ std::string summary_json(const ScenarioResult& r) {
        {{"p50", number(timing.image_update_ms.p50)}, {"p99", number(timing.image_update_ms.p99)}}},
       {"evaluations_per_image", number(timing.evaluations_per_image)},
   };
+  Json dropped = Json::object();
+  for (std::size_t i = 0; i < r.method_results.size(); ++i) {
+    const TrackerStats d = dropped_inputs(r, i);
+    dropped[r.method_results[i].method] = Json{{"joint_measurements", d.joint_measurements_dropped},
+                                               {"images_bad_stamp", d.images_dropped_bad_stamp}};
+  }
+  j["dropped"] = dropped;
+  j["reproduce"] = recipe_json(r.recipe);
   return j.dump(2) + "\n";
 }
 
@@ -321,6 +357,14 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     cell(m.timing.evaluations_per_image, 1.0, 13, 0);
     out << "\n";
   }
+  out << "\ninputs dropped (joint measurements outside the limits or not finite, images off "
+         "the joint clock):";
+  for (std::size_t i = 0; i < r.method_results.size(); ++i) {
+    const TrackerStats d = dropped_inputs(r, i);
+    out << (i ? "," : "") << " " << r.method_results[i].method << " "
+        << d.joint_measurements_dropped << " / " << d.images_dropped_bad_stamp;
+  }
+  out << "\n";
   out.flags(flags);
   out.precision(precision);
 }
@@ -347,6 +391,55 @@ void write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
     if (!r.frames[i].estimate.empty())
       write_depth_png_mm(dir / "frames" / (stem + "_estimate.png"), r.frames[i].estimate);
   }
+}
+
+RunRecipe read_run_recipe(const fs::path& summary_json) {
+  const std::string file = summary_json.string();
+  std::ifstream in(summary_json);
+  if (!in) throw InputError(file + ": cannot read");
+  Json j;
+  try {
+    j = Json::parse(in);
+  } catch (const Json::exception& e) {
+    throw InputError(file + ": not JSON: " + e.what());
+  }
+  if (!j.is_object() || !j.contains("reproduce") || !j["reproduce"].is_object())
+    throw InputError(file +
+                     ": has no \"reproduce\" record (written by an older arttrack, or "
+                     "not by arttrack run)");
+  const Json& p = j["reproduce"];
+  RunRecipe r;
+  auto get = [&](const char* key, auto& value) {
+    try {
+      value = p.at(key).get<std::decay_t<decltype(value)>>();
+    } catch (const Json::exception&) {
+      throw InputError(file + ": key 'reproduce." + key + "' is missing or has the wrong type");
+    }
+  };
+  get("version", r.version);
+  get("scenario_file", r.scenario_file);
+  get("scenario_dir", r.scenario_dir);
+  get("overrides", r.overrides);
+  get("scenario", r.scenario_yaml);
+  get("tracker", r.tracker_yaml);
+  get("seed", r.seed);
+  get("runs", r.runs);
+  get("methods", r.methods);
+  get("realtime", r.realtime);
+  if (r.runs < 1) throw InputError(file + ": key 'reproduce.runs' must be at least 1");
+  if (r.seed > std::uint64_t(std::numeric_limits<long long>::max()))
+    throw InputError(file + ": key 'reproduce.seed' must be below 2^63");
+  return r;
+}
+
+Scenario scenario_from_recipe(const RunRecipe& recipe, const std::string& source) {
+  const YamlDocument doc = load_yaml_string(recipe.scenario_yaml, source + " (reproduce.scenario)");
+  const YamlDocument tracker =
+      load_yaml_string(recipe.tracker_yaml, source + " (reproduce.tracker)");
+  Scenario s = scenario_from_yaml(doc, recipe.scenario_dir, &tracker);
+  s.source = recipe.scenario_file;
+  s.overrides = recipe.overrides;
+  return s;
 }
 
 }  // namespace arttrack::sim

@@ -308,6 +308,7 @@ void read_miscalibration(const ConfigNode& root, const UrdfSummary& urdf, Scenar
   const ConfigNode m = root.child("miscalibration");
   UrdfPerturbation& p = s.perturbation;
   p.camera_link = s.scene.camera_link;
+  p.camera_mount = s.scene.camera_mount;
   if (m.has("camera_offset")) {
     const ConfigNode c = m.child("camera_offset");
     p.T_nominal_true_camera = pose(c, "xyz_m");
@@ -439,11 +440,41 @@ void read_scoring(const ConfigNode& n, Scenario& s) {
       s.scene.end_effector_links.push_back(ee);
 }
 
+// `simulated_urdf` / `tracker_urdf`: another URDF of the scene's robot (a
+// calibrated description against the nominal one), with the same movable
+// joints as the scene's URDF; empty (the scene's URDF) if absent.
+fs::path read_robot_urdf(const ConfigNode& root, const std::string& key, const fs::path& dir,
+                         const Scenario& s) {
+  if (!root.has(key)) return {};
+  const fs::path path = resolve_path(root, key, "", dir);
+  UrdfSummary other;
+  try {
+    other = read_urdf_summary(path);
+  } catch (const InputError& e) {
+    root.fail(key, e.what());
+  }
+  const auto differ = [&](const UrdfSummary& a, const UrdfSummary& b) {
+    for (const std::string& j : a.movable_joints)
+      if (b.movable_index(j) < 0)
+        root.fail(key, "= '" + path.string() + "': movable joint '" + j + "' of " +
+                           a.path.string() + " is not a movable joint of " + b.path.string() +
+                           " (both URDFs must have the same movable joints)");
+  };
+  differ(s.urdf, other);
+  differ(other, s.urdf);
+  return path;
+}
+
 // The tracker configuration: the scenario's `tracker` file (default: the
 // built-in tracker/config/default.yaml), the scene's robot-specific
-// tracker_overrides over it, the scenario's tracker_overrides over those.
-void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
-  if (root.has("tracker")) {
+// tracker_overrides over it, the scenario's tracker_overrides over those; or,
+// for a rerun, `resolved` (the configuration a run recorded) as it is.
+void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocument* resolved,
+                  Scenario& s) {
+  if (resolved) {
+    s.tracker_file = root.get<std::string>("tracker", "");  // named only
+    s.tracker_document = *resolved;
+  } else if (root.has("tracker")) {
     s.tracker_file = resolve_path(root, "tracker", "", dir);
     s.tracker_document = load_yaml_file(s.tracker_file.string());
   } else {
@@ -451,6 +482,7 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
   }
   YamlDocument& doc = s.tracker_document;
   for (const auto& [key, value] : s.scene.tracker_overrides) {
+    if (resolved) break;  // already in it
     try {
       apply_override(doc, key + "=" + value);
     } catch (const InputError& e) {
@@ -460,8 +492,10 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, Scenario& s) {
   }
   const ConfigNode over = root.child("tracker_overrides");
   for (const std::string& key : over.keys()) {
+    const std::string value = over.flow_text(key);
+    if (resolved) continue;  // already in it
     try {
-      apply_override(doc, key + "=" + over.flow_text(key));
+      apply_override(doc, key + "=" + value);
     } catch (const InputError& e) {
       over.fail(key, std::string("cannot be applied: ") + e.what());
     }
@@ -528,19 +562,32 @@ JointTrajectory make_trajectory(const Scenario& s, const std::vector<std::string
   return trajectory;
 }
 
-Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir) {
+Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir,
+                            const YamlDocument* tracker) {
   const ConfigNode root = ConfigNode::root(doc);
   Scenario s;
   s.source = doc.file;
+  s.dir = dir;
   s.name = root.get<std::string>("name", fs::path(doc.file).stem().string());
   if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
     root.fail("name", "must be a non-empty name without slashes");
+  {
+    YAML::Node resolved = YAML::Clone(doc.root);
+    resolved["name"] = s.name;  // a rerun's document has another file name
+    s.resolved_yaml = YAML::Dump(resolved) + "\n";
+  }
 
   if (!root.has("scene")) root.fail("scene", "is required but missing");
   s.scene_file = resolve_path(root, "scene", "", dir);
   s.scene = load_scene(s.scene_file);
   s.urdf = read_urdf_summary(s.scene.urdf_path);
   check_joint_groups(s);
+  if (s.scene.camera_mount) {  // the link the mount adds
+    s.urdf.link_names.push_back(s.scene.camera_link);
+    s.urdf.joint_names.push_back(s.scene.camera_link + "_mount");
+  }
+  s.simulated_urdf_path = read_robot_urdf(root, "simulated_urdf", dir, s);
+  s.tracker_urdf_path = read_robot_urdf(root, "tracker_urdf", dir, s);
 
   s.duration_s = root.number("duration_s", s.duration_s, 1e-3, 1e6);
   s.seed = (std::uint64_t)integer(root, "seed", (long long)s.seed, 0, 9007199254740992.0);
@@ -562,7 +609,7 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir) {
   read_miscalibration(root, s.urdf, s);
   read_occluders(root, s);
   read_scoring(root.child("scoring"), s);
-  read_tracker(root, dir, s);
+  read_tracker(root, dir, tracker, s);
   s.tracker.end_effectors = s.scoring.end_effectors;
 
   // The motion as a whole.
@@ -586,7 +633,9 @@ Scenario load_scenario(const fs::path& path, const std::vector<std::string>& ove
       throw InputError(path.string() + ": " + e.what());
     }
   }
-  return scenario_from_yaml(doc, fs::absolute(path).parent_path());
+  Scenario s = scenario_from_yaml(doc, fs::absolute(path).parent_path());
+  s.overrides = overrides;
+  return s;
 }
 
 void read_scoring_options(const ConfigNode& n, ScoringOptions& o) {

@@ -77,21 +77,19 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
   for (const std::string& m : method_names) s.methods.push_back(parse_method(m, "run options"));
 
   // The tracker's nominal model.
-  RobotModelOptions ro;
-  ro.camera_frame = sc.scene.camera_link;
-  for (const auto& [name, dir] : sc.scene.package_paths) ro.mesh_search_paths.push_back(dir);
-  s.robot = std::make_shared<const RobotModel>(
-      RobotModel::from_urdf_file(sc.scene.urdf_path.string(), ro));
+  s.robot = std::make_shared<const RobotModel>(tracker_robot_model(sc.scene, sc.tracker_urdf()));
 
   // The simulator's perturbed model; physics steps divide the joint period.
   SceneDescription scene = sc.scene;
   s.joint_period_s = 1.0 / sc.joint_rate_hz;
   s.substeps = std::max(1, int(std::ceil(s.joint_period_s / scene.timestep_s - 1e-9)));
   scene.timestep_s = s.joint_period_s / s.substeps;
+  scene.urdf_path = sc.simulated_urdf();
   std::optional<PerturbedUrdf> perturbed;
   if (!sc.perturbation.empty()) {
-    perturbed.emplace(sc.scene.urdf_path, sc.scene.package_paths, sc.perturbation);
+    perturbed.emplace(scene.urdf_path, sc.scene.package_paths, sc.perturbation);
     scene.urdf_path = perturbed->path();
+    scene.camera_mount.reset();  // the perturbed copy has it
   }
   s.sim_model = build_sim_model(scene);
   const SimModel& m = *s.sim_model;
@@ -453,6 +451,15 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
   ScenarioResult result;
   result.scenario = sc.name;
   result.source = sc.source;
+  result.recipe.scenario_file = sc.source;
+  result.recipe.scenario_dir = sc.dir.string();
+  result.recipe.overrides = sc.overrides;
+  result.recipe.scenario_yaml = sc.resolved_yaml;
+  result.recipe.tracker_yaml = YAML::Dump(sc.tracker_document.root) + "\n";
+  result.recipe.seed = seed;
+  result.recipe.runs = runs;
+  result.recipe.methods = method_names;
+  result.recipe.realtime = options.realtime;
   result.duration_s = sc.duration_s;
   result.joint_names = setup.joint_names;
   result.end_effectors = sc.scoring.end_effectors;

@@ -117,8 +117,39 @@ void read_robot(const ConfigNode& n, const fs::path& dir, SceneDescription& s) {
     s.tracker_overrides.emplace_back(key, tracker.flow_text(key));
 }
 
+// `look_at_m`: the optical axis (z) towards that point, x right and level
+// (perpendicular to the world's z), y down.
+Eigen::Matrix3d look_at(const ConfigNode& n, const Eigen::Vector3d& from_m) {
+  const Eigen::Vector3d z = vec<3>(n, "look_at_m", Eigen::Vector3d::Zero()) - from_m;
+  if (z.norm() < 1e-6) n.fail("look_at_m", "must differ from position_m");
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());
+  if (x.norm() < 1e-6 * z.norm())
+    n.fail("look_at_m", "looks straight up or down; give rpy_deg instead");
+  Eigen::Matrix3d R;
+  R.col(2) = z.normalized();
+  R.col(0) = x.normalized();
+  R.col(1) = R.col(2).cross(R.col(0));
+  return R;
+}
+
+void read_camera_mount(const ConfigNode& n, SceneDescription& s) {
+  CameraMount mount;
+  mount.parent_link = n.get<std::string>("parent", "world");
+  if (mount.parent_link.empty()) n.fail("parent", "must name a link of the URDF, or world");
+  if (mount.parent_link == "world") mount.parent_link.clear();
+  if (n.has("rpy_deg") && n.has("look_at_m"))
+    n.fail("look_at_m", "cannot be given together with rpy_deg");
+  mount.T_parent_camera = pose(n);
+  if (n.has("look_at_m")) {
+    if (!mount.parent_link.empty()) n.fail("look_at_m", "needs parent: world");
+    mount.T_parent_camera.linear() = look_at(n, mount.T_parent_camera.translation());
+  }
+  s.camera_mount = mount;
+}
+
 void read_camera(const ConfigNode& n, SceneDescription& s) {
   s.camera_link = n.get<std::string>("link", s.camera_link);
+  if (n.has("mount")) read_camera_mount(n.child("mount"), s);
   s.width = int(n.number("width", s.width, 8, 8192));
   s.height = int(n.number("height", s.height, 8, 8192));
   s.fovy_rad = kDeg * n.number("fovy_deg", s.fovy_rad / kDeg, 1, 170);

@@ -9,10 +9,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <set>
 
+#include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/error.h"
 #include "urdf_prepare.h"
 
@@ -389,11 +393,37 @@ CameraIntrinsics SimModel::intrinsics() const {
   return CameraIntrinsics::from_vertical_fov(scene.width, scene.height, scene.fovy_rad);
 }
 
+namespace {
+
+// One line on stderr, once per URDF and process (sweeps build many models).
+void report_derived_inertia(const fs::path& urdf, const std::vector<std::string>& links) {
+  if (links.empty()) return;
+  static std::mutex mutex;
+  static std::set<std::string> reported;
+  std::lock_guard lock(mutex);
+  if (!reported.insert(urdf.string()).second) return;
+  std::string names;
+  for (const auto& l : links) names += (names.empty() ? "" : ", ") + l;
+  std::cerr << "notice: " << urdf.filename().string() << ": no <inertial> on " << links.size() << " links ("
+            << names << "); mass and inertia derived from their geometry (solid, 1000 kg/m^3)\n";
+}
+
+}  // namespace
+
 std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene) {
   const std::string where = scene.source.empty() ? scene.urdf_path.string() : scene.source;
   TempDir work;
-  const UrdfInfo urdf = prepare_urdf(scene.urdf_path, scene.package_paths, work.path());
+  std::optional<PerturbedUrdf> mounted;  // a copy with the scene's camera link
+  if (scene.camera_mount) {
+    UrdfPerturbation mount;
+    mount.camera_link = scene.camera_link;
+    mount.camera_mount = scene.camera_mount;
+    mounted.emplace(scene.urdf_path, scene.package_paths, mount);
+  }
+  const UrdfInfo urdf =
+      prepare_urdf(mounted ? mounted->path() : scene.urdf_path, scene.package_paths, work.path());
   check_names(scene, urdf);
+  report_derived_inertia(scene.urdf_path, urdf.links_with_derived_inertia);
 
   // Stage 1: the robot alone, through MuJoCo's URDF importer.
   char error[1024] = "";

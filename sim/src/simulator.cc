@@ -1,6 +1,5 @@
 #include "arttrack/sim/simulator.h"
 
-#include <cassert>
 #include <cmath>
 #include <sstream>
 
@@ -20,7 +19,7 @@ void Simulator::reset() {
 }
 
 void Simulator::set_joint_positions(const Eigen::VectorXd& q) {
-  assert(q.size() == Eigen::Index(model_->joint_names.size()));
+  ARTTRACK_CHECK_ARGUMENT(q.size() == Eigen::Index(model_->joint_names.size()));
   mjData* d = data_.get();
   for (size_t i = 0; i < model_->joint_names.size(); ++i) {
     d->qpos[model_->joint_qpos_adr[i]] = q[i];
@@ -31,7 +30,7 @@ void Simulator::set_joint_positions(const Eigen::VectorXd& q) {
 }
 
 void Simulator::set_targets(const Eigen::VectorXd& q_target) {
-  assert(q_target.size() == Eigen::Index(model_->joint_names.size()));
+  ARTTRACK_CHECK_ARGUMENT(q_target.size() == Eigen::Index(model_->joint_names.size()));
   for (size_t i = 0; i < model_->joint_names.size(); ++i)
     data_->ctrl[model_->joint_actuator[i]] = q_target[i];
 }

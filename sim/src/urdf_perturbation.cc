@@ -193,6 +193,35 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
     return j;
   };
 
+  // 0. The scene's camera mount: a new link on a fixed joint.
+  if (p.camera_mount) {
+    const CameraMount& m = *p.camera_mount;
+    const std::string what = source + ": camera mount";
+    if (!is_finite(m.T_parent_camera)) throw InputError(what + " is not finite");
+    if (find_named(robot, "link", p.camera_link))
+      throw InputError(what + ": the URDF already has a link '" + p.camera_link +
+                       "'; name the mounted camera's link otherwise (camera.link) or drop "
+                       "camera.mount to use that link");
+    std::string parent = m.parent_link;
+    if (parent.empty()) {  // the world: the root link
+      for (XMLElement* l = robot->FirstChildElement("link"); l && parent.empty();
+           l = l->NextSiblingElement("link"))
+        if (l->Attribute("name") && !parent_joint_of(robot, l->Attribute("name")))
+          parent = l->Attribute("name");
+    } else if (!find_named(robot, "link", parent)) {
+      throw InputError(what + ": parent '" + parent +
+                       "' is not a link of the URDF (name one of its links, or world)");
+    }
+    XMLElement* link = robot->InsertNewChildElement("link");
+    link->SetAttribute("name", p.camera_link.c_str());
+    XMLElement* j = robot->InsertNewChildElement("joint");
+    j->SetAttribute("name", (p.camera_link + "_mount").c_str());
+    j->SetAttribute("type", "fixed");
+    j->InsertNewChildElement("parent")->SetAttribute("link", parent.c_str());
+    j->InsertNewChildElement("child")->SetAttribute("link", p.camera_link.c_str());
+    write_origin(doc, j, m.T_parent_camera);
+  }
+
   // 1. Link lengths: the joint origin moves along its own translation.
   for (const auto& [name, extension_m] : p.origin_extension_m) {
     const std::string what = "link length change of joint '" + name + "'";
@@ -294,6 +323,26 @@ PerturbedUrdf::PerturbedUrdf(const fs::path& urdf,
     fs::remove_all(dir_, ec);
     throw InputError("cannot write the perturbed URDF '" + path_.string() + "'");
   }
+}
+
+std::string mounted_urdf_text(const SceneDescription& scene, const fs::path& urdf) {
+  std::ifstream in(urdf);
+  if (!in || !fs::is_regular_file(urdf)) throw InputError(urdf.string() + ": URDF file not found");
+  std::stringstream text;
+  text << in.rdbuf();
+  UrdfPerturbation mount;
+  mount.camera_link = scene.camera_link;
+  mount.camera_mount = scene.camera_mount;
+  return perturb_urdf_text(text.str(), urdf.string(), fs::absolute(urdf).parent_path(),
+                           scene.package_paths, mount);
+}
+
+RobotModel tracker_robot_model(const SceneDescription& scene, const fs::path& urdf,
+                               RobotModelOptions options) {
+  options.camera_frame = scene.camera_link;
+  for (const auto& [name, dir] : scene.package_paths) options.mesh_search_paths.push_back(dir);
+  return RobotModel::from_urdf_string(mounted_urdf_text(scene, urdf),
+                                      fs::absolute(urdf).parent_path().string(), options);
 }
 
 PerturbedUrdf::~PerturbedUrdf() {

@@ -1,7 +1,8 @@
 // Turns a user's URDF into one MuJoCo 2.2 loads as intended, in a work
 // directory (the user's file is never changed): a <mujoco><compiler/> block
 // that keeps visual geometry and fixed links, and every mesh rewritten as a
-// uniquely named binary STL with its scale baked in.
+// uniquely named binary STL with its scale baked in; links without an
+// <inertial> get one derived from their geometry.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -34,6 +35,11 @@ struct UrdfInfo {
     double multiplier = 1, offset = 0;
   };
   std::vector<Mimic> mimics;
+  // Links without <inertial> given one in the prepared copy: mass and
+  // inertia from their geometry (solid boxes, cylinders and spheres of
+  // 1000 kg/m^3), or 0.01 kg at the origin for a link without such geometry
+  // that moves on its own (a welded frame stays massless).
+  std::vector<std::string> links_with_derived_inertia;
 };
 
 // Parses `urdf`, resolves every mesh (package://NAME/... through

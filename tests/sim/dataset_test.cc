@@ -12,6 +12,7 @@
 #include "arttrack/sim/dataset.h"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <fstream>
@@ -345,11 +346,40 @@ TEST_F(DatasetTest, JointTimeStampsOutOfOrderOrRepeatedAreErrorsWithLine) {
   EXPECT_ERROR_HAS(error_of([&] { load_dataset(d); }), csv.string() + ":9:");
 }
 
+// Image stamps on another clock than the joints' (here a million seconds
+// later) would be dropped one by one: tracking refuses them, naming the row.
+TEST_F(DatasetTest, ImageAndJointClocksApartAreAnErrorNamingTheRow) {
+  const fs::path d = copy("clocks_apart");
+  const fs::path index = d / "depth" / "index.csv";
+  std::vector<std::string> lines = lines_of(read_text(index));
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const std::vector<std::string> f = split(lines[i]);
+    lines[i] = std::to_string(std::stod(f[0]) + 1e6) + "," + std::to_string(std::stod(f[1]) + 1e6) +
+               "," + f[2];
+  }
+  write_text(index, join_lines(lines));
+  const std::string e = track_error(d);
+  EXPECT_ERROR_HAS(e, index.string() + ":2:");
+  EXPECT_ERROR_HAS(e, "input_checks.max_image_clock_offset_s");
+  EXPECT_ERROR_HAS(e, "clocks differ");
+}
+
+// dataset.yaml records what reproduces the export: the program's version, the
+// overrides and the resolved scenario.
+TEST_F(DatasetTest, DatasetYamlRecordsTheResolvedScenario) {
+  const YAML::Node meta = YAML::LoadFile((exported() / "dataset.yaml").string());
+  EXPECT_EQ(meta["version"].as<std::string>(), ARTTRACK_VERSION);
+  EXPECT_TRUE(meta["overrides"].IsSequence());
+  const YAML::Node scenario = YAML::Load(meta["scenario"].as<std::string>());
+  EXPECT_EQ(scenario["name"].as<std::string>(), load_dataset(exported()).name);
+  EXPECT_TRUE(scenario["scene"].IsDefined());
+}
+
 TEST_F(DatasetTest, JointsOfTheCsvAndTheUrdfMustMatch) {
   const fs::path d = copy("joint_names");
   const fs::path csv = d / "joints.csv";
-  // (The ground truth would name the joints of joints.csv it does not know first.)
-  fs::remove(d / "ground_truth.csv");
+  // The ground truth (with the right joints) is kept: the error must blame
+  // joints.csv, not a column of ground_truth.csv.
   const std::string text = read_text(csv);
   const std::size_t header_end = text.find('\n');
   const std::string header = text.substr(0, header_end);
@@ -360,8 +390,9 @@ TEST_F(DatasetTest, JointsOfTheCsvAndTheUrdfMustMatch) {
   write_text(csv, renamed + text.substr(header_end));
   std::string e = track_error(d);
   EXPECT_ERROR_HAS(e, "'left_arm_joint_9'");
-  EXPECT_ERROR_HAS(e, "joints.csv");
+  EXPECT_ERROR_HAS(e, csv.string() + ":1:");
   EXPECT_ERROR_HAS(e, "robot.urdf");
+  EXPECT_EQ(e.find("ground_truth.csv"), std::string::npos) << e;
 
   // A joint of the URDF without a column: drop the last column everywhere.
   std::string dropped;
@@ -370,6 +401,8 @@ TEST_F(DatasetTest, JointsOfTheCsvAndTheUrdfMustMatch) {
   const std::string last = header.substr(header.rfind(',') + 1);
   e = track_error(d);
   EXPECT_ERROR_HAS(e, "no column for joint '" + last + "'");
+  EXPECT_ERROR_HAS(e, csv.string() + ":1:");
+  EXPECT_EQ(e.find("ground_truth.csv"), std::string::npos) << e;
 
   // A joint listed twice.
   std::string twice = header;

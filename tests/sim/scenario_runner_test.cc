@@ -19,6 +19,7 @@
 #include <limits>
 #include <sstream>
 
+#include "../error_of.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
@@ -27,6 +28,7 @@
 namespace arttrack::sim {
 namespace {
 
+namespace fs = std::filesystem;
 constexpr double kDeg = M_PI / 180.0;
 
 constexpr char kBiasScenario[] = R"(
@@ -243,6 +245,61 @@ camera: {latency_s: 0.04, jitter_s: 0.01, drop_probability: 0.1, noise_sigma0_m:
   const std::string a = numbers(5), b = numbers(5), c = numbers(6);
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
+}
+
+// summary.json records what reproduces the run (the resolved scenario, the
+// overrides, the tracker configuration, the seed, runs and methods, the
+// version); running that record again gives the same time series byte for
+// byte, even after the scenario file has changed.
+TEST(ScenarioRunner, RerunFromTheSummaryGivesTheSameTimeseries) {
+  const test::TestDir dir("runner_rerun");
+  const fs::path file = dir.write("rerun.yaml", R"(
+scene: scene.yaml
+duration_s: 5
+seed: 5
+methods: [encoders_only]
+motion:
+  random: [{joints: [left_arm], amplitude_deg: 10}]
+encoders: [{joints: [arms], offset_deg: 5, noise_deg: 0.05}]
+camera: {latency_s: 0.04, jitter_s: 0.01, drop_probability: 0.1, noise_sigma0_m: 0.002}
+)");
+  const std::vector<std::string> overrides = {"duration_s=0.6",
+                                              "tracker_overrides.particle_filter.particles=12"};
+  const Scenario scenario = load_scenario(file, overrides);
+  RunOptions options;
+  options.seed = 8;
+  options.methods = {"full_fusion"};
+  const ScenarioResult first = run_scenario(scenario, options);
+  write_run_outputs(dir.path() / "first", first);
+  std::stringstream first_csv;
+  write_timeseries_csv(first_csv, first);
+
+  dir.write("rerun.yaml", "scene: nowhere.yaml\n");  // the file changes: the record does not
+  const RunRecipe recipe = read_run_recipe(dir.path() / "first" / "summary.json");
+  EXPECT_EQ(recipe.version, ARTTRACK_VERSION);
+  EXPECT_EQ(recipe.overrides, overrides);
+  EXPECT_EQ(recipe.seed, 8u);
+  EXPECT_EQ(recipe.runs, 1);
+  EXPECT_EQ(recipe.methods, std::vector<std::string>{"full_fusion"});
+  EXPECT_NE(recipe.tracker_yaml.find("particles: 12"), std::string::npos);
+  const Scenario again = scenario_from_recipe(recipe, "summary.json");
+  EXPECT_EQ(again.tracker.particle_filter.num_particles, 12);
+  EXPECT_EQ(again.duration_s, 0.6);
+  RunOptions again_options;
+  again_options.seed = (long long)recipe.seed;
+  again_options.runs = recipe.runs;
+  again_options.methods = recipe.methods;
+  const ScenarioResult second = run_scenario(again, again_options);
+  std::stringstream second_csv;
+  write_timeseries_csv(second_csv, second);
+  EXPECT_EQ(first_csv.str(), second_csv.str());
+  EXPECT_EQ(summary_json(second).substr(summary_json(second).find("\"reproduce\"")),
+            summary_json(first).substr(summary_json(first).find("\"reproduce\"")));
+
+  // A summary without the record is an error naming the file.
+  const fs::path old = dir.write("old.json", "{\"scenario\": \"x\"}");
+  EXPECT_NE(test_support::error_of([&] { read_run_recipe(old); }).find("old.json"),
+            std::string::npos);
 }
 
 TEST(ScenarioRunner, RunSeedsAreDistinctAndJsonSafe) {

@@ -366,19 +366,94 @@ TEST(SimModel, BadInputNamesTheItem) {
   EXPECT_NE(e.find("link 'upper' is the child of joints 'shoulder' and 'wrist'"), std::string::npos)
       << e;
 
+  // A loop apart from the tree: every link has one parent, one root.
+  s = robot_scene(write_file("detached.urdf", R"(<robot name="r"><link name="base_link"/>
+    <link name="b"/><link name="c"/>
+    <joint name="b_c" type="fixed"><parent link="b"/><child link="c"/></joint>
+    <joint name="c_b" type="fixed"><parent link="c"/><child link="b"/></joint>
+    </robot>)"));
+  e = build_error(s);
+  EXPECT_NE(e.find("detached.urdf: link 'b' is not connected to the root link 'base_link'"),
+            std::string::npos)
+      << e;
+
   s = robot_scene(write_file("malformed.urdf", "<robot name=\"r\"><link name=\"base_link\">"));
   e = build_error(s);
   EXPECT_NE(e.find("malformed.urdf"), std::string::npos) << e;
+}
 
-  // MuJoCo's own compile error (a moving link without mass) comes through
-  // with its text and the file.
-  s = robot_scene(write_file("massless.urdf", R"(<robot name="r"><link name="base_link"/>
+// A moving link without <inertial> nor geometry gets the documented
+// fallback mass instead of MuJoCo's "mass and inertia of moving bodies"
+// error.
+TEST(SimModel, MovingLinkWithoutInertialOrGeometryGetsTheFallbackMass) {
+  const auto model = build_sim_model(
+      robot_scene(write_file("massless.urdf", R"(<robot name="r"><link name="base_link"/>
     <joint name="j" type="revolute"><parent link="base_link"/><child link="l"/>
       <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-    <link name="l"/></robot>)"));
+    <link name="l"/></robot>)")));
+  EXPECT_DOUBLE_EQ(model->mj->body_mass[model->link_body[model->link_index("l")]], 0.01);
+}
+
+}  // namespace
+}  // namespace arttrack::sim
+
+namespace arttrack::sim {
+namespace {
+
+// The second robot: no <inertial> anywhere (masses from the geometry), a
+// camera the scene mounts in the world, a mimic finger. It simulates; the
+// camera is where the scene puts it; the mimic finger follows its leader.
+TEST(SimModel, Arm7WithoutInertialsWithAWorldCameraAndAMimicFinger) {
+  const SceneDescription scene =
+      load_scene(fs::path(ARTTRACK_SOURCE_DIR) / "models/arm7_scene.yaml");
+  ASSERT_TRUE(scene.camera_mount.has_value());
+  const auto model = build_sim_model(scene);
+  const mjModel* m = model->mj.get();
+  for (const std::string link : {"arm7_link1", "arm7_link4", "arm7_finger2"}) {
+    const int b = model->link_body[model->link_index(link)];
+    EXPECT_GT(m->body_mass[b], 0.01) << link;  // more than the fallback: from the geometry
+  }
+  // arm7_link4: a box 0.10 x 0.09 x 0.10 and a cylinder r 0.05 l 0.16, solid at 1000 kg/m^3.
+  const int link4 = model->link_body[model->link_index("arm7_link4")];
+  // (MuJoCo's saved MJCF keeps 6 digits.)
+  EXPECT_NEAR(m->body_mass[link4], 1000 * (0.1 * 0.09 * 0.1 + M_PI * 0.05 * 0.05 * 0.16), 1e-5);
+  EXPECT_EQ(model->joint_index("arm7_finger_joint2"), -1);  // a mimic: no servo
+
+  Simulator sim(model);
+  sim.run_until(0.5);
+  const GroundTruth g = sim.ground_truth();
+  const Eigen::Isometry3d& mount = scene.camera_mount->T_parent_camera;
+  EXPECT_LT((g.T_world_camera.translation() - mount.translation()).norm(), 1e-9);
+  EXPECT_LT((g.T_world_camera.linear() - mount.linear()).norm(), 1e-9);
+  const int f1 = model->joint_id[model->joint_index("arm7_finger_joint1")];
+  const int f2 = mj_name2id(m, mjOBJ_JOINT, "arm7_finger_joint2");
+  ASSERT_GE(f2, 0);
+  EXPECT_NEAR(sim.data()->qpos[m->jnt_qposadr[f2]], sim.data()->qpos[m->jnt_qposadr[f1]], 1e-3);
+  EXPECT_NEAR(sim.data()->qpos[m->jnt_qposadr[f1]], 0.02, 2e-3);
+}
+
+TEST(SimModel, CameraMountAndMimicErrorsNameTheItem) {
+  SceneDescription s = load_scene(fs::path(ARTTRACK_SOURCE_DIR) / "models/arm7_scene.yaml");
+  s.camera_mount->parent_link = "arm7_link9";
+  std::string e = build_error(s);
+  EXPECT_NE(e.find("'arm7_link9'"), std::string::npos) << e;
+  EXPECT_NE(e.find("arm7.urdf"), std::string::npos) << e;
+
+  s.camera_mount->parent_link = "arm7_hand";  // on a link: eye-in-hand, loads
+  EXPECT_EQ(build_error(s), "");
+  s.camera_link = "arm7_ee";  // taken
   e = build_error(s);
-  EXPECT_NE(e.find("massless.urdf"), std::string::npos) << e;
-  EXPECT_NE(e.find("mass"), std::string::npos) << e;
+  EXPECT_NE(e.find("already has a link 'arm7_ee'"), std::string::npos) << e;
+
+  s = robot_scene(write_file("mimic_missing.urdf", R"(<robot name="r"><link name="base_link"/>
+    <link name="a"/>
+    <joint name="follower" type="revolute"><parent link="base_link"/><child link="a"/>
+      <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+      <mimic joint="ghost"/></joint></robot>)"));
+  e = build_error(s);
+  EXPECT_NE(e.find("'follower'"), std::string::npos) << e;
+  EXPECT_NE(e.find("'ghost'"), std::string::npos) << e;
+  EXPECT_NE(e.find("mimic_missing.urdf"), std::string::npos) << e;
 }
 
 }  // namespace

@@ -8,7 +8,8 @@
 //   - a cell's seed depends on its overrides and the scenario seed only;
 //   - sharded runs merged give exactly the bytes of one unsharded run, with
 //     failed cells (a value the scenario rejects) reported and the others run;
-//   - the same through the arttrack program and GNU parallel, if installed.
+//   - the same through the arttrack program and GNU parallel (tools/setup.sh
+//     installs it; skipped where it is missing).
 #include "arttrack/sim/sweep.h"
 
 #include <gtest/gtest.h>

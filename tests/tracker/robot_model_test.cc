@@ -1,7 +1,9 @@
 #include "arttrack/tracker/robot_model.h"
 
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <array>
 
 #include <cmath>
 #include <filesystem>
@@ -183,11 +185,138 @@ TEST(RobotModel, KinematicLoopNamesTheLinkAndBothJoints) {
       << msg;
 }
 
+// Geometry the simulator rejects is refused here too, naming the file, the
+// link or joint and what would be right.
+TEST(RobotModel, GeometryTheSimulatorRejectsIsRefused) {
+  const fs::path dir = test_dir();
+  auto load = [&](const std::string& name, const std::string& geometry,
+                  const std::string& limit = R"(lower="-1" upper="1")") {
+    const fs::path path = dir / (name + ".urdf");
+    write_file(path, R"(<robot name="r"><link name="base_link"/>
+  <link name="camera_optical_frame"/>
+  <joint name="mount" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/></joint>
+  <link name="arm"><visual><geometry>)" +
+                         geometry +
+                         R"(</geometry></visual></link>
+  <joint name="shoulder" type="revolute"><parent link="base_link"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit )" +
+                         limit + R"( effort="1" velocity="1"/></joint>
+</robot>)");
+    return std::make_pair(path.string(),
+                          error_of([&] { RobotModel::from_urdf_file(path.string()); }));
+  };
+  for (const auto& [name, geometry, expected] : std::vector<std::array<std::string, 3>>{
+           {"negative_radius", R"(<sphere radius="-0.1"/>)", "sphere radius has -0.1"},
+           {"zero_box", R"(<box size="0.1 0 0.1"/>)", "box size has 0"},
+           {"zero_cylinder", R"(<cylinder radius="0.1" length="0"/>)", "cylinder radius"}}) {
+    const auto [path, msg] = load(name, geometry);
+    EXPECT_TRUE(contains(msg, path) && contains(msg, "link 'arm'") && contains(msg, expected) &&
+                contains(msg, "expected positive"))
+        << name << ": " << msg;
+  }
+  const auto [path, msg] =
+      load("inverted", R"(<box size="0.1 0.1 0.1"/>)", R"(lower="1" upper="-1")");
+  EXPECT_TRUE(contains(msg, path) && contains(msg, "joint 'shoulder'") &&
+              contains(msg, "lower 1 > upper -1") && contains(msg, "lower <= upper"))
+      << msg;
+  EXPECT_EQ(load("fine", R"(<box size="0.1 0.1 0.1"/>)").second, "");
+
+  // A mesh with a NaN vertex.
+  write_file(dir / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+  const auto [mesh_path, mesh_msg] = load("nan_mesh", R"(<mesh filename="nan.obj"/>)");
+  EXPECT_TRUE(contains(mesh_msg, "not finite") && contains(mesh_msg, "'arm'") &&
+              contains(mesh_msg, mesh_path))
+      << mesh_msg;
+}
+
+// Links b and c are each other's parent, apart from the tree: every link
+// has one parent, so urdfdom finds a single root, but no walk reaches them
+// (found by fuzzing: they were silently left out, and leaked).
+constexpr char kDetachedLoop[] = R"(<robot name="detached">
+  <link name="base"/><link name="a"/><link name="b"/><link name="c"/>
+  <joint name="base_a" type="fixed"><parent link="base"/><child link="a"/></joint>
+  <joint name="b_c" type="fixed"><parent link="b"/><child link="c"/></joint>
+  <joint name="c_b" type="fixed"><parent link="c"/><child link="b"/></joint>
+</robot>
+)";
+
+TEST(RobotModel, LoopApartFromTheTreeNamesALinkAndTheRoot) {
+  const std::string msg = error_of([&] { RobotModel::from_urdf_string(kDetachedLoop, ""); });
+  EXPECT_TRUE(contains(msg, "link 'b' is not connected to the root link 'base'")) << msg;
+}
+
 TEST(RobotModel, MissingCameraFrameIsNamed) {
   RobotModelOptions options;
   options.camera_frame = "head_camera";
   const std::string msg = error_of([&] { RobotModel::from_urdf_string(kTree, "", options); });
   EXPECT_TRUE(contains(msg, "'head_camera'")) << msg;
+}
+
+// A gripper: finger_b mimics finger_a (multiplier -2, offset 0.01 m) and
+// tip_b mimics finger_b: both follow finger_a, the only DOF.
+std::string mimic_urdf(const std::string& leader_of_b, const std::string& leader_of_tip) {
+  return R"(<robot name="gripper">
+  <link name="hand"/><link name="a"/><link name="b"/><link name="tip"/>
+  <link name="camera"/>
+  <joint name="cam" type="fixed"><parent link="hand"/><child link="camera"/></joint>
+  <joint name="finger_a" type="prismatic"><parent link="hand"/><child link="a"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="1" velocity="1"/></joint>
+  <joint name="finger_b" type="prismatic"><parent link="hand"/><child link="b"/>
+    <axis xyz="0 1 0"/><limit lower="-0.1" upper="0.1" effort="1" velocity="1"/>
+    <mimic joint=")" +
+         leader_of_b + R"(" multiplier="-2" offset="0.01"/></joint>
+  <joint name="finger_tip" type="revolute"><parent link="b"/><child link="tip"/>
+    <origin xyz="0 0 0.05"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <mimic joint=")" +
+         leader_of_tip + R"(" multiplier="10"/></joint>
+</robot>
+)";
+}
+
+TEST(RobotModel, MimicJointsFollowTheirLeaderWithoutStateOfTheirOwn) {
+  RobotModelOptions options;
+  options.camera_frame = "camera";
+  const RobotModel model =
+      RobotModel::from_urdf_string(mimic_urdf("finger_a", "finger_b"), "", options);
+  ASSERT_EQ(model.num_joints(), 1 + 6);  // finger_a and the virtual camera joints
+  const int a = model.joint_index("finger_a");
+  const std::string msg = error_of([&] { model.joint_index("finger_b"); });
+  EXPECT_TRUE(contains(msg, "mimic of 'finger_a'")) << msg;
+  const LinkSet moved = model.links_moved_by(a);
+  for (const std::string link : {"a", "b", "tip"})
+    EXPECT_TRUE(moved[model.link_index(link)]) << link;
+  EXPECT_FALSE(moved[model.link_index("camera")]);
+
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+  q[a] = 0.03;
+  KinematicsState state(model);
+  forward_kinematics(model, q, state);
+  const double b_m = -2 * 0.03 + 0.01;  // finger_b
+  EXPECT_NEAR(state.T_root_link[model.link_index("a")].translation().y(), 0.03, 1e-12);
+  EXPECT_NEAR(state.T_root_link[model.link_index("b")].translation().y(), b_m, 1e-12);
+  // The tip turns by 10 x finger_b's value (a chain of mimics).
+  const Eigen::AngleAxisd tip(state.T_root_link[model.link_index("tip")].linear());
+  EXPECT_NEAR(tip.angle() * tip.axis().x(), 10 * b_m, 1e-9);
+}
+
+TEST(RobotModel, MimicOfAMissingJointOrACycleNamesTheJointAndFile) {
+  const fs::path dir = test_dir();
+  RobotModelOptions options;
+  options.camera_frame = "camera";
+  const fs::path missing = dir / "missing.urdf";
+  write_file(missing, mimic_urdf("no_such_joint", "finger_b"));
+  std::string msg = error_of([&] { RobotModel::from_urdf_file(missing.string(), options); });
+  EXPECT_TRUE(contains(msg, missing.string()) && contains(msg, "'finger_b'") &&
+              contains(msg, "'no_such_joint'"))
+      << msg;
+  const fs::path cycle = dir / "cycle.urdf";
+  write_file(cycle, mimic_urdf("finger_tip", "finger_b"));
+  msg = error_of([&] { RobotModel::from_urdf_file(cycle.string(), options); });
+  EXPECT_TRUE(contains(msg, cycle.string()) && contains(msg, "cycle")) << msg;
+  const fs::path fixed = dir / "fixed.urdf";
+  write_file(fixed, mimic_urdf("cam", "finger_b"));
+  msg = error_of([&] { RobotModel::from_urdf_file(fixed.string(), options); });
+  EXPECT_TRUE(contains(msg, fixed.string()) && contains(msg, "'cam'")) << msg;
 }
 
 // Meshes by package:// and relative paths, each visual with an origin and a

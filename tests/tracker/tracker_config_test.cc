@@ -40,6 +40,20 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
   EXPECT_EQ(file.particle_filter.num_particles, code.particle_filter.num_particles);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);
+  EXPECT_NEAR(file.joint_limit_margin_rad, code.joint_limit_margin_rad, 1e-12);
+  EXPECT_EQ(file.max_image_clock_offset_s, code.max_image_clock_offset_s);
+}
+
+TEST(TrackerConfigTest, ReadsInputChecks) {
+  const TrackerConfig c = tracker_config_from_yaml(load_yaml_string(
+      "input_checks: {joint_limit_margin_deg: 10, max_image_clock_offset_s: 2}\n", "t.yaml"));
+  EXPECT_NEAR(c.joint_limit_margin_rad, 10 * M_PI / 180, 1e-12);
+  EXPECT_EQ(c.max_image_clock_offset_s, 2);
+  for (const auto& [bad, key] : std::vector<std::pair<std::string, std::string>>{
+           {"{joint_limit_margin_deg: -1}", "input_checks.joint_limit_margin_deg"},
+           {"{max_image_clock_offset_s: 0}", "input_checks.max_image_clock_offset_s"}})
+    EXPECT_NE(tracker_config_error("input_checks: " + bad + "\n").find(key), std::string::npos)
+        << bad;
 }
 
 TEST(TrackerConfigTest, ReadsDegreesAndPerJointOverrides) {

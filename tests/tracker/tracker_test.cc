@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -191,6 +192,64 @@ TEST(TrackerTest, BadInputIsAnErrorNamingTheItem) {
         Tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow", "wrist"});
       }).find("wrist"),
       std::string::npos);
+}
+
+// A reading far outside its joint's limits (limits +-2 rad, margin 30
+// degrees) or not finite is dropped and counted, and leaves the estimate as
+// it was; so does an image stamped far from the joint clock or not finite.
+TEST(TrackerTest, BrokenReadingsAreDroppedAndCounted) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  Tracker tracker(model, config, {"shoulder", "elbow"});
+  const std::vector<double> q{0.2, -0.1};
+  tracker.add_joint_measurement(0.0, q);
+  tracker.add_joint_measurement(0.001, q);
+  const TrackerEstimate before = tracker.estimate();
+  for (const double broken :
+       {1e300, -1000.0, 2.0 + 0.6, std::nan(""), std::numeric_limits<double>::infinity()})
+    tracker.add_joint_measurement(0.002, std::vector<double>{0.2, broken});
+  // Within the margin: filtered.
+  tracker.add_joint_measurement(0.003, std::vector<double>{0.2, 2.0 + 0.4});
+  const TrackerStats stats = tracker.stats();
+  EXPECT_EQ(stats.joint_measurements_dropped, 5);
+  EXPECT_EQ(stats.joint_measurements, 3);
+  EXPECT_EQ(tracker.estimate().time_s, 0.003);
+  EXPECT_TRUE(std::isfinite(tracker.estimate().angle_rad[1]));
+  EXPECT_GT(std::abs(tracker.estimate().angle_rad[1] - before.angle_rad[1]), 0.0);
+
+  const DepthImage image = render_truth(*model, 0.2, -0.1);
+  tracker.add_depth_image(1e9, image, kCamera);  // another clock
+  tracker.add_depth_image(std::nan(""), image, kCamera);
+  tracker.add_depth_image(0.003 - config.max_image_clock_offset_s - 1, image, kCamera);
+  EXPECT_EQ(tracker.stats().images_dropped_bad_stamp, 3);
+  EXPECT_EQ(tracker.stats().images_received, 3);
+  // A dropped stamp does not count as the newest: a good image still applies.
+  tracker.add_depth_image(0.003, image, kCamera);
+  EXPECT_EQ(tracker.stats().images_applied, 1);
+}
+
+// The default margin and clock bound leave readings within the limits alone:
+// the same readings give the same estimate with the checks as good as off.
+TEST(TrackerTest, InputChecksDoNotChangeValidInput) {
+  auto model = arm_model();
+  TrackerConfig loose = small_config(TrackingMethod::kFullFusion);
+  loose.joint_limit_margin_rad = 1e6;
+  loose.max_image_clock_offset_s = 1e6;
+  Tracker checked(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  Tracker unchecked(model, loose, {"shoulder", "elbow"});
+  const DepthImage image = render_truth(*model, 0.3, 0.5);
+  for (int k = 0; k <= 40; ++k) {
+    const std::vector<double> q{0.3 + 0.01 * std::sin(k), 0.5};
+    checked.add_joint_measurement(0.001 * k, q);
+    unchecked.add_joint_measurement(0.001 * k, q);
+    if (k == 20) {
+      checked.add_depth_image(0.02, image, kCamera);
+      unchecked.add_depth_image(0.02, image, kCamera);
+    }
+  }
+  EXPECT_EQ(checked.estimate().angle_rad, unchecked.estimate().angle_rad);
+  EXPECT_EQ(checked.estimate().bias_rad, unchecked.estimate().bias_rad);
+  EXPECT_EQ(checked.stats().images_applied, 1);
 }
 
 TEST(TrackerTest, CameraOffsetOnlyRecoversAMiscalibratedCamera) {

@@ -55,6 +55,28 @@ TEST_F(YamlConfigTest, ExtendsCycleIsAnError) {
   EXPECT_NE(message_of([&] { load_yaml_file(b); }).find("cycle"), std::string::npos);
 }
 
+TEST_F(YamlConfigTest, ExtendingAFolderIsAnError) {
+  const std::string a = write("a.yaml", "extends: " + dir_.string() + "\n");
+  EXPECT_NE(message_of([&] { load_yaml_file(a); }).find(dir_.string() + ": is a folder"),
+            std::string::npos);
+}
+
+// Aliases of aliases expand exponentially (here to 1e9 values in 500
+// bytes): refused after kMaxYamlValues, not walked for minutes.
+TEST_F(YamlConfigTest, AliasBombIsRefused) {
+  std::string text = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 9; ++i) {
+    text += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+    for (int k = 0; k < 10; ++k) text += (k ? ", *a" : "*a") + std::to_string(i - 1);
+    text += "]\n";
+  }
+  const std::string a = write("a.yaml", text);
+  EXPECT_NE(message_of([&] { load_yaml_file(a); }).find("values once its aliases are expanded"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { load_yaml_string(text, "s.yaml"); }).find("s.yaml: more than"),
+            std::string::npos);
+}
+
 TEST_F(YamlConfigTest, UnknownKeyIsNamedWithItsPathAndFile) {
   const auto f = write("c.yaml", "camera: {fovy_deg: 45, fvoy: 3}\n");
   ConfigNode root = ConfigNode::root(load_yaml_file(f));

@@ -1,7 +1,6 @@
 #include "arttrack/tracker/belief_buffer.h"
 
 #include <algorithm>
-#include <cassert>
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
@@ -15,12 +14,13 @@ BeliefBuffer::BeliefBuffer(int measurement_size, int state_size, int capacity)
       times_(capacity),
       measurements_(size_t(capacity) * measurement_size),
       states_(size_t(capacity) * state_size) {
-  assert(capacity > 0 && measurement_size >= 0 && state_size >= 0);
+  ARTTRACK_CHECK_ARGUMENT(capacity > 0 && measurement_size >= 0 && state_size >= 0);
 }
 
 void BeliefBuffer::push(double time_s, std::span<const double> measurement,
                         std::span<const double> state) {
-  assert(int(measurement.size()) == measurement_size_ && int(state.size()) == state_size_);
+  ARTTRACK_CHECK_ARGUMENT(int(measurement.size()) == measurement_size_ &&
+                          int(state.size()) == state_size_);
   if (size_ > 0 && time_s < newest_time()) {
     std::ostringstream os;
     os.precision(9);

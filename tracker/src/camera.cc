@@ -1,9 +1,10 @@
 #include "arttrack/tracker/camera.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <sstream>
+
+#include "arttrack/tracker/error.h"
 
 namespace arttrack {
 
@@ -57,7 +58,7 @@ CameraIntrinsics CameraIntrinsics::scaled_to(int new_width, int new_height) cons
 }
 
 DepthImage subsample_depth(const DepthImage& image, int new_width, int new_height) {
-  assert(new_width > 0 && new_height > 0);
+  ARTTRACK_CHECK_ARGUMENT(new_width > 0 && new_height > 0);
   DepthImage out(new_width, new_height);
   for (int v = 0; v < new_height; ++v) {
     // Source pixel whose centre is nearest the target pixel's centre.

@@ -1,7 +1,6 @@
 #include "arttrack/tracker/depth_likelihood.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -151,7 +150,7 @@ void DepthLikelihood::set_observation(const DepthImage& observed) {
 }
 
 double DepthLikelihood::log_ratio(const DepthImage& rendered) const {
-  assert(rendered.width == params_.width && rendered.height == params_.height);
+  ARTTRACK_CHECK_ARGUMENT(rendered.width == params_.width && rendered.height == params_.height);
   return log_ratio(rendered.depth_m.data(), rendered.width,
                    PixelRect{0, 0, rendered.width, rendered.height});
 }
@@ -167,7 +166,8 @@ double DepthLikelihood::log_ratio(const DepthImage& rendered) const {
 // rounding (checked by the tests).
 double DepthLikelihood::log_ratio(const float* rendered_m, std::ptrdiff_t row_stride,
                                   const PixelRect& rect) const {
-  assert(rect.u0 >= 0 && rect.v0 >= 0 && rect.u1 <= params_.width && rect.v1 <= params_.height);
+  ARTTRACK_CHECK_ARGUMENT(rect.u0 >= 0 && rect.v0 >= 0 && rect.u1 <= params_.width &&
+                          rect.v1 <= params_.height);
   const double lambda = params_.occluder_decay_per_m;
   const double floor = outlier_density_;
   const bool truncated = params_.occluder_model == OccluderModel::kTruncated;
@@ -242,8 +242,18 @@ struct RatioChunk {
       k_occ[kChunk], inv_p_inf[kChunk], ratio[kChunk];
 };
 
+#if defined(__clang__)
+// Clang rejects (not only warns about) wider vectors passed through even
+// always-inlined calls in code compiled without AVX: its builds (fuzzing,
+// tools/fuzz.sh) take two SSE2 lanes, the same arithmetic on every pixel.
+using V = Double2;
+constexpr int kLanes = 2;
+#define ARTTRACK_CHUNK_CLONES
+#else
 using V = Double8;
 constexpr int kLanes = 8;
+#define ARTTRACK_CHUNK_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
 
 [[gnu::always_inline]] inline V load(const double* p) {
   V v;
@@ -257,8 +267,8 @@ constexpr int kLanes = 8;
 // truncated_flag is 1 for kTruncated, 0 for kIndependent, seen_po is p_o for
 // kIndependent and 0 for kTruncated: the factors they select multiply or
 // divide by exactly 1 where they do not apply.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void chunk_ratios(
-    RatioChunk& c, int n, double lambda, double floor, double truncated_flag, double seen_po) {
+ARTTRACK_CHUNK_CLONES void chunk_ratios(RatioChunk& c, int n, double lambda, double floor,
+                                        double truncated_flag, double seen_po) {
   for (int k = 0; k < n; k += kLanes) {
     const V r = load(c.r + k);
     const V e = (r - load(c.z + k)) * load(c.inv_s + k);

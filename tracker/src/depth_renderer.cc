@@ -1,8 +1,9 @@
 #include "arttrack/tracker/depth_renderer.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
+
+#include "arttrack/tracker/error.h"
 
 namespace arttrack {
 namespace {
@@ -57,7 +58,7 @@ DepthRenderer::DepthRenderer(const RobotModel& model, const CameraIntrinsics& ca
       options_(options),
       all_links_(model.num_links(), true),
       bounds_(model.num_links()) {
-  assert(model.camera_link() >= 0 && camera.width > 0 && camera.height > 0);
+  ARTTRACK_CHECK_ARGUMENT(model.camera_link() >= 0 && camera.width > 0 && camera.height > 0);
   size_t max_vertices = 0;
   for (int l : model.links_with_geometry()) {
     const std::vector<Eigen::Vector3f>& v = model.link(l).mesh.vertices_m;
@@ -99,8 +100,8 @@ PixelRect DepthRenderer::render_links(const KinematicsState& state, const LinkSe
 
 PixelRect DepthRenderer::draw_links(const KinematicsState& state, const LinkSet& links,
                                     DepthImage& depth) {
-  assert(depth.width == camera_.width && depth.height == camera_.height);
-  assert(int(state.T_root_link.size()) == model_->num_links());
+  ARTTRACK_CHECK_ARGUMENT(depth.width == camera_.width && depth.height == camera_.height);
+  ARTTRACK_CHECK_ARGUMENT(int(state.T_root_link.size()) == model_->num_links());
   const Eigen::Isometry3d T_camera_root =
       state.T_root_link[model_->camera_link()].inverse(Eigen::Isometry);
   PixelRect drawn;
@@ -276,7 +277,7 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
 }
 
 void merge_nearer(const DepthImage& src, const PixelRect& rect, DepthImage& depth) {
-  assert(src.width == depth.width && src.height == depth.height);
+  ARTTRACK_CHECK_ARGUMENT(src.width == depth.width && src.height == depth.height);
   for (int v = rect.v0; v < rect.v1; ++v) {
     const float* s = src.depth_m.data() + size_t(v) * src.width;
     float* d = depth.depth_m.data() + size_t(v) * depth.width;

@@ -1,7 +1,6 @@
 #include "arttrack/tracker/hypothesis_evaluator.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -84,7 +83,9 @@ HypothesisEvaluator::HypothesisEvaluator(const RobotModel& model,
   long long total_triangles = 0;
   for (int l : model.links_with_geometry()) {
     int key = l;
-    while (model.link(key).dof < 0 && model.link(key).parent >= 0) key = model.link(key).parent;
+    // Up to the nearest link that moves on its own (a mimic follows its leader).
+    while (model.link(key).dof < 0 && model.link(key).mimic_dof < 0 && model.link(key).parent >= 0)
+      key = model.link(key).parent;
     auto [it, inserted] = group_of_key.emplace(key, int(groups_.size()));
     if (inserted) {
       Group g;
@@ -145,8 +146,9 @@ bool HypothesisEvaluator::renders_fully(int block) const { return plans_.at(bloc
 void HypothesisEvaluator::begin_run(const CameraIntrinsics& camera,
                                     const DepthLikelihood& likelihood,
                                     std::span<const double> prior_mean) {
-  assert(camera.width == likelihood.width() && camera.height == likelihood.height());
-  assert(int(prior_mean.size()) == model_->num_joints());
+  ARTTRACK_CHECK_ARGUMENT(camera.width == likelihood.width() &&
+                          camera.height == likelihood.height());
+  ARTTRACK_CHECK_ARGUMENT(int(prior_mean.size()) == model_->num_joints());
   if (!(camera == camera_)) {
     camera_ = camera;
     num_particles_ = 0;  // buffers and renderers are rebuilt for the new camera
@@ -319,8 +321,9 @@ double HypothesisEvaluator::evaluate_cached(const BlockPlan& plan, int slot,
 
 void HypothesisEvaluator::evaluate(const ParticleBatch& batch, std::span<double> log_likelihood,
                                    WorkerPool& pool) {
-  assert(likelihood_ && batch.block == next_block_ && batch.block < int(plans_.size()));
-  assert(batch.dimension == model_->num_joints());
+  ARTTRACK_CHECK_ARGUMENT(likelihood_ && batch.block == next_block_ &&
+                          batch.block < int(plans_.size()));
+  ARTTRACK_CHECK_ARGUMENT(batch.dimension == model_->num_joints());
   next_block_ = batch.block + 1;
   const int L = batch.num_particles;
   allocate(L, pool.num_workers());

@@ -1,7 +1,6 @@
 #include "arttrack/tracker/joint_filter.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -229,7 +228,7 @@ JointBelief initial_joint_belief(const JointFilterModel& model,
 
 void predict_joints(const JointFilterModel& model, double dt_s, JointBelief& belief) {
   check_dt(dt_s);
-  assert(belief.size() == model.num_joints());
+  ARTTRACK_CHECK_ARGUMENT(belief.size() == model.num_joints());
   const int n = model.num_joints();
   const double* rate_a = model.angle_rate_var().data();
   const double* rate_b = model.bias_rate_var().data();
@@ -251,7 +250,7 @@ void predict_joints(const JointFilterModel& model, double dt_s, JointBelief& bel
 void update_encoders(const JointFilterModel& model, std::span<const double> encoder_rad,
                      JointBelief& belief) {
   check_finite_readings(model, encoder_rad);
-  assert(belief.size() == model.num_joints());
+  ARTTRACK_CHECK_ARGUMENT(belief.size() == model.num_joints());
   const double* r = model.encoder_var_rad2().data();
   for (int j = 0; j < model.num_encoder_joints(); ++j) {
     update_one(encoder_rad[j], r[j], belief.mean_a[j], belief.mean_b[j], belief.var_a[j],
@@ -263,7 +262,7 @@ void filter_joints(const JointFilterModel& model, double dt_s, std::span<const d
                    JointBelief& belief) {
   check_dt(dt_s);
   check_finite_readings(model, encoder_rad);
-  assert(belief.size() == model.num_joints());
+  ARTTRACK_CHECK_ARGUMENT(belief.size() == model.num_joints());
   const int n = model.num_joints();
   const int ne = model.num_encoder_joints();
   const double* rate_a = model.angle_rate_var().data();
@@ -290,7 +289,8 @@ void filter_joints(const JointFilterModel& model, double dt_s, std::span<const d
 
 void fold_angle_posteriors(std::span<const double> mean_a, std::span<const double> var_a,
                            JointBelief& belief) {
-  assert(int(mean_a.size()) == belief.size() && int(var_a.size()) == belief.size());
+  ARTTRACK_CHECK_ARGUMENT(int(mean_a.size()) == belief.size() &&
+                          int(var_a.size()) == belief.size());
   for (int j = 0; j < belief.size(); ++j) {
     belief.set_joint(j, fold_angle_marginal(belief.joint(j), mean_a[j], var_a[j]));
   }

@@ -130,7 +130,10 @@ TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
   Assimp::Importer importer;
   // Mesh coordinates are link coordinates (ROS convention): no Y-up rotation.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
+  // Validation refuses face indices beyond the vertices, mesh indices
+  // beyond the meshes and the like, which the walk below would follow.
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
   if (scene == nullptr || scene->mRootNode == nullptr) {
     throw InputError("cannot read mesh file '" + path + "': " + importer.GetErrorString());
   }
@@ -140,6 +143,10 @@ TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
   collect_node(*scene, *scene->mRootNode, T_scale, mesh);
   mesh.weld_vertices();
   if (mesh.empty()) throw InputError("mesh file '" + path + "' holds no triangle");
+  for (std::size_t k = 0; k < mesh.vertices_m.size(); ++k)
+    if (!mesh.vertices_m[k].allFinite())
+      throw InputError("mesh file '" + path + "': vertex " + std::to_string(k) +
+                       " is not finite (every coordinate must be a finite number)");
   return mesh;
 }
 

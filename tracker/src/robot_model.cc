@@ -4,8 +4,10 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -52,6 +54,22 @@ urdf::ModelInterfaceSharedPtr parse_urdf(const std::string& xml, const std::stri
   }
   return model;
 }
+
+// urdfdom's links hold their children by shared_ptr: the links of a loop
+// (refused below) would keep each other alive forever. Empties every link's
+// child list when the parsed model is done with, whatever happened.
+class BreakLinkCycles {
+ public:
+  explicit BreakLinkCycles(urdf::ModelInterfaceSharedPtr model) : model_(std::move(model)) {}
+  ~BreakLinkCycles() {
+    for (auto& [name, link] : model_->links_) link->child_links.clear();
+  }
+  BreakLinkCycles(const BreakLinkCycles&) = delete;
+  BreakLinkCycles& operator=(const BreakLinkCycles&) = delete;
+
+ private:
+  urdf::ModelInterfaceSharedPtr model_;
+};
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   double x, y, z, w;
@@ -111,22 +129,39 @@ TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& li
                            std::map<std::string, TriangleMesh>& file_cache,
                            Eigen::Vector3d& scale) {
   scale = Eigen::Vector3d::Ones();
+  // Sizes the simulator refuses (MuJoCo: a geom size must be positive) would
+  // render as nothing or as NaN here: refused alike, naming the link.
+  auto positive = [&](const char* what, std::initializer_list<double> values) {
+    for (const double v : values)
+      if (!(v > 0) || !std::isfinite(v)) {
+        std::ostringstream os;
+        os << "link '" << link << "' in " << source << ": " << what << " has " << v
+           << " (expected positive finite numbers)";
+        throw InputError(os.str());
+      }
+  };
   switch (geometry.type) {
     case urdf::Geometry::BOX: {
       const auto& box = static_cast<const urdf::Box&>(geometry);
+      positive("box size", {box.dim.x, box.dim.y, box.dim.z});
       return make_box(Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z));
     }
     case urdf::Geometry::CYLINDER: {
       const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+      positive("cylinder radius and length", {cylinder.radius, cylinder.length});
       return make_cylinder(cylinder.radius, cylinder.length, options.cylinder_segments);
     }
     case urdf::Geometry::SPHERE: {
       const auto& sphere = static_cast<const urdf::Sphere&>(geometry);
+      positive("sphere radius", {sphere.radius});
       return make_sphere(sphere.radius, options.sphere_segments);
     }
     case urdf::Geometry::MESH: {
       const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
       scale = Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+      if (!scale.allFinite() || (scale.array() == 0).any())
+        throw InputError("link '" + link + "' in " + source + ": mesh '" + mesh.filename +
+                         "' has a zero or non-finite scale (expected finite, non-zero factors)");
       const std::string path =
           resolve_mesh_path(mesh.filename, base_dir, options.mesh_search_paths, link, source);
       auto it = file_cache.find(path);
@@ -171,6 +206,7 @@ RobotModel RobotModel::rebuilt(const RobotModelOptions& options) const {
 RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir,
                              const std::string& source, const RobotModelOptions& options) {
   const urdf::ModelInterfaceSharedPtr urdf_model = parse_urdf(xml, source);
+  const BreakLinkCycles release(urdf_model);
   RobotModel model;
   model.source_ = source;
   model.urdf_xml_ = xml;
@@ -227,6 +263,16 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
       }
       if (link.joint_type == JointType::kFixed) {
         model.fixed_joint_names_.push_back(joint.name);
+      } else if (joint.mimic) {
+        // Resolved to a DOF once all joints are known (resolve_mimics).
+        const Eigen::Vector3d axis(joint.axis.x, joint.axis.y, joint.axis.z);
+        if (!(axis.norm() > 1e-12) || !axis.allFinite()) {
+          throw InputError("joint '" + joint.name + "' in " + source + " has a zero axis");
+        }
+        link.axis = axis.normalized();
+        link.mimic_multiplier = joint.mimic->multiplier;
+        link.mimic_offset = joint.mimic->offset;
+        model.mimic_leader_[joint.name] = joint.mimic->joint_name;
       } else {
         const Eigen::Vector3d axis(joint.axis.x, joint.axis.y, joint.axis.z);
         if (!(axis.norm() > 1e-12) || !axis.allFinite()) {
@@ -237,6 +283,13 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
         model.dof_names_.push_back(joint.name);
         model.dof_link_.push_back(int(model.links_.size()));
         const bool limited = link.joint_type != JointType::kContinuous && joint.limits;
+        if (limited && !(joint.limits->lower <= joint.limits->upper)) {
+          std::ostringstream os;
+          os << "joint '" << joint.name << "' in " << source << ": limit lower "
+             << joint.limits->lower << " > upper " << joint.limits->upper
+             << " (expected lower <= upper)";
+          throw InputError(os.str());
+        }
         model.dof_lower_.push_back(limited ? joint.limits->lower : -kInf);
         model.dof_upper_.push_back(limited ? joint.limits->upper : kInf);
       }
@@ -264,6 +317,20 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
       stack.push_back({urdf_model->getLink((*it)->child_link_name), index});
     }
   }
+  // Links whose joints form a loop apart from the tree: each has a parent,
+  // so urdfdom finds one root, but the walk never reaches them.
+  if (model.links_.size() != urdf_model->links_.size()) {
+    for (const auto& entry : urdf_model->links_) {
+      const std::string& name = entry.first;  // (clang 14 lambdas capture no bindings)
+      const auto reached = [&](const Link& l) { return l.name == name; };
+      if (std::none_of(model.links_.begin(), model.links_.end(), reached))
+        throw InputError(source + ": link '" + name + "' is not connected to the root link '" +
+                         model.links_.front().name +
+                         "' (its joints form a loop); a URDF is a tree (no kinematic loops)");
+    }
+  }
+
+  model.resolve_mimics();
 
   if (!options.camera_frame.empty()) {
     auto it = std::find_if(model.links_.begin(), model.links_.end(),
@@ -313,6 +380,33 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
   return model;
 }
 
+void RobotModel::resolve_mimics() {
+  for (Link& link : links_) {
+    const auto first = mimic_leader_.find(link.joint_name);
+    if (first == mimic_leader_.end()) continue;
+    // Follow the chain to a free joint: q = m_k (... (m_1 q_leader + o_1) ...) + o_k.
+    std::string leader = first->second;
+    for (size_t steps = 0; mimic_leader_.count(leader); ++steps) {
+      if (steps >= mimic_leader_.size()) {
+        throw InputError("mimic joint '" + link.joint_name + "' in " + source_ +
+                         " is part of a cycle of mimics; one of them must be a free joint");
+      }
+      const Link& l = *std::find_if(links_.begin(), links_.end(),
+                                    [&](const Link& x) { return x.joint_name == leader; });
+      link.mimic_offset += link.mimic_multiplier * l.mimic_offset;
+      link.mimic_multiplier *= l.mimic_multiplier;
+      leader = mimic_leader_.at(leader);
+    }
+    const auto dof = std::find(dof_names_.begin(), dof_names_.end(), leader);
+    if (dof == dof_names_.end()) {
+      throw InputError("mimic joint '" + link.joint_name + "' in " + source_ + " follows '" +
+                       leader +
+                       "', which is not a revolute, continuous or prismatic joint of the URDF");
+    }
+    link.mimic_dof = int(dof - dof_names_.begin());
+  }
+}
+
 int RobotModel::link_index(const std::string& name) const {
   for (int l = 0; l < num_links(); ++l) {
     if (links_[l].name == name) return l;
@@ -328,14 +422,18 @@ int RobotModel::joint_index(const std::string& name) const {
       fixed_joint_names_.end()) {
     throw InputError("joint '" + name + "' in " + source_ + " is fixed, not a degree of freedom");
   }
+  if (const auto it = mimic_leader_.find(name); it != mimic_leader_.end()) {
+    throw InputError("joint '" + name + "' in " + source_ + " is a mimic of '" + it->second +
+                     "', not a degree of freedom");
+  }
   throw InputError("unknown joint '" + name + "' in robot model from " + source_);
 }
 
 LinkSet RobotModel::links_moved_by(int dof) const {
   LinkSet moved(links_.size(), false);
   moved[dof_link_[dof]] = true;
-  for (int l = dof_link_[dof] + 1; l < num_links(); ++l) {
-    if (moved[links_[l].parent]) moved[l] = true;
+  for (int l = 1; l < num_links(); ++l) {
+    if (moved[links_[l].parent] || links_[l].mimic_dof == dof) moved[l] = true;
   }
   return moved;
 }

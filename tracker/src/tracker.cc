@@ -814,12 +814,19 @@ void Tracker::add_joint_measurement(double time_s, std::span<const double> angle
        << " s";
     throw InputError(os.str());
   }
+  // One broken reading (1e300, NaN, a wrapped angle) would poison its
+  // joint's filter for the rest of the run: the measurement is dropped.
+  const double margin = s.config.joint_limit_margin_rad;
   for (size_t k = 0; k < angles_rad.size(); ++k) {
-    if (!std::isfinite(angles_rad[k]))
-      throw InputError("joint measurement at " + std::to_string(time_s) + " s: joint '" +
-                       s.model->joint_name(s.encoder_dof[k]) + "' is not finite");
-    s.readings_bank[s.encoder_dof[k]] = angles_rad[k];
+    const int dof = s.encoder_dof[k];
+    if (!(angles_rad[k] >= s.model->joint_lower(dof) - margin &&
+          angles_rad[k] <= s.model->joint_upper(dof) + margin) ||
+        !std::isfinite(angles_rad[k])) {
+      ++s.stats.joint_measurements_dropped;
+      return;
+    }
   }
+  for (size_t k = 0; k < angles_rad.size(); ++k) s.readings_bank[s.encoder_dof[k]] = angles_rad[k];
   if (!s.initialized) {
     s.belief = initial_joint_belief(*s.filter_model, s.readings_bank);
     s.initialized = true;
@@ -840,7 +847,12 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   std::ostringstream where;
   where.precision(9);
   where << "depth image stamped " << stamp_s << " s";
-  if (!std::isfinite(stamp_s)) throw InputError("depth image time stamp is not finite");
+  if (!std::isfinite(stamp_s)) {
+    std::lock_guard lock(s.mutex);
+    ++s.stats.images_received;
+    ++s.stats.images_dropped_bad_stamp;
+    return;
+  }
   if (image.width != camera.width || image.height != camera.height ||
       image.depth_m.size() != size_t(image.width) * image.height || image.width <= 0)
     throw InputError(where.str() + ": image is " + std::to_string(image.width) + "x" +
@@ -872,6 +884,14 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
     kept = image.width == W && image.height == H ? image : subsample_depth(image, W, H);
 
   std::unique_lock lock(s.mutex);
+  // An image a clock apart from the joints' (a stamp in another epoch or
+  // unit) would wait forever or be applied to a belief of another time.
+  if (s.use_encoders && s.initialized &&
+      !(std::abs(stamp_s - s.time_s) <= s.config.max_image_clock_offset_s)) {
+    ++s.stats.images_received;
+    ++s.stats.images_dropped_bad_stamp;
+    return;
+  }
   if (stamp_s < s.last_stamp_s) {
     std::ostringstream os;
     os.precision(9);

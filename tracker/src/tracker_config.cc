@@ -74,6 +74,10 @@ void TrackerConfig::validate(const std::string& context) const {
     fail("timing.camera_delay_s must be a finite number >= 0");
   if (buffer_capacity < 2) fail("timing.buffer_capacity must be at least 2");
   if (max_pending_images < 1) fail("timing.max_pending_images must be at least 1");
+  if (!(joint_limit_margin_rad >= 0) || !std::isfinite(joint_limit_margin_rad))
+    fail("input_checks.joint_limit_margin_deg must be a finite number >= 0");
+  if (!(max_image_clock_offset_s > 0) || !std::isfinite(max_image_clock_offset_s))
+    fail("input_checks.max_image_clock_offset_s must be a finite number > 0");
   if (!(vision_only_angle_diffusion_rad_per_sqrt_s >= 0))
     fail("vision_only.angle_diffusion_deg_per_sqrt_s < 0");
   if (render_cylinder_segments != 0 && !(render_cylinder_segments >= 3))
@@ -213,6 +217,12 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   c.buffer_capacity = int(timing.number("buffer_capacity", c.buffer_capacity, 2, 1e7));
   c.max_pending_images = int(timing.number("max_pending_images", c.max_pending_images, 1, 1000));
   c.asynchronous = timing.get<bool>("asynchronous", c.asynchronous);
+
+  const ConfigNode checks = root.child("input_checks");
+  c.joint_limit_margin_rad =
+      checks.number("joint_limit_margin_deg", c.joint_limit_margin_rad / kDeg, 0, 3600) * kDeg;
+  c.max_image_clock_offset_s =
+      checks.number("max_image_clock_offset_s", c.max_image_clock_offset_s, 1e-3, 1e6);
 
   root.finish();
   c.validate(doc.file);

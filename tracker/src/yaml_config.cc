@@ -22,13 +22,24 @@ YAML::Node merge(const YAML::Node& base, const YAML::Node& over) {
   return out;
 }
 
+// Values a configuration document may hold once its aliases are expanded:
+// a few hundred in practice. Aliases of aliases multiply (ten lists of ten
+// aliases of the one before: 1e9 values in 500 bytes), and every walk over
+// the document would take that long.
+constexpr std::size_t kMaxYamlValues = 100000;
+
 // A key given twice in one map: yaml-cpp keeps both and a lookup silently
-// takes one of them. `path` is the dotted path of `node` ("" at the top).
-void check_unique_keys(const YAML::Node& node, const std::string& source,
+// takes one of them. `path` is the dotted path of `node` ("" at the top);
+// `values` counts the values walked (at most kMaxYamlValues).
+void check_unique_keys(const YAML::Node& node, const std::string& source, std::size_t& values,
                        const std::string& path = "") {
+  if (++values > kMaxYamlValues)
+    throw InputError(source + ": more than " + std::to_string(kMaxYamlValues) +
+                     " values once its aliases are expanded (at '" + path +
+                     "'): aliases of aliases? A configuration is far smaller");
   if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i)
-      check_unique_keys(node[i], source, path + "[" + std::to_string(i) + "]");
+      check_unique_keys(node[i], source, values, path + "[" + std::to_string(i) + "]");
     return;
   }
   if (!node.IsMap()) return;
@@ -40,15 +51,17 @@ void check_unique_keys(const YAML::Node& node, const std::string& source,
     if (const auto [it, added] = first_line.emplace(key, line); !added)
       throw InputError(source + ":" + std::to_string(line) + ": key '" + key_path +
                        "' appears twice (first at line " + std::to_string(it->second) + ")");
-    check_unique_keys(kv.second, source, key_path);
+    check_unique_keys(kv.second, source, values, key_path);
   }
 }
 
 YAML::Node parse_file(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path + ": file not found");
+  if (fs::is_directory(path)) throw InputError(path + ": is a folder, not a YAML file");
   try {
     YAML::Node node = YAML::LoadFile(path);
-    check_unique_keys(node, path);
+    std::size_t values = 0;
+    check_unique_keys(node, path, values);
     return node;
   } catch (const YAML::ParserException& e) {
     throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
@@ -93,7 +106,8 @@ YamlDocument load_yaml_file(const std::string& path) {
 YamlDocument load_yaml_string(const std::string& text, const std::string& source) {
   try {
     YAML::Node node = YAML::Load(text);
-    check_unique_keys(node, source);
+    std::size_t values = 0;
+    check_unique_keys(node, source, values);
     if (node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
     if (!node.IsMap()) throw InputError(source + ": the top level must be a map of keys");
     return {node, source};

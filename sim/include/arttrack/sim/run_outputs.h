@@ -40,7 +40,15 @@ namespace arttrack::sim {
 //                       "converged_angle_abs_error_rad", "converged_bias_abs_error_rad",
 //                       "angle_within_2sigma", "bias_within_2sigma"}}}},
 //    "timing": {"joint_update_us": {"p50","p99"}, "image_update_ms": {"p50","p99"},
-//               "evaluations_per_image"}}
+//               "evaluations_per_image"},
+//    "dropped": {METHOD: {"joint_measurements", "images_bad_stamp"}},
+//    "reproduce": {"version", "scenario_file", "scenario_dir", "overrides",
+//                  "seed", "runs", "methods", "realtime", "scenario", "tracker"}
+//                 or null}
+// "dropped": the inputs the trackers dropped over all runs (TrackerStats:
+// joint readings outside their limits or not finite, images off the joint
+// clock). "reproduce": the RunRecipe ("scenario" and "tracker": the resolved
+// YAML documents as text); null for a result not from a scenario.
 // A method's top-level translation and rotation statistics are the pooled
 // worst over the end effectors (per sample, the larger error; with one end
 // effector, its own, as before end effectors had their own entries);
@@ -82,5 +90,14 @@ void print_summary_table(std::ostream& out, const ScenarioResult& result);
 // Writes summary.json, timeseries.csv and frames/ into `dir` (created if
 // missing). Cannot create or write: InputError naming the path.
 void write_run_outputs(const std::filesystem::path& dir, const ScenarioResult& result);
+
+// The RunRecipe a summary.json records ("reproduce"); InputError naming the
+// file and the key when it has none or it is malformed.
+RunRecipe read_run_recipe(const std::filesystem::path& summary_json);
+
+// The scenario a recipe describes: its resolved document and tracker
+// configuration, relative paths against its scenario_dir; `source` (the
+// summary.json) is named in messages.
+Scenario scenario_from_recipe(const RunRecipe& recipe, const std::string& source);
 
 }  // namespace arttrack::sim

@@ -76,6 +76,13 @@ struct Scenario {
   std::string name;
   // The scenario file, named in messages.
   std::string source;
+  // What reproduces it (summary.json "reproduce", arttrack rerun): the folder
+  // its relative paths resolve against, the overrides applied in order, the
+  // document after `extends` and overrides (YAML, `name` included); the
+  // tracker configuration's is tracker_document.
+  std::filesystem::path dir;
+  std::vector<std::string> overrides;
+  std::string resolved_yaml;
 
   // The scene, with the scenario's camera settings, end effectors and
   // occluders applied. Its URDF is the NOMINAL one (the tracker's); the
@@ -83,6 +90,16 @@ struct Scenario {
   std::filesystem::path scene_file;
   SceneDescription scene;
   UrdfSummary urdf;
+  // The URDFs the simulator and the tracker load (`simulated_urdf`,
+  // `tracker_urdf`; empty: the scene's): e.g. a calibrated description
+  // simulated and the nominal one tracked. Same movable joints as `urdf`.
+  std::filesystem::path simulated_urdf_path, tracker_urdf_path;
+  const std::filesystem::path& simulated_urdf() const {
+    return simulated_urdf_path.empty() ? scene.urdf_path : simulated_urdf_path;
+  }
+  const std::filesystem::path& tracker_urdf() const {
+    return tracker_urdf_path.empty() ? scene.urdf_path : tracker_urdf_path;
+  }
 
   // Tracker configuration (its method is set per run for each method), the
   // file it came from (empty: the built-in default, kDefaultTrackerConfigName)
@@ -126,7 +143,10 @@ Scenario load_scenario(const std::filesystem::path& path,
                        const std::vector<std::string>& overrides = {});
 
 // The same from a loaded document; relative paths resolve against `dir`.
-Scenario scenario_from_yaml(const YamlDocument& doc, const std::filesystem::path& dir);
+// `tracker` (a resolved tracker configuration, Scenario::tracker_document) replaces
+// the `tracker` file and tracker_overrides when given.
+Scenario scenario_from_yaml(const YamlDocument& doc, const std::filesystem::path& dir,
+                            const YamlDocument* tracker = nullptr);
 
 // The joints a name stands for on a robot: `all` (every one of `joints`), a
 // group of the scene (`groups`: SceneDescription::joint_groups), else the

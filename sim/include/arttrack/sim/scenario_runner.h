@@ -216,9 +216,27 @@ struct MethodResult {
   MethodTiming timing;
 };
 
+// What reproduces a run (summary.json "reproduce"; arttrack rerun): the
+// program's version, the scenario as resolved (Scenario::source, dir,
+// overrides, resolved_yaml, tracker_document as YAML) and the options as
+// resolved.
+struct RunRecipe {
+  std::string version = ARTTRACK_VERSION;
+  std::string scenario_file;
+  std::string scenario_dir;
+  std::vector<std::string> overrides;
+  std::string scenario_yaml;
+  std::string tracker_yaml;
+  std::uint64_t seed = 0;  // the scenario seed the runs' seeds derive from
+  int runs = 0;
+  std::vector<std::string> methods;
+  bool realtime = false;
+};
+
 struct ScenarioResult {
   std::string scenario;  // Scenario::name
   std::string source;    // the scenario file
+  RunRecipe recipe;
   double duration_s = 0;
   std::vector<std::uint64_t> seeds;  // per run
   std::vector<std::string> methods;

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,6 +62,16 @@ struct ServoGains {
   double kv_Nms_per_rad = 20;
 };
 
+// A camera the URDF has no link for: a fixed joint named "<camera
+// link>_mount" from `parent_link` to a new link (SceneDescription::
+// camera_link) at T_parent_camera, added to the simulator's and the tracker's
+// copies of the URDF (never to the file).
+struct CameraMount {
+  std::string parent_link;  // "" : the world (the URDF's root link)
+  // The camera's optical frame (z forward, x right, y down) in the parent.
+  Eigen::Isometry3d T_parent_camera = Eigen::Isometry3d::Identity();
+};
+
 struct SceneDescription {
   // The YAML file the scene came from ("" if built in code); named in errors.
   std::string source;
@@ -85,8 +96,10 @@ struct SceneDescription {
   std::vector<std::pair<std::string, std::string>> tracker_overrides;
 
   // The depth camera sits at this link, which must be an optical frame
-  // (z forward, x right, y down).
+  // (z forward, x right, y down): a link of the URDF, or the link the mount
+  // adds (then not a link of the URDF).
   std::string camera_link = "camera_optical_frame";
+  std::optional<CameraMount> camera_mount;
   int width = 640;
   int height = 480;
   double fovy_rad = 45.0 * M_PI / 180.0;  // vertical field of view

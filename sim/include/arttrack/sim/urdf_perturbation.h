@@ -15,10 +15,13 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "arttrack/sim/motion.h"
+#include "arttrack/sim/scene.h"
+#include "arttrack/tracker/robot_model.h"
 
 namespace arttrack::sim {
 
@@ -56,7 +59,7 @@ struct JointOriginChange {
 };
 
 // Everything that makes the simulated robot differ from the nominal one.
-// Applied in this order: origin extensions, joint origin changes, camera
+// Applied in this order: camera mount, origin extensions, joint origin changes, camera
 // offset; shape scales act on geometry only.
 struct UrdfPerturbation {
   // Link of the camera's optical frame; its parent joint's origin moves.
@@ -73,6 +76,9 @@ struct UrdfPerturbation {
   // Uniform scale (> 0) of all visual and collision geometry of a link about
   // the link frame, by link name (shape mismatch).
   std::map<std::string, double> link_scale;
+  // Not a difference: the scene's camera mount (scene.h), which the nominal
+  // robot has too. Adds camera_link before everything else; empty() ignores it.
+  std::optional<CameraMount> camera_mount;
 
   bool empty() const;
 };
@@ -87,6 +93,17 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
                               const std::filesystem::path& urdf_dir,
                               const std::map<std::string, std::filesystem::path>& package_paths,
                               const UrdfPerturbation& perturbation);
+
+// The text of `urdf` with the scene's camera mount (if any) added and mesh
+// file names made absolute: the nominal robot as the tracker loads it. Errors
+// as perturb_urdf_text, plus a missing or unreadable file.
+std::string mounted_urdf_text(const SceneDescription& scene, const std::filesystem::path& urdf);
+
+// The tracker's model of `urdf` in `scene`: mounted_urdf_text loaded with
+// `options`, whose camera frame is set to the scene's camera link and whose
+// mesh search paths get the scene's package folders.
+RobotModel tracker_robot_model(const SceneDescription& scene, const std::filesystem::path& urdf,
+                               RobotModelOptions options = {});
 
 // A perturbed copy of a URDF file in a private temporary folder that is
 // removed with this object. Keep it alive until the simulator's model is

@@ -9,10 +9,25 @@
 namespace arttrack {
 
 // Bad input: malformed files, unknown names, impossible values, time stamps
-// out of order. Never a programming error (those are assertions).
+// out of order. Never a programming error (those are std::invalid_argument,
+// below, or assertions).
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
 }  // namespace arttrack
+
+// A precondition of a public function on its arguments (vector sizes, joint
+// counts, image sizes) that holds in every build, like Pinocchio's argument
+// size checks: an assert vanishes from Release, and a wrong size would then
+// read or write out of bounds. A violation is the caller's programming
+// error, thrown as std::invalid_argument naming the function and the rule.
+// Costs a comparison: fine on the hot paths that take whole vectors or images.
+#define ARTTRACK_CHECK_ARGUMENT(condition)                                                         \
+  do {                                                                                             \
+    if (!(condition))                                                                              \
+      throw std::invalid_argument(std::string(__func__) + ": argument check failed: " #condition); \
+  } while (0)
+
+namespace arttrack {}  // namespace arttrack

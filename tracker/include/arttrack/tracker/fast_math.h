@@ -101,13 +101,15 @@ inline double fast_erfc(double y) {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-// Four and eight doubles, lane-wise.
+// Two, four and eight doubles, lane-wise (two: SSE2, what every x86-64 has).
+using Double2 = double __attribute__((vector_size(16)));
 using Double4 = double __attribute__((vector_size(32)));
 using Double8 = double __attribute__((vector_size(64)));
 
 // A GCC vector of doubles (comparisons give the same-sized integer vector).
 template <class V>
-concept DoubleLanes = std::is_same_v<V, Double4> || std::is_same_v<V, Double8>;
+concept DoubleLanes =
+    std::is_same_v<V, Double2> || std::is_same_v<V, Double4> || std::is_same_v<V, Double8>;
 
 template <DoubleLanes V>
 [[gnu::always_inline]] inline V broadcast(double x) {

@@ -4,7 +4,8 @@
 // frame), double precision, composed exactly as URDF specifies:
 //   T_root_child = T_root_parent * T_parent_joint * M(q),
 // with M(q) a rotation by q radians about the joint axis (revolute,
-// continuous) or a translation by q metres along it (prismatic).
+// continuous) or a translation by q metres along it (prismatic); a mimic
+// joint's q is multiplier * q_leader + offset.
 #pragma once
 
 #include <Eigen/Core>

@@ -6,7 +6,8 @@
 // joint that connects it to its parent. The movable joints are the degrees of
 // freedom (DOFs) indexed 0..num_joints()-1: the URDF's revolute, continuous
 // and prismatic joints in depth-first tree order (siblings ordered by joint
-// name), then the six virtual camera joints.
+// name), then the six virtual camera joints. URDF mimic joints are not DOFs:
+// they follow their leader (Link::mimic_dof).
 //
 // Virtual camera joints (Garcia Cifuentes et al. 2017, Sec. III): a chain of
 // six joints injected in memory after the nominal camera frame, ending in a
@@ -19,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -60,7 +62,13 @@ struct Link {
   JointType joint_type = JointType::kFixed;
   Eigen::Isometry3d T_parent_joint = Eigen::Isometry3d::Identity();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit vector, joint frame
-  int dof = -1;  // index of the joint's coordinate in q; -1 for a fixed joint
+  int dof = -1;  // index of the joint's coordinate in q; -1 for a fixed or mimic joint
+  // A URDF mimic joint has no coordinate of its own: its value is
+  // mimic_multiplier * q[mimic_dof] + mimic_offset (chains of mimics resolved
+  // to the free joint they end at). -1 for any other joint.
+  int mimic_dof = -1;
+  double mimic_multiplier = 1.0;
+  double mimic_offset = 0.0;
   // All visual elements merged, in the link frame, metres (empty if none).
   TriangleMesh mesh;
 };
@@ -69,7 +77,8 @@ struct Link {
 class RobotModel {
  public:
   // Parses a URDF file. Throws InputError naming the file (missing,
-  // malformed), a joint (unsupported type, zero axis), a mesh and its link
+  // malformed), a joint (unsupported type, zero axis, a mimic of a missing or
+  // fixed joint, a cycle of mimics), a mesh and its link
   // (missing, unreadable) or the camera frame (absent).
   static RobotModel from_urdf_file(const std::string& path, const RobotModelOptions& options = {});
   // Parses URDF text; relative mesh paths resolve against base_dir first.
@@ -89,7 +98,7 @@ class RobotModel {
   const std::vector<std::string>& joint_names() const { return dof_names_; }
   const std::string& joint_name(int dof) const { return dof_names_[dof]; }
   // DOF index by name; throws InputError naming the joint and the URDF
-  // (saying so when the joint exists but is fixed).
+  // (saying so when the joint exists but is fixed or a mimic).
   int joint_index(const std::string& name) const;
   JointType joint_type(int dof) const { return links_[dof_link_[dof]].joint_type; }
   // The link the DOF moves directly (its child link).
@@ -104,7 +113,8 @@ class RobotModel {
   int camera_link() const { return camera_link_; }
   int nominal_camera_link() const { return nominal_camera_link_; }
 
-  // The links whose pose depends on DOF `dof`: its child link's subtree.
+  // The links whose pose depends on DOF `dof`: its child link's subtree and
+  // the subtrees of the mimic joints that follow it.
   LinkSet links_moved_by(int dof) const;
   // The links that have a mesh.
   const std::vector<int>& links_with_geometry() const { return geometry_links_; }
@@ -121,6 +131,8 @@ class RobotModel {
   RobotModel() = default;
   static RobotModel build(const std::string& xml, const std::string& base_dir,
                           const std::string& source, const RobotModelOptions& options);
+  // Sets mimic_dof (and the chain's multiplier and offset) of mimic links.
+  void resolve_mimics();
 
   std::string source_;
   std::string urdf_xml_, base_dir_;  // for rebuilt()
@@ -130,6 +142,7 @@ class RobotModel {
   std::vector<int> dof_link_;
   std::vector<double> dof_lower_, dof_upper_;
   std::vector<std::string> fixed_joint_names_;
+  std::map<std::string, std::string> mimic_leader_;  // mimic joint -> the joint it names
   std::vector<int> geometry_links_;
   int num_virtual_ = 0;
   int camera_link_ = -1;

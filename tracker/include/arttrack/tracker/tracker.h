@@ -169,12 +169,18 @@ class ImageTimings {
 // Counters and timings, for reports and benchmarks. Fixed size (timings:
 // ImageTimings::kCapacity images at most), whatever the run time.
 struct TrackerStats {
-  int joint_measurements = 0;
+  int joint_measurements = 0;  // filtered
+  // Not filtered: a reading not finite or further than
+  // TrackerConfig::joint_limit_margin_rad outside its joint's limits.
+  int joint_measurements_dropped = 0;
   int images_received = 0;
   int images_applied = 0;
   int images_dropped_too_old = 0;  // older than the belief buffer reaches
   int images_dropped_backlog = 0;  // too many waiting for the joints to catch up
   int images_dropped_busy = 0;     // asynchronous: arrived while an update ran and a newer one came
+  // Stamp not finite or further than TrackerConfig::max_image_clock_offset_s
+  // from the newest joint measurement (counted as received too).
+  int images_dropped_bad_stamp = 0;
   long long likelihood_evaluations = 0;
   int last_evaluations_per_image = 0;
   ImageTimings images;  // of the applied images
@@ -200,14 +206,20 @@ class Tracker {
                                  std::span<const double> angles_rad);
 
   // One encoder reading per encoder joint, radians, taken at time_s. Throws
-  // InputError for a time going backwards, a wrong count or a non-finite value.
+  // InputError for a time going backwards, a non-finite time or a wrong
+  // count. A reading that is not finite or lies further than
+  // TrackerConfig::joint_limit_margin_rad outside its joint's limits drops the
+  // whole measurement (TrackerStats::joint_measurements_dropped): the joints
+  // are not filtered at time_s.
   void add_joint_measurement(double time_s, std::span<const double> angles_rad);
 
   // A depth image (metres, 0 = no return) stamped at capture time, with the
   // camera's intrinsics. Throws InputError for a size that does not match the
   // intrinsics, a negative or non-finite depth (naming the pixel), or a time
   // stamp earlier than the previous image's. An image stamped after the newest
-  // joint reading waits until the joints catch up.
+  // joint reading waits until the joints catch up. A stamp that is not finite
+  // or lies further than TrackerConfig::max_image_clock_offset_s from the
+  // newest joint reading drops the image (TrackerStats::images_dropped_bad_stamp).
   void add_depth_image(double stamp_s, const DepthImage& image, const CameraIntrinsics& camera);
 
   // Asynchronous mode: blocks until no image update is running or waiting to

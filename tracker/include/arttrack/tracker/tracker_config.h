@@ -145,6 +145,14 @@ struct TrackerConfig {
   // it becomes applicable, in the caller's thread (deterministic).
   bool asynchronous = false;
 
+  // Readings the tracker drops and counts (TrackerStats) instead of filtering:
+  // a joint measurement with a reading further than joint_limit_margin_rad
+  // outside its joint's limits (or not finite), and a depth image stamped
+  // further than max_image_clock_offset_s from the newest joint measurement
+  // (or not finite). Either would poison the filter for the rest of the run.
+  double joint_limit_margin_rad = 30 * 0.017453292519943295;  // 30 degrees
+  double max_image_clock_offset_s = 10.0;
+
   // Throws InputError naming `context` and the field for an impossible value.
   void validate(const std::string& context) const;
 };
