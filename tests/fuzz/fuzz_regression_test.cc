@@ -34,20 +34,32 @@ const std::map<std::string, std::function<std::string(std::string_view)>> kTarge
     {"dataset", dataset_one},
     {"png", png_one}};
 
-TEST(FuzzRegression, FindingsAreRefusedCleanly) {
+// Replays regressions/<target>/* for the targets named; returns how many.
+int replay_findings(std::initializer_list<std::string> targets) {
   int replayed = 0;
-  for (const auto& [name, target] : kTargets) {
+  for (const std::string& name : targets) {
     const fs::path dir = kSource / "tests/fuzz/regressions" / name;
     if (!fs::is_directory(dir)) continue;
     for (const auto& entry : fs::directory_iterator(dir)) {
       SCOPED_TRACE(entry.path().string());
       std::string error;
-      EXPECT_NO_THROW(error = target(read_file(entry.path())));
+      EXPECT_NO_THROW(error = kTargets.at(name)(read_file(entry.path())));
       EXPECT_FALSE(error.empty()) << "accepted";
       ++replayed;
     }
   }
-  EXPECT_GT(replayed, 0);
+  return replayed;
+}
+
+TEST(FuzzRegression, FindingsAreRefusedCleanly) {
+  EXPECT_GT(replay_findings({"urdf", "yaml", "dataset", "png"}), 0);
+}
+
+// Apart, because assimp leaks its half-built scene on a malformed COLLADA
+// file (its own bug): the sanitizer stage runs this test alone with
+// tests/fuzz/lsan.supp (tests/fuzz/CMakeLists.txt).
+TEST(FuzzRegressionAssimp, MeshFindingsAreRefusedCleanly) {
+  EXPECT_GT(replay_findings({"mesh"}), 0);
 }
 
 TEST(FuzzRegression, ShippedFilesAreAccepted) {
