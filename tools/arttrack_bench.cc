@@ -152,7 +152,7 @@ void run_bench(const BenchArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  check_seed(args.seed);
   if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
   if (args.evaluations > kMaxEvaluations)
     throw UsageError("--evaluations must be at most " + std::to_string(kMaxEvaluations));
@@ -322,7 +322,7 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--resolution", args->resolution,
                   "Likelihood resolution WIDTHxHEIGHT (default: the tracker configuration's)");
   cmd->add_option("--json", args->json_path, "Also write the figures to this JSON file");
-  cmd->add_option("--seed", args->seed, "Scenario seed (default: the scenario's)");
+  add_seed_option(cmd, args->seed, "Scenario seed; the benchmark simulates its run 0");
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads,

@@ -90,7 +90,7 @@ void run(const RunArgs& args) {
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
   if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
-  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  check_seed(args.seed);
 
   sim::RunOptions options;
   options.runs = args.runs;
@@ -140,8 +140,7 @@ void register_run(CLI::App& app) {
   cmd->add_option("scenario", args->scenario, "Scenario YAML (default: scenarios/default.yaml)");
   cmd->add_option("--runs", args->runs,
                   "Number of runs with different seeds (default: the scenario's)");
-  cmd->add_option("--seed", args->seed,
-                  "Scenario seed; run k uses a seed mixed from it and k (default: the scenario's)");
+  add_seed_option(cmd, args->seed, "Scenario seed; run k uses a seed mixed from it and k");
   cmd->add_option("--methods", args->methods,
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "
                   "vision_only (default: the scenario's)");

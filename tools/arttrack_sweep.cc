@@ -1,5 +1,5 @@
 // arttrack sweep SCENARIO.yaml --grid key=start:stop:step ... [--runs K]
-//     [--methods a,b] [--set k=v ...] [--shard I/N] [--fail-threshold-m M]
+//     [--seed S] [--methods a,b] [--set k=v ...] [--shard I/N] [--fail-threshold-m M]
 //     [--fail-statistic STAT] [--out DIR]
 //
 // Runs the scenario in every cell of the Cartesian grid of the --grid keys,
@@ -35,6 +35,7 @@ struct SweepArgs {
   std::string scenario;
   std::vector<std::string> grid;
   int runs = 0;
+  long long seed = -1;
   std::string methods;
   std::vector<std::string> overrides;
   std::string shard = "0/1";
@@ -79,6 +80,8 @@ void sweep(const SweepArgs& args) {
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
   if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
   spec.runs = args.runs;
+  check_seed(args.seed);
+  spec.seed = args.seed;
   spec.fail_threshold_m = args.fail_threshold_m;
   spec.fail_statistic = args.fail_statistic;
   const sim::Shard shard = sim::parse_shard(args.shard);
@@ -91,8 +94,9 @@ void sweep(const SweepArgs& args) {
                                             : fs::path(args.out_dir);
   std::cerr << "arttrack sweep: " << spec.scenario_name << ", " << spec.cell_count() << " cells ("
             << cells.size() << " in shard " << shard.index << "/" << shard.count << "), "
-            << spec.methods.size() << " methods, " << spec.runs << " run(s) per cell -> "
-            << out.string() << "\n";
+            << spec.methods.size() << " methods, " << spec.runs
+            << " run(s) per cell, scenario seed " << spec.scenario_seed << " -> " << out.string()
+            << "\n";
 
   const auto start = Clock::now();
   auto last_report = start;
@@ -184,6 +188,8 @@ void register_sweep(CLI::App& app) {
       ->required()
       ->allow_extra_args(false);
   cmd->add_option("--runs", args->runs, "Runs (seeds) per cell (default: the scenario's)");
+  add_seed_option(cmd, args->seed,
+                  "Scenario seed; each cell's seed is mixed from it and the cell's overrides");
   cmd->add_option("--methods", args->methods, "Comma-separated methods (default: the scenario's)");
   cmd->add_option("--set", args->overrides, "Fixed override of a scenario key, e.g. duration_s=5")
       ->allow_extra_args(false);

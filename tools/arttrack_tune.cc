@@ -1,7 +1,7 @@
 // arttrack tune SCENARIOS... --params key=lo:hi,... [--objective STAT]
 //     [--budget N] [--validate SCENARIOS...] [--method bobyqa|cobyla|neldermead|direct]
 //     [--config BASE.yaml] [--tracker-method M] [--time-penalty W] [--runs K]
-//     [--set k=v ...] [--out DIR]
+//     [--seed S] [--set k=v ...] [--out DIR]
 //
 // Tunes tracker parameters (keys of the tracker YAML) by derivative-free
 // minimisation of a statistic over several scenarios at once (sim/tuning.h),
@@ -38,6 +38,7 @@ struct TuneArgs {
   std::string tracker_method = "full_fusion";
   double time_penalty = 0;
   int runs = 0;
+  long long seed = -1;
   std::vector<std::string> overrides;
   std::string out_dir = "out/tune";
 };
@@ -57,6 +58,8 @@ void tune(const TuneArgs& args) {
   o.optimizer = sim::parse_optimizer(args.method);
   o.budget = args.budget;
   o.runs = args.runs;
+  check_seed(args.seed);
+  o.seed = args.seed;
   o.out_dir = args.out_dir;
   o.log = [](const std::string& line) { std::cerr << "arttrack tune: " << line << "\n"; };
 
@@ -107,6 +110,8 @@ void register_tune(CLI::App& app) {
   cmd->add_option("--time-penalty", args->time_penalty,
                   "Add W x the mean p50 image update time (ms) to the objective");
   cmd->add_option("--runs", args->runs, "Runs per scenario (default: each scenario's)");
+  add_seed_option(cmd, args->seed,
+                  "Seed of each scenario, the same for every candidate and the final comparison");
   cmd->add_option("--set", args->overrides, "Override a key of every scenario, e.g. duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--out", args->out_dir, "Output folder (default out/tune)")

@@ -51,6 +51,18 @@ inline void check_fresh_output(const std::filesystem::path& dir,
                        "): choose another folder, or pass --force to overwrite them");
 }
 
+// --seed of every command that simulates (run, export, sweep, tune, bench):
+// the scenario seed its runs' seeds derive from; -1 (the default) keeps the
+// scenario's `seed`. `help` says what the seed drives in that command.
+inline void add_seed_option(CLI::App* cmd, long long& seed, const std::string& help) {
+  cmd->add_option("--seed", seed, help + " (default: the scenario's)");
+}
+
+// A --seed below -1 is a usage error.
+inline void check_seed(long long seed) {
+  if (seed < -1) throw UsageError("--seed must be >= 0");
+}
+
 // arttrack run's work after parsing (tools/arttrack_run.cc), shared with
 // arttrack rerun: runs the scenario, writes its outputs into `out` (see
 // check_fresh_output), prints the summary table.

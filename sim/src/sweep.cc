@@ -440,6 +440,7 @@ void resolve_sweep(SweepSpec& spec) {
         throw InputError("--grid '" + spec.axes[a].spec + "': key '" + spec.axes[a].key +
                          "' is swept twice (also by '" + spec.axes[b].spec + "')");
   if (spec.runs < 0) throw InputError("--runs must be >= 1");
+  if (spec.seed < -1) throw InputError("--seed must be >= 0");
   if (!(spec.fail_threshold_m > 0) || !std::isfinite(spec.fail_threshold_m))
     throw InputError("--fail-threshold-m must be a finite number > 0");
   const auto& stats = sweep_statistics();
@@ -451,7 +452,7 @@ void resolve_sweep(SweepSpec& spec) {
 
   const Scenario base = load_scenario_indexed(spec.scenario, spec.overrides);
   spec.scenario_name = base.name;
-  spec.scenario_seed = base.seed;
+  spec.scenario_seed = spec.seed >= 0 ? std::uint64_t(spec.seed) : base.seed;
   if (spec.runs == 0) spec.runs = base.runs;
   if (spec.methods.empty()) spec.methods = base.methods;
   for (std::size_t i = 0; i < spec.methods.size(); ++i) {

@@ -76,10 +76,14 @@ struct SweepSpec {
   std::vector<std::string> methods;
   // Runs per cell (0 before resolve_sweep: the scenario's).
   int runs = 0;
+  // The scenario seed the cells' seeds derive from (--seed); -1: the
+  // scenario's `seed`.
+  long long seed = -1;
   // A method fails in a cell where this statistic exceeds the threshold.
   double fail_threshold_m = 0.05;
   std::string fail_statistic = "converged_p50_translation_m";
-  // Filled by resolve_sweep: the scenario's name and seed (after overrides).
+  // Filled by resolve_sweep: the scenario's name, and `seed` if set, else
+  // the scenario's seed (after overrides).
   std::string scenario_name;
   std::uint64_t scenario_seed = 0;
 
@@ -91,8 +95,8 @@ struct SweepSpec {
 };
 
 // Checks a sweep and fills its methods, runs, scenario name and seed from
-// the scenario: the scenario must load with the fixed overrides, every axis
-// key must be one the scenario accepts (an unknown key or a path through a
+// the scenario (the seed from `seed` when that is >= 0): the scenario must load with the fixed
+// overrides, every axis key must be one the scenario accepts (an unknown key or a path through a
 // non-map is an InputError naming the axis spec), methods must be known.
 // Values a key rejects are not errors here: their cells fail when run.
 void resolve_sweep(SweepSpec& spec);
