@@ -55,7 +55,7 @@ Optimizer parse_optimizer(const std::string& name) {
   if (name == "cobyla") return Optimizer::kCobyla;
   if (name == "neldermead") return Optimizer::kNelderMead;
   if (name == "direct") return Optimizer::kDirect;
-  throw InputError("--method '" + name + "': expected bobyqa, cobyla, neldermead or direct");
+  throw InputError("--optimizer '" + name + "': expected bobyqa, cobyla, neldermead or direct");
 }
 
 const char* optimizer_name(Optimizer o) {

@@ -27,7 +27,8 @@ namespace arttrack::sim {
 
 enum class Optimizer { kBobyqa, kCobyla, kNelderMead, kDirect };
 
-// "bobyqa", "cobyla", "neldermead", "direct"; InputError otherwise.
+// "bobyqa", "cobyla", "neldermead", "direct" (tune --optimizer); InputError
+// naming --optimizer otherwise.
 Optimizer parse_optimizer(const std::string& name);
 const char* optimizer_name(Optimizer optimizer);
 
