@@ -102,6 +102,11 @@ inline void check_tessellation(const Tessellation& t) {
 void run_and_write(const sim::Scenario& scenario, sim::RunOptions options,
                    const std::filesystem::path& out, bool force);
 
+// A usage error when the first argument that is not an option names no
+// subcommand of `app` ("unknown subcommand 'rnu'; did you mean 'run'?").
+// Call before app.parse, which would only say that a subcommand is required.
+void check_subcommand_name(const CLI::App& app, int argc, const char* const* argv);
+
 void register_render(CLI::App& app);
 void register_run(CLI::App& app);
 void register_rerun(CLI::App& app);
@@ -111,5 +116,6 @@ void register_tune(CLI::App& app);
 void register_export(CLI::App& app);
 void register_track(CLI::App& app);
 void register_bench(CLI::App& app);
+void register_help(CLI::App& app);  // arttrack help [SUBCOMMAND]
 
 }  // namespace arttrack::cli
