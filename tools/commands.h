@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "arttrack/sim/scenario.h"
 #include "arttrack/sim/scenario_runner.h"
@@ -101,6 +102,11 @@ inline void check_tessellation(const Tessellation& t) {
 // check_fresh_output), prints the summary table.
 void run_and_write(const sim::Scenario& scenario, sim::RunOptions options,
                    const std::filesystem::path& out, bool force);
+
+// The files a command wrote into `dir`, for its closing line: "D/a, D/b and
+// D/frames/ (8 files)", those in a subfolder counted (tools/arttrack_run.cc).
+std::string written_files_text(const std::filesystem::path& dir,
+                               const std::vector<std::filesystem::path>& files);
 
 // A usage error when the first argument that is not an option names no
 // subcommand of `app` ("unknown subcommand 'rnu'; did you mean 'run'?").
