@@ -136,11 +136,14 @@ void sweep(const SweepArgs& args) {
   }
   if (cells.empty()) sim::write_sweep_outputs(out, spec, shard, results);
 
-  // The failure statistic per cell and method, in mm.
+  // The failure statistic per cell and method, in mm (translations).
   const auto& stats = sim::sweep_statistics();
   const std::size_t s =
       std::size_t(std::find(stats.begin(), stats.end(), spec.fail_statistic) - stats.begin());
-  std::cout << spec.fail_statistic << " (mm; * = above " << spec.fail_threshold_m * 1e3 << " mm)\n";
+  const sim::StatisticUnit unit = sim::statistic_unit(spec.fail_statistic);
+  std::cout << spec.fail_statistic << " in " << unit.shown << " (* = above "
+            << spec.fail_threshold_m * unit.scale << " " << unit.shown << ": --fail-threshold-m "
+            << spec.fail_threshold_m << ", in " << unit.si << ")\n";
   std::cout << std::left << std::setw(6) << "cell";
   std::size_t width = 10;
   for (const sim::GridAxis& a : spec.axes) width = std::max(width, a.key.size() + 2);
@@ -161,7 +164,7 @@ void sweep(const SweepArgs& args) {
       const double v = r.stats[m][s];
       std::ostringstream cellv;
       if (std::isfinite(v))
-        cellv << std::fixed << std::setprecision(2) << v * 1e3
+        cellv << std::fixed << std::setprecision(2) << v * unit.scale
               << (v > spec.fail_threshold_m ? "*" : "");
       else
         cellv << v;
@@ -197,9 +200,12 @@ void register_sweep(CLI::App& app) {
                   "Run only cells with index % N == I, as I/N (merge the parts with arttrack "
                   "merge)");
   cmd->add_option("--fail-threshold-m", args->fail_threshold_m,
-                  "A method fails in a cell where the failure statistic exceeds this (m)");
+                  "A method fails in a cell where the failure statistic exceeds this, in metres "
+                  "(default 0.05 m = 50 mm; the table and sweep.html show mm; rad or s for a "
+                  "rotation or time --fail-statistic)");
   cmd->add_option("--fail-statistic", args->fail_statistic,
-                  "Statistic compared with the threshold (default converged_p50_translation_m)");
+                  "Statistic compared with --fail-threshold-m (default "
+                  "converged_p50_translation_m)");
   cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)")
       ->check(non_empty_name());
   cmd->callback([args] { sweep(*args); });

@@ -5,14 +5,7 @@
 # --seed 8 other numbers; sweep.json and tuned.yaml name the seed.
 arttrack=$1
 scenario=$2
-dir=$(mktemp -d) || exit 1
-trap 'rm -rf "$dir"' EXIT
-cd "$dir" || exit 1
-fail() {
-  echo "$*"
-  cat out.txt
-  exit 1
-}
+. "$(dirname "$0")/common.sh"
 
 # run COMMAND ARGS...: COMMAND with --seed 7 (into COMMAND_a and COMMAND_b)
 # and --seed 8 (COMMAND_c).

@@ -3,13 +3,11 @@
 # wrote: each file in its output folder by path, each subfolder with the
 # number of files in it ("o/frames/ (4 files)").
 arttrack=$1
-dir=$(mktemp -d) || exit 1
-trap 'rm -rf "$dir"' EXIT
-cd "$dir" || exit 1
+. "$(dirname "$0")/common.sh"
 timeout 120 "$arttrack" run --runs 1 --methods encoders_only --set duration_s=1 --out o \
-  </dev/null >out.txt 2>&1 || { echo "run failed:"; cat out.txt; exit 1; }
+  </dev/null >out.txt 2>&1 || fail "run failed:"
 line=$(grep '^wrote ' out.txt)
-[ -n "$line" ] || { echo "no closing line 'wrote ...':"; cat out.txt; exit 1; }
+[ -n "$line" ] || fail "no closing line 'wrote ...':"
 for path in o/*; do
   if [ -d "$path" ]; then
     n=$(find "$path" -type f | wc -l)
@@ -21,7 +19,7 @@ for path in o/*; do
   fi
   case "$line" in
     *"$named"*) ;;
-    *) echo "the closing line does not name $named: $line"; exit 1 ;;
+    *) fail "the closing line does not name $named:" ;;
   esac
 done
 exit 0

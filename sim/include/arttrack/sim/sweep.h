@@ -42,6 +42,16 @@ double method_statistic(const MethodResult& method, const std::string& name);
 // Checks a statistic name (as method_statistic); `context` names the option.
 void check_statistic_name(const std::string& name, const std::string& context);
 
+// The units of a statistic: `si` the one it is stored and compared in (m,
+// rad or s: also that of --fail-threshold-m for it), `shown` the one tables
+// and pages show (mm, deg or s), value_shown = value * scale.
+struct StatisticUnit {
+  std::string si;
+  std::string shown;
+  double scale = 1;
+};
+StatisticUnit statistic_unit(const std::string& statistic);
+
 // ---- the grid ----
 
 // One axis of the grid: a scenario key and the values it takes.
@@ -79,7 +89,8 @@ struct SweepSpec {
   // The scenario seed the cells' seeds derive from (--seed); -1: the
   // scenario's `seed`.
   long long seed = -1;
-  // A method fails in a cell where this statistic exceeds the threshold.
+  // A method fails in a cell where this statistic exceeds the threshold, in
+  // the statistic's SI unit (metres for the translation statistics).
   double fail_threshold_m = 0.05;
   std::string fail_statistic = "converged_p50_translation_m";
   // Filled by resolve_sweep: the scenario's name, and `seed` if set, else
