@@ -2,7 +2,8 @@
 // Errors a user can cause are printed on one line, with a non-zero exit:
 // 1 for a runtime error (a bad input file, unstable physics, I/O), 2 for a
 // usage error (an unknown option, a missing or out-of-range argument, an
-// output folder holding a previous run's outputs without --force).
+// output folder holding a previous run's outputs without --force, an unknown
+// subcommand). `arttrack help [SUBCOMMAND]` prints the help.
 #include <exception>
 #include <iostream>
 
@@ -16,8 +17,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "arttrack " ARTTRACK_VERSION);
   app.footer(
       "Exit codes: 0 success, 1 runtime error (a bad input file, unstable physics, I/O), "
-      "2 usage error (a wrong option or argument, an output folder holding a previous run's "
-      "outputs without --force).\n");
+      "2 usage error (a wrong subcommand, option or argument, an output folder holding a "
+      "previous run's outputs without --force).\n"
+      "arttrack help SUBCOMMAND (or arttrack SUBCOMMAND --help) describes a subcommand.\n");
   arttrack::cli::register_render(app);
   arttrack::cli::register_run(app);
   arttrack::cli::register_rerun(app);
@@ -27,7 +29,9 @@ int main(int argc, char** argv) {
   arttrack::cli::register_export(app);
   arttrack::cli::register_track(app);
   arttrack::cli::register_bench(app);
+  arttrack::cli::register_help(app);
   try {
+    arttrack::cli::check_subcommand_name(app, argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // Help and --version: CLI11's success; anything else is a usage error.

@@ -65,8 +65,7 @@ struct BenchArgs {
   long long seed = -1;
   std::vector<std::string> overrides;
   int threads = -1;
-  int cylinder_segments = 0;
-  int sphere_segments = 0;
+  Tessellation tessellation;
   double soak_minutes = 0;
   int soak_frames = 30;
 };
@@ -152,14 +151,11 @@ void run_bench(const BenchArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  check_seed(args.seed);
   if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
   if (args.evaluations > kMaxEvaluations)
     throw UsageError("--evaluations must be at most " + std::to_string(kMaxEvaluations));
-  if (args.cylinder_segments < 0 || (args.cylinder_segments > 0 && args.cylinder_segments < 3))
-    throw UsageError("--cylinder-segments must be >= 3");
-  if (args.sphere_segments < 0 || (args.sphere_segments > 0 && args.sphere_segments < 4))
-    throw UsageError("--sphere-segments must be >= 4");
+  check_tessellation(args.tessellation);
 
   TrackerConfig config = scenario.tracker;
   config.source = scenario.tracker_document.file;
@@ -180,8 +176,9 @@ void run_bench(const BenchArgs& args) {
   }
 
   // The tracker's nominal robot, as the runner builds it.
-  if (args.cylinder_segments > 0) config.render_cylinder_segments = args.cylinder_segments;
-  if (args.sphere_segments > 0) config.render_sphere_segments = args.sphere_segments;
+  const Tessellation& t = args.tessellation;
+  if (t.cylinder_segments > 0) config.render_cylinder_segments = t.cylinder_segments;
+  if (t.sphere_segments > 0) config.render_sphere_segments = t.sphere_segments;
   auto robot = std::make_shared<const RobotModel>(
       sim::tracker_robot_model(scenario.scene, scenario.tracker_urdf()));
   // Default blocks: one per joint, virtual ones included.
@@ -322,19 +319,15 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--resolution", args->resolution,
                   "Likelihood resolution WIDTHxHEIGHT (default: the tracker configuration's)");
   cmd->add_option("--json", args->json_path, "Also write the figures to this JSON file");
-  cmd->add_option("--seed", args->seed, "Scenario seed (default: the scenario's)");
+  add_seed_option(cmd, args->seed, "Scenario seed; the benchmark simulates its run 0");
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads,
                   "Image update worker threads, 0 = one per core, at most " +
                       std::to_string(kMaxWorkerThreads) + " (default: the configuration's)")
       ->check(CLI::Range(0, kMaxWorkerThreads));
-  cmd->add_option("--cylinder-segments", args->cylinder_segments,
-                  "Sides of URDF cylinders in the hypotheses' model (default: the configuration's "
-                  "render.cylinder_segments, else the model's)");
-  cmd->add_option("--sphere-segments", args->sphere_segments,
-                  "Meridians of URDF spheres in the hypotheses' model (default: the "
-                  "configuration's render.sphere_segments, else the model's)");
+  add_tessellation_options(cmd, args->tessellation,
+                           "the tracker configuration's render section, else the robot model's");
   cmd->add_option("--soak", args->soak_minutes,
                   "Instead: feed one tracker this many minutes of stream (1 kHz joints, 30 Hz "
                   "images) and check that its resident memory stays within 1 MB after minute 1")

@@ -31,7 +31,7 @@ struct ExportArgs {
 };
 
 void run_export(const ExportArgs& args) {
-  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  check_seed(args.seed);
   check_fresh_output(args.out_dir, {"dataset.yaml", "joints.csv"}, args.force);
   const auto start = std::chrono::steady_clock::now();
   const sim::ExportSummary s =
@@ -51,8 +51,7 @@ void register_export(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "export", "Simulate a scenario and write what the tracker receives as a dataset");
   cmd->add_option("scenario", args->scenario, "Scenario YAML")->required();
-  cmd->add_option("--seed", args->seed,
-                  "Scenario seed, as for arttrack run (default: the scenario's)");
+  add_seed_option(cmd, args->seed, "Scenario seed, as for arttrack run");
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--out", args->out_dir, "Dataset folder to write")

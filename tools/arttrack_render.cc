@@ -1,4 +1,5 @@
-// arttrack render [SCENE_OR_SCENARIO.yaml] [--time T] --out DIR
+// arttrack render [SCENE_OR_SCENARIO.yaml] [--time T] [--cylinder-segments C]
+//                 [--sphere-segments S] --out DIR
 //
 // Simulates the scene to time T holding the initial (home) pose, then writes
 //   DIR/sim_depth.png    MuJoCo's depth of the whole scene,
@@ -40,7 +41,7 @@ struct RenderArgs {
   std::string input;
   double time_s = 0;
   std::string out_dir;
-  int segments = 0;  // tracker's cylinder/sphere tessellation; 0: its defaults
+  Tessellation tessellation;  // of the tracker's robot; 0: the robot model's
 };
 
 // The tracker's joint vector for the simulator's true state: every tracker
@@ -60,6 +61,7 @@ Eigen::VectorXd tracker_joints(const RobotModel& robot, const sim::Simulator& si
 }
 
 void run(const RenderArgs& args) {
+  check_tessellation(args.tessellation);
   const fs::path input = args.input.empty() ? sim::default_scene_path() : fs::path(args.input);
   const sim::SceneDescription scene = sim::load_scene(sim::resolve_scene_file(input));
   const fs::path out = args.out_dir;
@@ -80,7 +82,10 @@ void run(const RenderArgs& args) {
   // The tracker's model, from the same URDF and camera link.
   RobotModelOptions options;
   options.add_virtual_camera_joints = false;
-  if (args.segments > 0) options.cylinder_segments = options.sphere_segments = args.segments;
+  if (args.tessellation.cylinder_segments > 0)
+    options.cylinder_segments = args.tessellation.cylinder_segments;
+  if (args.tessellation.sphere_segments > 0)
+    options.sphere_segments = args.tessellation.sphere_segments;
   const RobotModel robot = sim::tracker_robot_model(scene, scene.urdf_path, options);
   KinematicsState state(robot);
   forward_kinematics(robot, tracker_joints(robot, simulator), state);
@@ -138,9 +143,11 @@ void register_render(CLI::App& app) {
           },
           "SECONDS"));
   cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
-  cmd->add_option("--segments", args->segments,
-                  "Sides of the tracker's cylinders and spheres (default: the tracker's own)")
-      ->check(CLI::Range(3, 1024));
+  const RobotModelOptions model_defaults;
+  add_tessellation_options(
+      cmd, args->tessellation,
+      "the robot model's: " + std::to_string(model_defaults.cylinder_segments) + " sides, " +
+          std::to_string(model_defaults.sphere_segments) + " meridians");
   cmd->callback([args] { run(*args); });
 }
 

@@ -6,8 +6,8 @@
 // end-effector errors (a row per end effector and the worst of them, with
 // the lost runs), the consistency and camera errors and the timings, and
 // writes DIR/summary.json, DIR/timeseries.csv, DIR/report.html and
-// DIR/frames/ (default DIR: out/<scenario name>); a DIR holding a previous
-// run's outputs is refused unless --force. summary.json records what
+// DIR/frames/ (default DIR: out/<scenario name>), all named on the closing
+// line; a DIR holding a previous run's outputs is refused unless --force. summary.json records what
 // reproduces the run (arttrack rerun DIR).
 // Progress goes to stderr on long runs. --realtime paces the simulation at
 // wall-clock speed with asynchronous trackers (image updates on their own
@@ -15,12 +15,14 @@
 // latency from capture to the estimate that includes the image.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "arttrack/sim/run_outputs.h"
@@ -90,7 +92,7 @@ void run(const RunArgs& args) {
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
   if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
-  if (args.seed < -1) throw UsageError("--seed must be >= 0");
+  check_seed(args.seed);
 
   sim::RunOptions options;
   options.runs = args.runs;
@@ -123,14 +125,37 @@ void run_and_write(const sim::Scenario& scenario, sim::RunOptions options, const
   };
 
   const sim::ScenarioResult result = sim::run_scenario(scenario, options);
-  sim::write_run_outputs(out, result);
+  const std::vector<fs::path> written = sim::write_run_outputs(out, result);
   sim::print_summary_table(std::cout, result);
   if (options.realtime)
     print_realtime(std::cout, result, std::chrono::duration<double>(Clock::now() - start).count());
-  std::cout << "wrote " << (out / "summary.json").string() << ", "
-            << (out / "timeseries.csv").string() << " and " << (out / "frames").string() << "/ in "
-            << std::fixed << std::setprecision(1)
-            << std::chrono::duration<double>(Clock::now() - start).count() << " s\n";
+  std::cout << "wrote " << written_files_text(out, written) << " in " << std::fixed
+            << std::setprecision(1) << std::chrono::duration<double>(Clock::now() - start).count()
+            << " s\n";
+}
+
+std::string written_files_text(const fs::path& dir, const std::vector<fs::path>& files) {
+  std::vector<std::string> items;
+  std::vector<std::pair<fs::path, int>> folders;  // subfolder, files in it
+  for (const fs::path& file : files) {
+    const fs::path relative = file.lexically_relative(dir);
+    if (!relative.has_parent_path()) {
+      items.push_back(file.string());
+      continue;
+    }
+    const fs::path folder = dir / *relative.begin();
+    auto it = std::find_if(folders.begin(), folders.end(),
+                           [&](const auto& f) { return f.first == folder; });
+    if (it == folders.end()) it = folders.insert(folders.end(), {folder, 0});
+    ++it->second;
+  }
+  for (const auto& [folder, count] : folders)
+    items.push_back(folder.string() + "/ (" + std::to_string(count) +
+                    (count == 1 ? " file)" : " files)"));
+  std::string text;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  return text;
 }
 
 void register_run(CLI::App& app) {
@@ -140,8 +165,7 @@ void register_run(CLI::App& app) {
   cmd->add_option("scenario", args->scenario, "Scenario YAML (default: scenarios/default.yaml)");
   cmd->add_option("--runs", args->runs,
                   "Number of runs with different seeds (default: the scenario's)");
-  cmd->add_option("--seed", args->seed,
-                  "Scenario seed; run k uses a seed mixed from it and k (default: the scenario's)");
+  add_seed_option(cmd, args->seed, "Scenario seed; run k uses a seed mixed from it and k");
   cmd->add_option("--methods", args->methods,
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "
                   "vision_only (default: the scenario's)");

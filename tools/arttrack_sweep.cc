@@ -1,5 +1,5 @@
 // arttrack sweep SCENARIO.yaml --grid key=start:stop:step ... [--runs K]
-//     [--methods a,b] [--set k=v ...] [--shard I/N] [--fail-threshold-m M]
+//     [--seed S] [--methods a,b] [--set k=v ...] [--shard I/N] [--fail-threshold-m M]
 //     [--fail-statistic STAT] [--out DIR]
 //
 // Runs the scenario in every cell of the Cartesian grid of the --grid keys,
@@ -35,6 +35,7 @@ struct SweepArgs {
   std::string scenario;
   std::vector<std::string> grid;
   int runs = 0;
+  long long seed = -1;
   std::string methods;
   std::vector<std::string> overrides;
   std::string shard = "0/1";
@@ -79,6 +80,8 @@ void sweep(const SweepArgs& args) {
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
   if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
   spec.runs = args.runs;
+  check_seed(args.seed);
+  spec.seed = args.seed;
   spec.fail_threshold_m = args.fail_threshold_m;
   spec.fail_statistic = args.fail_statistic;
   const sim::Shard shard = sim::parse_shard(args.shard);
@@ -91,8 +94,9 @@ void sweep(const SweepArgs& args) {
                                             : fs::path(args.out_dir);
   std::cerr << "arttrack sweep: " << spec.scenario_name << ", " << spec.cell_count() << " cells ("
             << cells.size() << " in shard " << shard.index << "/" << shard.count << "), "
-            << spec.methods.size() << " methods, " << spec.runs << " run(s) per cell -> "
-            << out.string() << "\n";
+            << spec.methods.size() << " methods, " << spec.runs
+            << " run(s) per cell, scenario seed " << spec.scenario_seed << " -> " << out.string()
+            << "\n";
 
   const auto start = Clock::now();
   auto last_report = start;
@@ -132,11 +136,14 @@ void sweep(const SweepArgs& args) {
   }
   if (cells.empty()) sim::write_sweep_outputs(out, spec, shard, results);
 
-  // The failure statistic per cell and method, in mm.
+  // The failure statistic per cell and method, in mm (translations).
   const auto& stats = sim::sweep_statistics();
   const std::size_t s =
       std::size_t(std::find(stats.begin(), stats.end(), spec.fail_statistic) - stats.begin());
-  std::cout << spec.fail_statistic << " (mm; * = above " << spec.fail_threshold_m * 1e3 << " mm)\n";
+  const sim::StatisticUnit unit = sim::statistic_unit(spec.fail_statistic);
+  std::cout << spec.fail_statistic << " in " << unit.shown << " (* = above "
+            << spec.fail_threshold_m * unit.scale << " " << unit.shown << ": --fail-threshold-m "
+            << spec.fail_threshold_m << ", in " << unit.si << ")\n";
   std::cout << std::left << std::setw(6) << "cell";
   std::size_t width = 10;
   for (const sim::GridAxis& a : spec.axes) width = std::max(width, a.key.size() + 2);
@@ -157,7 +164,7 @@ void sweep(const SweepArgs& args) {
       const double v = r.stats[m][s];
       std::ostringstream cellv;
       if (std::isfinite(v))
-        cellv << std::fixed << std::setprecision(2) << v * 1e3
+        cellv << std::fixed << std::setprecision(2) << v * unit.scale
               << (v > spec.fail_threshold_m ? "*" : "");
       else
         cellv << v;
@@ -184,6 +191,8 @@ void register_sweep(CLI::App& app) {
       ->required()
       ->allow_extra_args(false);
   cmd->add_option("--runs", args->runs, "Runs (seeds) per cell (default: the scenario's)");
+  add_seed_option(cmd, args->seed,
+                  "Scenario seed; each cell's seed is mixed from it and the cell's overrides");
   cmd->add_option("--methods", args->methods, "Comma-separated methods (default: the scenario's)");
   cmd->add_option("--set", args->overrides, "Fixed override of a scenario key, e.g. duration_s=5")
       ->allow_extra_args(false);
@@ -191,9 +200,12 @@ void register_sweep(CLI::App& app) {
                   "Run only cells with index % N == I, as I/N (merge the parts with arttrack "
                   "merge)");
   cmd->add_option("--fail-threshold-m", args->fail_threshold_m,
-                  "A method fails in a cell where the failure statistic exceeds this (m)");
+                  "A method fails in a cell where the failure statistic exceeds this, in metres "
+                  "(default 0.05 m = 50 mm; the table and sweep.html show mm; rad or s for a "
+                  "rotation or time --fail-statistic)");
   cmd->add_option("--fail-statistic", args->fail_statistic,
-                  "Statistic compared with the threshold (default converged_p50_translation_m)");
+                  "Statistic compared with --fail-threshold-m (default "
+                  "converged_p50_translation_m)");
   cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)")
       ->check(non_empty_name());
   cmd->callback([args] { sweep(*args); });

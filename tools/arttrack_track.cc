@@ -70,11 +70,10 @@ void run_track(const TrackArgs& args) {
     std::cerr << "arttrack track: " << r.frames_missing << " of " << dataset.frames.size()
               << " depth images missing or unreadable, skipped\n";
   if (dataset.has_truth()) {
-    sim::write_run_outputs(out, r.result);
+    std::vector<fs::path> written{out / "estimate.csv"};
+    for (const fs::path& file : sim::write_run_outputs(out, r.result)) written.push_back(file);
     sim::print_summary_table(std::cout, r.result);
-    std::cout << "wrote " << (out / "estimate.csv").string() << ", "
-              << (out / "summary.json").string() << ", " << (out / "timeseries.csv").string()
-              << " and " << (out / "frames").string() << "/\n";
+    std::cout << "wrote " << written_files_text(out, written) << "\n";
   } else {
     std::cout << "no ground truth: wrote " << (out / "estimate.csv").string() << " only\n";
   }

@@ -1,14 +1,15 @@
 // arttrack tune SCENARIOS... --params key=lo:hi,... [--objective STAT]
-//     [--budget N] [--validate SCENARIOS...] [--method bobyqa|cobyla|neldermead|direct]
+//     [--budget N] [--validate SCENARIOS...] [--optimizer bobyqa|cobyla|neldermead|direct]
 //     [--config BASE.yaml] [--tracker-method M] [--time-penalty W] [--runs K]
-//     [--set k=v ...] [--out DIR]
+//     [--seed S] [--set k=v ...] [--out DIR]
 //
 // Tunes tracker parameters (keys of the tracker YAML) by derivative-free
 // minimisation of a statistic over several scenarios at once (sim/tuning.h),
 // then compares the tuned configuration with the base one on the tuning and
 // validation scenarios. Writes DIR/tuned.yaml, DIR/search.csv,
 // DIR/tuning.html and DIR/candidates/ (default DIR: out/tune). Each
-// evaluation is reported on stderr.
+// evaluation is reported on stderr. --optimizer picks NLopt's algorithm
+// (--methods and --tracker-method pick tracking methods, everywhere).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -33,11 +34,13 @@ struct TuneArgs {
   std::string objective = "mean_converged_p75_translation_m";
   int budget = 30;
   std::vector<std::string> validation;
-  std::string method = "bobyqa";
+  std::string optimizer = "bobyqa";
+  std::string old_method;  // --method, the old name of --optimizer
   std::string config;
   std::string tracker_method = "full_fusion";
   double time_penalty = 0;
   int runs = 0;
+  long long seed = -1;
   std::vector<std::string> overrides;
   std::string out_dir = "out/tune";
 };
@@ -54,17 +57,27 @@ void tune(const TuneArgs& args) {
   o.objective = sim::parse_objective(args.objective);
   o.objective.method = args.tracker_method;
   o.objective.time_penalty_per_ms = args.time_penalty;
-  o.optimizer = sim::parse_optimizer(args.method);
+  if (!args.old_method.empty())
+    throw UsageError(
+        "tune --method is now --optimizer (--methods and --tracker-method pick "
+        "tracking methods)");
+  try {
+    o.optimizer = sim::parse_optimizer(args.optimizer);
+  } catch (const InputError& e) {
+    throw UsageError(e.what());
+  }
   o.budget = args.budget;
   o.runs = args.runs;
+  check_seed(args.seed);
+  o.seed = args.seed;
   o.out_dir = args.out_dir;
   o.log = [](const std::string& line) { std::cerr << "arttrack tune: " << line << "\n"; };
 
   const sim::TuningResult r = sim::tune(o);
   const sim::Evaluation& best = r.history[r.best];
-  std::cout << "best of " << r.history.size() << " evaluations (" << r.optimizer.stop
-            << "): evaluation " << best.index << ", " << o.objective.text() << " = "
-            << best.objective << "\n";
+  std::cout << "best of " << r.history.size() << " evaluations by "
+            << sim::optimizer_name(o.optimizer) << " (" << r.optimizer.stop << "): evaluation "
+            << best.index << ", " << o.objective.text() << " = " << best.objective << "\n";
   for (std::size_t i = 0; i < r.params.size(); ++i)
     std::cout << "  " << r.params[i].key << ": " << r.params[i].text(best.values[i]) << " (default "
               << (std::isnan(r.default_values[i]) ? std::string("-")
@@ -99,7 +112,9 @@ void register_tune(CLI::App& app) {
       "mean_STAT or max_STAT over scenarios (default mean_converged_p75_translation_m)");
   cmd->add_option("--budget", args->budget, "Objective evaluations at most (default 30)");
   cmd->add_option("--validate", args->validation, "Scenarios only compared at the end");
-  cmd->add_option("--method", args->method, "bobyqa (default), cobyla, neldermead or direct");
+  cmd->add_option("--optimizer", args->optimizer,
+                  "NLopt algorithm: bobyqa (default), cobyla, neldermead or direct");
+  cmd->add_option("--method", args->old_method)->group("");  // hidden: names --optimizer
   cmd->add_option("--config", args->config,
                   "Base tracker configuration (default tracker/config/default.yaml)");
   cmd->add_option("--tracker-method", args->tracker_method,
@@ -107,6 +122,8 @@ void register_tune(CLI::App& app) {
   cmd->add_option("--time-penalty", args->time_penalty,
                   "Add W x the mean p50 image update time (ms) to the objective");
   cmd->add_option("--runs", args->runs, "Runs per scenario (default: each scenario's)");
+  add_seed_option(cmd, args->seed,
+                  "Seed of each scenario, the same for every candidate and the final comparison");
   cmd->add_option("--set", args->overrides, "Override a key of every scenario, e.g. duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--out", args->out_dir, "Output folder (default out/tune)")

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "arttrack/sim/scenario.h"
 #include "arttrack/sim/scenario_runner.h"
@@ -51,11 +52,66 @@ inline void check_fresh_output(const std::filesystem::path& dir,
                        "): choose another folder, or pass --force to overwrite them");
 }
 
+// --seed of every command that simulates (run, export, sweep, tune, bench):
+// the scenario seed its runs' seeds derive from; -1 (the default) keeps the
+// scenario's `seed`. `help` says what the seed drives in that command.
+inline void add_seed_option(CLI::App* cmd, long long& seed, const std::string& help) {
+  cmd->add_option("--seed", seed, help + " (default: the scenario's)");
+}
+
+// A --seed below -1 is a usage error.
+inline void check_seed(long long seed) {
+  if (seed < -1) throw UsageError("--seed must be >= 0");
+}
+
+// Tessellation of the tracker's robot for the commands that render it
+// (render, bench): --cylinder-segments, the sides of its URDF cylinders, and
+// --sphere-segments, the meridians of its spheres (the tracker
+// configuration's render section). 0: the command's default.
+struct Tessellation {
+  int cylinder_segments = 0;
+  int sphere_segments = 0;
+};
+
+// Declares --cylinder-segments and --sphere-segments; `default_text` says
+// what 0 (not given) means in this command.
+inline void add_tessellation_options(CLI::App* cmd, Tessellation& t,
+                                     const std::string& default_text) {
+  cmd->add_option(
+      "--cylinder-segments", t.cylinder_segments,
+      "Sides of the tracker's URDF cylinders, 3 to 1024 (default: " + default_text + ")");
+  cmd->add_option(
+      "--sphere-segments", t.sphere_segments,
+      "Meridians of the tracker's URDF spheres, 4 to 1024 (default: " + default_text + ")");
+}
+
+// The ranges of the configuration's render section: a usage error naming
+// the option outside them.
+inline void check_tessellation(const Tessellation& t) {
+  const auto check = [](int value, int lo, const char* option) {
+    if (value != 0 && (value < lo || value > 1024))
+      throw UsageError(std::string(option) + " must be from " + std::to_string(lo) +
+                       " to 1024 (0: the default)");
+  };
+  check(t.cylinder_segments, 3, "--cylinder-segments");
+  check(t.sphere_segments, 4, "--sphere-segments");
+}
+
 // arttrack run's work after parsing (tools/arttrack_run.cc), shared with
 // arttrack rerun: runs the scenario, writes its outputs into `out` (see
 // check_fresh_output), prints the summary table.
 void run_and_write(const sim::Scenario& scenario, sim::RunOptions options,
                    const std::filesystem::path& out, bool force);
+
+// The files a command wrote into `dir`, for its closing line: "D/a, D/b and
+// D/frames/ (8 files)", those in a subfolder counted (tools/arttrack_run.cc).
+std::string written_files_text(const std::filesystem::path& dir,
+                               const std::vector<std::filesystem::path>& files);
+
+// A usage error when the first argument that is not an option names no
+// subcommand of `app` ("unknown subcommand 'rnu'; did you mean 'run'?").
+// Call before app.parse, which would only say that a subcommand is required.
+void check_subcommand_name(const CLI::App& app, int argc, const char* const* argv);
 
 void register_render(CLI::App& app);
 void register_run(CLI::App& app);
@@ -66,5 +122,6 @@ void register_tune(CLI::App& app);
 void register_export(CLI::App& app);
 void register_track(CLI::App& app);
 void register_bench(CLI::App& app);
+void register_help(CLI::App& app);  // arttrack help [SUBCOMMAND]
 
 }  // namespace arttrack::cli

@@ -369,7 +369,8 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   out.precision(precision);
 }
 
-void write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
+std::vector<fs::path> write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
+  std::vector<fs::path> written{dir / "summary.json", dir / "timeseries.csv", dir / "report.html"};
   std::error_code ec;
   fs::create_directories(dir / "frames", ec);
   if (!fs::is_directory(dir / "frames"))
@@ -387,10 +388,13 @@ void write_run_outputs(const fs::path& dir, const ScenarioResult& r) {
   write_report_html(dir / "report.html", r);
   for (std::size_t i = 0; i < r.frames.size(); ++i) {
     const std::string stem = "frame_" + std::to_string(i);
-    write_depth_png_mm(dir / "frames" / (stem + "_observed.png"), r.frames[i].observed);
-    if (!r.frames[i].estimate.empty())
-      write_depth_png_mm(dir / "frames" / (stem + "_estimate.png"), r.frames[i].estimate);
+    written.push_back(dir / "frames" / (stem + "_observed.png"));
+    write_depth_png_mm(written.back(), r.frames[i].observed);
+    if (r.frames[i].estimate.empty()) continue;
+    written.push_back(dir / "frames" / (stem + "_estimate.png"));
+    write_depth_png_mm(written.back(), r.frames[i].estimate);
   }
+  return written;
 }
 
 RunRecipe read_run_recipe(const fs::path& summary_json) {

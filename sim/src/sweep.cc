@@ -248,17 +248,6 @@ std::string colour(double t) {
   return buf;
 }
 
-// A statistic in display units: mm, degrees or seconds.
-struct Display {
-  double scale = 1;
-  std::string unit;
-};
-Display display_of(const std::string& stat) {
-  if (stat.find("translation") != std::string::npos) return {1e3, "mm"};
-  if (stat.find("rotation") != std::string::npos) return {180.0 / M_PI, "deg"};
-  return {1, "s"};
-}
-
 std::string short_value(double v) {
   if (std::isnan(v)) return "-";
   if (std::isinf(v)) return v > 0 ? "never" : "-inf";
@@ -300,6 +289,13 @@ void check_statistic_name(const std::string& name, const std::string& context) {
                    "' (known: p1|p25|p50|p75|p99 _translation_m or _rotation_rad, with or "
                    "without converged_ before, convergence_time_s, p50_image_update_ms, "
                    "p99_image_update_ms)");
+}
+
+StatisticUnit statistic_unit(const std::string& statistic) {
+  if (statistic.find("translation") != std::string::npos) return {"m", "mm", 1e3};
+  if (statistic.find("rotation") != std::string::npos) return {"rad", "deg", 180.0 / M_PI};
+  if (statistic.ends_with("_ms")) return {"ms", "ms", 1};
+  return {"s", "s", 1};
 }
 
 double method_statistic(const MethodResult& m, const std::string& name) {
@@ -440,6 +436,7 @@ void resolve_sweep(SweepSpec& spec) {
         throw InputError("--grid '" + spec.axes[a].spec + "': key '" + spec.axes[a].key +
                          "' is swept twice (also by '" + spec.axes[b].spec + "')");
   if (spec.runs < 0) throw InputError("--runs must be >= 1");
+  if (spec.seed < -1) throw InputError("--seed must be >= 0");
   if (!(spec.fail_threshold_m > 0) || !std::isfinite(spec.fail_threshold_m))
     throw InputError("--fail-threshold-m must be a finite number > 0");
   const auto& stats = sweep_statistics();
@@ -451,7 +448,7 @@ void resolve_sweep(SweepSpec& spec) {
 
   const Scenario base = load_scenario_indexed(spec.scenario, spec.overrides);
   spec.scenario_name = base.name;
-  spec.scenario_seed = base.seed;
+  spec.scenario_seed = spec.seed >= 0 ? std::uint64_t(spec.seed) : base.seed;
   if (spec.runs == 0) spec.runs = base.runs;
   if (spec.methods.empty()) spec.methods = base.methods;
   for (std::size_t i = 0; i < spec.methods.size(); ++i) {
@@ -649,7 +646,7 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
   const double ch = std::clamp(280.0 / double(ny), 14.0, 36.0);
   const double left = spec.axes.size() > 1 ? 62 : 8, bottom = 22, top = 4, right = 6;
   const double w = left + cw * double(nx) + right, h = top + ch * double(ny) + bottom;
-  const Display disp = display_of(sweep_statistics()[stat]);
+  const StatisticUnit disp = statistic_unit(sweep_statistics()[stat]);
 
   // Cell index of (x, y).
   auto cell_at = [&](std::size_t x, std::size_t y) {
@@ -705,7 +702,7 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
       const std::string shown = short_value(v * disp.scale);
       o << "<rect x=\"" << X << "\" y=\"" << Y << "\" width=\"" << cw << "\" height=\"" << ch
         << "\" fill=\"" << fill << "\" stroke=\"#fff\" stroke-width=\"0.5\"><title>"
-        << text::html_escape(tip + "\n" + shown + " " + disp.unit) << "</title></rect>";
+        << text::html_escape(tip + "\n" + shown + " " + disp.shown) << "</title></rect>";
       if (cw >= 30 && ch >= 14)
         o << "<text x=\"" << X + cw / 2 << "\" y=\"" << Y + ch / 2 + 3
           << "\" text-anchor=\"middle\" fill=\"" << (fill == "#eee" || t > 0.6 ? "#000" : "#fff")
@@ -751,7 +748,7 @@ void heat_map_svg(std::ostream& o, const SweepSpec& spec,
   o << "</svg>";
 }
 
-void legend_svg(std::ostream& o, const Scale& scale, const Display& disp) {
+void legend_svg(std::ostream& o, const Scale& scale, const StatisticUnit& disp) {
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"470\" height=\"30\" "
        "font-family=\"sans-serif\" font-size=\"10\">";
   for (int i = 0; i < 50; ++i)
@@ -760,7 +757,7 @@ void legend_svg(std::ostream& o, const Scale& scale, const Display& disp) {
   if (scale.any) {
     o << "<text x=\"56\" y=\"12\" text-anchor=\"end\">" << (scale.log && scale.lo > 0 ? "&le;" : "")
       << short_value(scale.lo * disp.scale) << "</text><text x=\"314\" y=\"12\">"
-      << short_value(scale.hi * disp.scale) << " " << disp.unit << (scale.log ? " (log)" : "")
+      << short_value(scale.hi * disp.scale) << " " << disp.shown << (scale.log ? " (log)" : "")
       << "</text>";
   }
   o << "<text x=\"60\" y=\"26\">grey x: run failed; black: never converged; red outline: method "
@@ -799,10 +796,13 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
     o << "<tr><td>" << (a < 2 ? axis_role[a] : ("panel " + std::to_string(a - 1)).c_str())
       << "</td><td><code>" << text::html_escape(spec.axes[a].key) << "</code></td><td>"
       << text::html_escape(axis_values_text(spec.axes[a])) << "</td></tr>";
+  const StatisticUnit fail_unit = statistic_unit(spec.fail_statistic);
   o << "</table>\n<p>A method <b>fails</b> in a cell where its <code>"
     << text::html_escape(spec.fail_statistic) << "</code> exceeds "
-    << text::format_g(spec.fail_threshold_m * 1e3, 6)
-    << " mm: outlined in red on every map of that method; a thick black line separates failing "
+    << text::format_g(spec.fail_threshold_m * fail_unit.scale, 6) << " " << fail_unit.shown
+    << " (<code>--fail-threshold-m " << text::format_g(spec.fail_threshold_m, 6) << "</code>, in "
+    << fail_unit.si << ")"
+    << ": outlined in red on every map of that method; a thick black line separates failing "
        "cells from holding neighbours.</p>\n";
 
   // Where each method breaks along the first axis.
@@ -877,7 +877,7 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
   const std::set<std::string> open = {"p50_translation_m", "converged_p50_translation_m",
                                       "converged_p99_translation_m", "convergence_time_s"};
   for (std::size_t s = 0; s < stats.size(); ++s) {
-    const Display disp = display_of(stats[s]);
+    const StatisticUnit disp = statistic_unit(stats[s]);
     Scale scale;
     double lo = kInf, hi = -kInf;
     for (const CellResult& c : cells)
@@ -898,7 +898,7 @@ std::string sweep_html(const SweepSpec& spec, const std::vector<CellResult>& cel
       if (scale.log) scale.lo = std::max(lo, hi * 1e-3);
     }
     o << "<details" << (open.count(stats[s]) ? " open" : "") << "><summary>" << stats[s] << " ("
-      << disp.unit << ")</summary>\n";
+      << "shown in " << disp.shown << ")</summary>\n";
     legend_svg(o, scale, disp);
     o << "\n";
     for (std::size_t m = 0; m < spec.methods.size(); ++m) {

@@ -55,7 +55,7 @@ Optimizer parse_optimizer(const std::string& name) {
   if (name == "cobyla") return Optimizer::kCobyla;
   if (name == "neldermead") return Optimizer::kNelderMead;
   if (name == "direct") return Optimizer::kDirect;
-  throw InputError("--method '" + name + "': expected bobyqa, cobyla, neldermead or direct");
+  throw InputError("--optimizer '" + name + "': expected bobyqa, cobyla, neldermead or direct");
 }
 
 const char* optimizer_name(Optimizer o) {
@@ -323,7 +323,7 @@ const std::vector<std::string>& outcome_statistics() {
 ScenarioOutcome evaluate_scenario(const fs::path& scenario,
                                   const std::vector<std::string>& overrides,
                                   const fs::path& tracker_file, const Objective& objective,
-                                  int runs) {
+                                  int runs, long long seed) {
   ScenarioOutcome o;
   o.scenario = scenario;
   o.name = scenario.stem().string();
@@ -337,9 +337,11 @@ ScenarioOutcome evaluate_scenario(const fs::path& scenario,
     o.duration_s = sc.duration_s;
     RunOptions options;
     options.runs = runs;
+    options.seed = seed;
     options.methods = {objective.method};
     options.frames_to_keep = 0;
     const ScenarioResult r = run_scenario(sc, options);
+    o.seed = r.recipe.seed;
     const MethodResult* m = r.method(objective.method);
     if (!m) throw InputError("the runner returned no result for " + objective.method);
     for (std::size_t i = 0; i < names.size(); ++i) o.stats[i] = method_statistic(*m, names[i]);
@@ -387,6 +389,14 @@ std::string values_text(const std::vector<TuningParameter>& params, const std::v
   return s;
 }
 
+// The scenario seed of each outcome: "default 1, noisy_camera 1".
+std::string seeds_text(const std::vector<ScenarioOutcome>& outcomes) {
+  std::string s;
+  for (const ScenarioOutcome& o : outcomes)
+    s += (s.empty() ? "" : ", ") + o.name + " " + (o.failed ? "-" : std::to_string(o.seed));
+  return s;
+}
+
 std::string eval_file_name(int index) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "eval_%04d.yaml", index);
@@ -411,6 +421,7 @@ TuningResult tune(const TuningOptions& options) {
   if (options.scenarios.empty()) throw InputError("tune: name at least one scenario");
   if (options.budget < 1) throw InputError("--budget must be >= 1");
   if (options.runs < 0) throw InputError("--runs must be >= 1");
+  if (options.seed < -1) throw InputError("--seed must be >= 0");
   if (!(options.objective.time_penalty_per_ms >= 0) ||
       !std::isfinite(options.objective.time_penalty_per_ms))
     throw InputError("--time-penalty must be a finite number >= 0");
@@ -471,7 +482,7 @@ TuningResult tune(const TuningOptions& options) {
                                                         std::to_string(ev.index) + ": " + key));
       for (const fs::path& s : options.scenarios)
         ev.outcomes.push_back(evaluate_scenario(s, options.scenario_overrides, file,
-                                                options.objective, options.runs));
+                                                options.objective, options.runs, options.seed));
       ev.objective = objective_value(options.objective, ev.outcomes);
       seen[key] = result.history.size();
     }
@@ -499,25 +510,27 @@ TuningResult tune(const TuningOptions& options) {
   const fs::path tuned_file = options.out_dir / "tuned.yaml";
   text::write_text(
       tuned_file,
-      tracker_yaml_text(result.tuned,
-                        "Tracker configuration tuned by arttrack tune (" +
-                            std::string(optimizer_name(options.optimizer)) + ", " +
-                            std::to_string(result.history.size()) + " evaluations)\n" +
-                            "base: " + options.base_config.string() + "\n" + "objective " +
-                            options.objective.text() + " of " + options.objective.method + ": " +
-                            text::format_g(best.objective, 6) + " (evaluation " +
-                            std::to_string(best.index) + ")\n" +
-                            "tuned: " + values_text(params, best.values)));
+      tracker_yaml_text(
+          result.tuned,
+          "Tracker configuration tuned by arttrack tune (" +
+              std::string(optimizer_name(options.optimizer)) + ", " +
+              std::to_string(result.history.size()) + " evaluations)\n" +
+              "base: " + options.base_config.string() + "\n" + "objective " +
+              options.objective.text() + " of " + options.objective.method + ": " +
+              text::format_g(best.objective, 6) + " (evaluation " + std::to_string(best.index) +
+              ")\n" + "scenario seeds" + (options.seed >= 0 ? " (--seed)" : "") + ": " +
+              seeds_text(best.outcomes) + "\n" + "tuned: " + values_text(params, best.values)));
 
   // Default against tuned on every scenario.
   for (std::size_t i = 0; i < all.size(); ++i) {
     const bool validation = i >= options.scenarios.size();
     result.compare_is_validation.push_back(validation);
-    result.compare_default.push_back(evaluate_scenario(
-        all[i], options.scenario_overrides, options.base_config, options.objective, options.runs));
+    result.compare_default.push_back(evaluate_scenario(all[i], options.scenario_overrides,
+                                                       options.base_config, options.objective,
+                                                       options.runs, options.seed));
     result.compare_tuned.push_back(
         validation ? evaluate_scenario(all[i], options.scenario_overrides, tuned_file,
-                                       options.objective, options.runs)
+                                       options.objective, options.runs, options.seed)
                    : best.outcomes[i]);
     log(std::string(validation ? "validation " : "tuning ") + result.compare_default.back().name +
         ": " + options.objective.statistic + " default " +
@@ -710,8 +723,9 @@ std::string tuning_html(const TuningOptions& options, const TuningResult& r) {
   o << ". Optimiser " << optimizer_name(options.optimizer) << ", budget " << options.budget << ", "
     << r.history.size() << " evaluations (" << text::html_escape(r.optimizer.stop)
     << "); base configuration <code>" << text::html_escape(options.base_config.string())
-    << "</code>. Best: evaluation " << best.index << ", objective "
-    << text::format_g(best.objective, 6)
+    << "</code>; scenario seeds" << (options.seed >= 0 ? " (--seed)" : "") << ": "
+    << text::html_escape(seeds_text(r.compare_default)) << ". Best: evaluation " << best.index
+    << ", objective " << text::format_g(best.objective, 6)
     << ".</p>\n<h2>Parameters</h2>\n<table><tr><th>key</th><th>interval</th><th>default</th>"
        "<th>tuned</th></tr>\n";
   for (std::size_t i = 0; i < r.params.size(); ++i) {

@@ -102,7 +102,8 @@ TEST(Optimiser, KeepsToItsBudgetAndPassesExceptionsOn) {
             }),
             "no such scenario");
   EXPECT_EQ(parse_optimizer("direct"), Optimizer::kDirect);
-  EXPECT_NE(error_of([] { parse_optimizer("lbfgs"); }).find("--method 'lbfgs'"), std::string::npos);
+  EXPECT_NE(error_of([] { parse_optimizer("lbfgs"); }).find("--optimizer 'lbfgs'"),
+            std::string::npos);
 }
 
 TEST(TuningParameters, NormalisedCoordinatesAndWholeNumbers) {

@@ -9,6 +9,7 @@
 //                        errors; timings of the tracker (see summary_json);
 //   DIR/timeseries.csv   one row per (run, scored instant, method): errors,
 //                        true and estimated angles and biases per joint;
+//   DIR/report.html      the run report (report.h);
 //   DIR/frames/          the kept depth frames as 16-bit PNG (millimetres):
 //                        frame_<i>_observed.png and frame_<i>_estimate.png.
 #pragma once
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "arttrack/sim/scenario_runner.h"
 
@@ -87,9 +89,11 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& result);
 // timings.
 void print_summary_table(std::ostream& out, const ScenarioResult& result);
 
-// Writes summary.json, timeseries.csv and frames/ into `dir` (created if
-// missing). Cannot create or write: InputError naming the path.
-void write_run_outputs(const std::filesystem::path& dir, const ScenarioResult& result);
+// Writes summary.json, timeseries.csv, report.html and frames/ into `dir`
+// (created if missing) and returns every file written, in that order.
+// Cannot create or write: InputError naming the path.
+std::vector<std::filesystem::path> write_run_outputs(const std::filesystem::path& dir,
+                                                     const ScenarioResult& result);
 
 // The RunRecipe a summary.json records ("reproduce"); InputError naming the
 // file and the key when it has none or it is malformed.

@@ -42,6 +42,16 @@ double method_statistic(const MethodResult& method, const std::string& name);
 // Checks a statistic name (as method_statistic); `context` names the option.
 void check_statistic_name(const std::string& name, const std::string& context);
 
+// The units of a statistic: `si` the one it is stored and compared in (m,
+// rad or s: also that of --fail-threshold-m for it), `shown` the one tables
+// and pages show (mm, deg or s), value_shown = value * scale.
+struct StatisticUnit {
+  std::string si;
+  std::string shown;
+  double scale = 1;
+};
+StatisticUnit statistic_unit(const std::string& statistic);
+
 // ---- the grid ----
 
 // One axis of the grid: a scenario key and the values it takes.
@@ -76,10 +86,15 @@ struct SweepSpec {
   std::vector<std::string> methods;
   // Runs per cell (0 before resolve_sweep: the scenario's).
   int runs = 0;
-  // A method fails in a cell where this statistic exceeds the threshold.
+  // The scenario seed the cells' seeds derive from (--seed); -1: the
+  // scenario's `seed`.
+  long long seed = -1;
+  // A method fails in a cell where this statistic exceeds the threshold, in
+  // the statistic's SI unit (metres for the translation statistics).
   double fail_threshold_m = 0.05;
   std::string fail_statistic = "converged_p50_translation_m";
-  // Filled by resolve_sweep: the scenario's name and seed (after overrides).
+  // Filled by resolve_sweep: the scenario's name, and `seed` if set, else
+  // the scenario's seed (after overrides).
   std::string scenario_name;
   std::uint64_t scenario_seed = 0;
 
@@ -91,8 +106,8 @@ struct SweepSpec {
 };
 
 // Checks a sweep and fills its methods, runs, scenario name and seed from
-// the scenario: the scenario must load with the fixed overrides, every axis
-// key must be one the scenario accepts (an unknown key or a path through a
+// the scenario (the seed from `seed` when that is >= 0): the scenario must load with the fixed
+// overrides, every axis key must be one the scenario accepts (an unknown key or a path through a
 // non-map is an InputError naming the axis spec), methods must be known.
 // Values a key rejects are not errors here: their cells fail when run.
 void resolve_sweep(SweepSpec& spec);

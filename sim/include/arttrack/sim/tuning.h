@@ -7,11 +7,12 @@
 // `key=value` override per parameter, written to DIR/candidates/ and given
 // to each scenario as its `tracker` file (the scenario's own
 // `tracker_overrides` still apply on top). Every candidate runs every
-// scenario with the scenario's own seeds, so candidates meet the same
-// simulated data (common random numbers).
+// scenario with the same seeds (the scenario's own, or TuningOptions::seed),
+// so candidates meet the same simulated data (common random numbers).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
@@ -26,7 +27,8 @@ namespace arttrack::sim {
 
 enum class Optimizer { kBobyqa, kCobyla, kNelderMead, kDirect };
 
-// "bobyqa", "cobyla", "neldermead", "direct"; InputError otherwise.
+// "bobyqa", "cobyla", "neldermead", "direct" (tune --optimizer); InputError
+// naming --optimizer otherwise.
 Optimizer parse_optimizer(const std::string& name);
 const char* optimizer_name(Optimizer optimizer);
 
@@ -102,6 +104,8 @@ struct ScenarioOutcome {
   double duration_s = 0;
   bool failed = false;
   std::string message;  // why it failed, one line
+  // The scenario seed its runs' seeds derived from (0 if it failed to load).
+  std::uint64_t seed = 0;
   // The method's sweep_statistics() in order, then p50_image_update_ms.
   std::vector<double> stats;
   // The objective's statistic, made finite (kFailedStatistic / duration).
@@ -113,12 +117,12 @@ struct ScenarioOutcome {
 const std::vector<std::string>& outcome_statistics();
 
 // Runs `scenario` (with `overrides`, then `tracker=<tracker_file>`) with
-// only the objective's method, `runs` runs (0: the scenario's). Failures are
-// recorded, not thrown.
+// only the objective's method, `runs` runs (0: the scenario's), from scenario
+// seed `seed` (-1: the scenario's). Failures are recorded, not thrown.
 ScenarioOutcome evaluate_scenario(const std::filesystem::path& scenario,
                                   const std::vector<std::string>& overrides,
                                   const std::filesystem::path& tracker_file,
-                                  const Objective& objective, int runs);
+                                  const Objective& objective, int runs, long long seed = -1);
 
 // The objective over scenario outcomes.
 double objective_value(const Objective& objective, const std::vector<ScenarioOutcome>& outcomes);
@@ -146,8 +150,9 @@ struct TuningOptions {
   std::vector<std::string> parameter_specs;       // --params
   Objective objective;
   Optimizer optimizer = Optimizer::kBobyqa;
-  int budget = 30;  // objective evaluations
-  int runs = 0;     // per scenario (0: each scenario's)
+  int budget = 30;      // objective evaluations
+  int runs = 0;         // per scenario (0: each scenario's)
+  long long seed = -1;  // scenario seed of every scenario (-1: each scenario's own)
   std::filesystem::path out_dir;
   // Told after each evaluation and each final comparison run (may be empty).
   std::function<void(const std::string&)> log;
