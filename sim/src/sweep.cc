@@ -103,134 +103,6 @@ double pick(const Percentiles& p, int percentile) {
   }
 }
 
-// ---- keys with list indices ----
-
-// One step of a key path: a map key, or a list index (index >= 0).
-struct KeyStep {
-  std::string name;
-  long index = -1;
-};
-
-std::vector<KeyStep> parse_key_path(const std::string& key, const std::string& context) {
-  auto bad = [&](const std::string& why) -> InputError {
-    return InputError(context + ": key '" + key + "' " + why);
-  };
-  std::vector<KeyStep> steps;
-  std::stringstream in(key);
-  for (std::string part; std::getline(in, part, '.');) {
-    const auto bracket = part.find('[');
-    const std::string name = part.substr(0, bracket);
-    if (name.empty()) throw bad("has an empty component (write a.b[0].c)");
-    steps.push_back({name, -1});
-    std::size_t pos = bracket;
-    while (pos != std::string::npos && pos < part.size()) {
-      const auto close = part.find(']', pos);
-      if (part[pos] != '[' || close == std::string::npos)
-        throw bad("has a malformed index (write name[0])");
-      const std::string digits = part.substr(pos + 1, close - pos - 1);
-      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos ||
-          digits.size() > 6)
-        throw bad("has a bad index '[" + digits + "]' (a whole number >= 0)");
-      steps.push_back({"", std::stol(digits)});
-      pos = close + 1;
-    }
-  }
-  if (key.empty() || key.back() == '.') throw bad("has an empty component");
-  return steps;
-}
-
-std::string describe_node(const YAML::Node& n) {
-  if (!n || n.IsNull()) return "missing";
-  if (n.IsScalar()) return "a value";
-  if (n.IsSequence()) return "a list of " + std::to_string(n.size());
-  return "a map";
-}
-
-// Rewrites overrides with list indices into whole-list overrides of the
-// loaded file (see load_scenario_indexed).
-std::vector<std::string> expand_indexed(const fs::path& path,
-                                        const std::vector<std::string>& overrides) {
-  const bool any = std::any_of(overrides.begin(), overrides.end(), [](const std::string& o) {
-    return o.substr(0, o.find('=')).find('[') != std::string::npos;
-  });
-  if (!any) return overrides;
-  YamlDocument doc = load_yaml_file(path.string());
-  std::vector<std::string> out;
-  for (const std::string& o : overrides) {
-    const auto eq = o.find('=');
-    const std::string key = eq == std::string::npos ? o : o.substr(0, eq);
-    const std::string context = path.string() + ": override '" + o + "'";
-    if (eq == std::string::npos || key.find('[') == std::string::npos) {
-      try {
-        apply_override(doc, o);
-      } catch (const InputError& e) {
-        throw InputError(path.string() + ": " + e.what());
-      }
-      out.push_back(o);
-      continue;
-    }
-    const std::vector<KeyStep> steps = parse_key_path(key, context);
-    YAML::Node value;
-    try {
-      value = YAML::Load(o.substr(eq + 1));
-    } catch (const YAML::ParserException& e) {
-      throw InputError(context + ": value is not valid YAML: " + e.msg);
-    }
-    // The map keys before the first index name the list that is overridden whole.
-    std::string prefix, shown;
-    std::size_t first_index = 0;
-    while (first_index < steps.size() && steps[first_index].index < 0) {
-      prefix += (prefix.empty() ? "" : ".") + steps[first_index].name;
-      ++first_index;
-    }
-    // Walk by constructing nodes, never assigning them: assigning one
-    // yaml-cpp node to another writes into the tree.
-    std::vector<YAML::Node> nodes{doc.root};
-    for (std::size_t i = 0; i + 1 < steps.size(); ++i) {
-      const KeyStep& s = steps[i];
-      const KeyStep& next = steps[i + 1];
-      YAML::Node cur = nodes.back();
-      shown +=
-          s.index >= 0 ? "[" + std::to_string(s.index) + "]" : (shown.empty() ? "" : ".") + s.name;
-      if (s.index < 0 && !cur.IsMap())
-        throw InputError(context + ": '" + shown + "' is not inside a map");
-      YAML::Node child = s.index >= 0 ? cur[std::size_t(s.index)] : cur[s.name];
-      if (next.index >= 0) {
-        if (!child || !child.IsSequence())
-          throw InputError(context + ": '" + shown + "' is " + describe_node(child) +
-                           ", not a list to index");
-        if (std::size_t(next.index) >= child.size())
-          throw InputError(context + ": '" + shown + "' has " + std::to_string(child.size()) +
-                           " element(s): no [" + std::to_string(next.index) + "]");
-        nodes.push_back(child);
-      } else if (!child || child.IsNull()) {
-        if (s.index >= 0)
-          cur[std::size_t(s.index)] = YAML::Node(YAML::NodeType::Map);
-        else
-          cur[s.name] = YAML::Node(YAML::NodeType::Map);
-        nodes.push_back(s.index >= 0 ? cur[std::size_t(s.index)] : cur[s.name]);
-      } else if (!child.IsMap()) {
-        throw InputError(context + ": '" + shown + "' is " + describe_node(child) + ", not a map");
-      } else {
-        nodes.push_back(child);
-      }
-    }
-    const KeyStep& last = steps.back();
-    if (last.index >= 0)
-      nodes.back()[std::size_t(last.index)] = value;
-    else
-      nodes.back()[last.name] = value;
-
-    std::vector<YAML::Node> chain{doc.root};
-    for (std::size_t i = 0; i < first_index; ++i) chain.push_back(chain.back()[steps[i].name]);
-    const YAML::Node list = chain.back();
-    YAML::Emitter emit;
-    emit << YAML::Flow << list;
-    out.push_back(prefix + "=" + emit.c_str());
-  }
-  return out;
-}
-
 // ---- HTML helpers ----
 
 // Viridis through five anchors, t in [0, 1].
@@ -323,7 +195,11 @@ GridAxis parse_grid_axis(const std::string& spec) {
   axis.key = text::trim(spec.substr(0, eq));
   if (axis.key.find_first_of(" \t=") != std::string::npos)
     throw InputError(context + ": the key '" + axis.key + "' contains a space");
-  parse_key_path(axis.key, context);
+  try {
+    parse_key_path(axis.key);
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
+  }
   const std::string rhs = spec.substr(eq + 1);
   if (text::trim(rhs).empty()) throw InputError(context + ": no values after '='");
 
@@ -424,10 +300,6 @@ std::uint64_t cell_seed(const std::vector<std::string>& cell_overrides,
   return splitmix64(h ^ splitmix64(scenario_seed)) & ((std::uint64_t(1) << 53) - 1);
 }
 
-Scenario load_scenario_indexed(const fs::path& path, const std::vector<std::string>& overrides) {
-  return load_scenario(path, expand_indexed(path, overrides));
-}
-
 void resolve_sweep(SweepSpec& spec) {
   if (spec.axes.empty()) throw InputError("sweep: give at least one --grid key=start:stop:step");
   for (std::size_t a = 0; a < spec.axes.size(); ++a)
@@ -446,7 +318,7 @@ void resolve_sweep(SweepSpec& spec) {
                      "' is a wall time, not reproducible; use an error statistic");
   }
 
-  const Scenario base = load_scenario_indexed(spec.scenario, spec.overrides);
+  const Scenario base = load_scenario(spec.scenario, spec.overrides);
   spec.scenario_name = base.name;
   spec.scenario_seed = spec.seed >= 0 ? std::uint64_t(spec.seed) : base.seed;
   if (spec.runs == 0) spec.runs = base.runs;
@@ -465,7 +337,7 @@ void resolve_sweep(SweepSpec& spec) {
       std::vector<std::string> overrides = spec.overrides;
       overrides.push_back(axis.key + "=" + v);
       try {
-        load_scenario_indexed(spec.scenario, overrides);
+        load_scenario(spec.scenario, overrides);
       } catch (const InputError& e) {
         const std::string what = e.what();
         if (what.find("is not a known key") != std::string::npos ||
@@ -487,7 +359,7 @@ CellResult run_sweep_cell(const SweepSpec& spec, std::size_t cell,
   try {
     std::vector<std::string> overrides = spec.overrides;
     overrides.insert(overrides.end(), cell_over.begin(), cell_over.end());
-    const Scenario scenario = load_scenario_indexed(spec.scenario, overrides);
+    const Scenario scenario = load_scenario(spec.scenario, overrides);
     RunOptions options;
     options.runs = spec.runs;
     options.seed = (long long)r.seed;

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -278,15 +279,8 @@ Objective parse_objective(const std::string& text) {
 // ---- candidates ----
 
 bool document_number(const YamlDocument& doc, const std::string& key, double& value) {
-  // Constructed, never assigned: assigning a yaml-cpp node writes into the tree.
-  std::vector<YAML::Node> chain{doc.root};
-  std::stringstream in(key);
-  for (std::string part; std::getline(in, part, '.');) {
-    const YAML::Node& node = chain.back();
-    if (!node.IsMap() || !node[part]) return false;
-    chain.push_back(node[part]);
-  }
-  return chain.back().IsScalar() && text::parse_number(chain.back().Scalar(), value);
+  const std::optional<YAML::Node> node = find_key(doc.root, key);
+  return node && node->IsScalar() && text::parse_number(node->Scalar(), value);
 }
 
 YamlDocument candidate_document(const YamlDocument& base,
@@ -332,7 +326,7 @@ ScenarioOutcome evaluate_scenario(const fs::path& scenario,
   try {
     std::vector<std::string> all = overrides;
     all.push_back("tracker=" + yaml_quoted(fs::absolute(tracker_file).string()));
-    const Scenario sc = load_scenario_indexed(scenario, all);
+    const Scenario sc = load_scenario(scenario, all);
     o.name = sc.name;
     o.duration_s = sc.duration_s;
     RunOptions options;
@@ -441,7 +435,7 @@ TuningResult tune(const TuningOptions& options) {
   for (const fs::path& s : all) {
     std::vector<std::string> ov = options.scenario_overrides;
     ov.push_back("tracker=" + yaml_quoted(fs::absolute(options.base_config).string()));
-    load_scenario_indexed(s, ov);
+    load_scenario(s, ov);
     const YamlDocument doc = load_yaml_file(s.string());
     const YAML::Node over = doc.root["tracker_overrides"];
     if (over && over.IsMap())

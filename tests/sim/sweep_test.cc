@@ -130,14 +130,14 @@ TEST(SweepGrid, UnknownKeysAndBadIndicesAreErrorsNamingTheSpec) {
 TEST(SweepGrid, ListElementsCanBeSwept) {
   const test::TestDir dir("sweep_index");
   const fs::path scenario = dir.write("s.yaml", kScenario);
-  const Scenario s = load_scenario_indexed(
+  const Scenario s = load_scenario(
       scenario, {"encoders[0].offset_deg=2.5", "occluders=[]", "camera.latency_s=0.01"});
   ASSERT_EQ(s.encoders.groups.size(), 1u);
   EXPECT_NEAR(s.encoders.groups[0].offset_rad, 2.5 * kDeg, 1e-12);
   EXPECT_EQ(s.encoders.groups[0].joints.size(), 4u);  // the rest of the group stays
   EXPECT_DOUBLE_EQ(s.camera_timing.latency_s, 0.01);
   // A new key inside an element reaches it too, and overrides of one list add up.
-  const Scenario t = load_scenario_indexed(
+  const Scenario t = load_scenario(
       scenario, {"encoders[0].noise_deg=0.5", "duration_s=2", "encoders[0].step_amplitude_deg=1"});
   EXPECT_NEAR(t.encoders.groups[0].noise_sigma_rad, 0.5 * kDeg, 1e-12);
   EXPECT_NEAR(t.encoders.groups[0].step_amplitude_rad, 1 * kDeg, 1e-12);

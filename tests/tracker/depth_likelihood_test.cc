@@ -15,9 +15,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 constexpr OccluderModel kModels[] = {OccluderModel::kTruncated, OccluderModel::kIndependent};
 
-// The model written down literally as in method.md (kTruncated) or the
-// header (kIndependent), in linear space: the independent reference where
-// its numbers are representable.
+// The model written down literally as in docs/method.md "Depth image likelihood"
+// (kTruncated) or the header (kIndependent), in linear space: the
+// independent reference where its numbers are representable.
 double naive_density(const DepthModelParams& p, double z, double r) {
   const double w = p.outlier_weight, Z = p.max_range_m, l = p.occluder_decay_per_m;
   const double s = p.noise_std_m + p.noise_quadratic_per_m * z * z;

@@ -135,6 +135,96 @@ TEST_F(YamlConfigTest, OverridesCreateAndReplaceKeys) {
             std::string::npos);
 }
 
+// Key paths: names and list indices, `a.b[1].c`, lists of lists `m[1][0]`.
+TEST(KeyPath, ParsesNamesAndIndices) {
+  const std::vector<KeyStep> steps = parse_key_path("a.b[1].c");
+  ASSERT_EQ(steps.size(), 4u);
+  EXPECT_EQ(steps[0].name, "a");
+  EXPECT_EQ(steps[1].name, "b");
+  EXPECT_TRUE(steps[2].is_index());
+  EXPECT_EQ(steps[2].index, 1u);
+  EXPECT_EQ(steps[3].name, "c");
+  const std::vector<KeyStep> nested = parse_key_path("m[1][0]");
+  ASSERT_EQ(nested.size(), 3u);
+  EXPECT_EQ(nested[1].index, 1u);
+  EXPECT_EQ(nested[2].index, 0u);
+  EXPECT_FALSE(parse_key_path("duration_s")[0].is_index());
+}
+
+TEST(KeyPath, MalformedPathsAreErrorsNamingTheKey) {
+  for (const char* key : {"", "a..b", "a.", ".a", "[0].x", "a[x]", "a[", "a[]", "a]", "a[0]b",
+                          "a[1.5]", "a[99999999999]"}) {
+    const std::string msg = message_of([&] { parse_key_path(key); });
+    EXPECT_NE(msg.find(std::string("key '") + key + "'"), std::string::npos) << key << ": " << msg;
+  }
+  const std::string negative = message_of([&] { parse_key_path("encoders[-1].offset_deg"); });
+  EXPECT_NE(negative.find("key 'encoders[-1].offset_deg' has a negative index '[-1]'"),
+            std::string::npos)
+      << negative;
+}
+
+constexpr char kLists[] = R"(
+a: {b: [{c: 1, d: 2}, {c: 3}]}
+l: [1, 2, 3]
+m: [[1, 2], [3, 4]]
+s: 5
+)";
+
+TEST(KeyPath, FindKeyReadsThroughMapsAndLists) {
+  const YamlDocument doc = load_yaml_string(kLists, "l.yaml");
+  EXPECT_EQ(find_key(doc.root, "a.b[1].c")->as<int>(), 3);
+  EXPECT_EQ(find_key(doc.root, "m[1][0]")->as<int>(), 3);
+  EXPECT_EQ(find_key(doc.root, "s")->as<int>(), 5);
+  for (const char* missing : {"a.b[2].c", "a.b[0].x", "l[0].x", "s[0]", "a[0]", "x.y"})
+    EXPECT_FALSE(find_key(doc.root, missing).has_value()) << missing;
+}
+
+TEST(KeyPath, OverridesReachListElementsAndKeepTheRest) {
+  YamlDocument doc = load_yaml_string(kLists, "l.yaml");
+  apply_override(doc, "a.b[1].c=9");
+  apply_override(doc, "a.b[0].e.f=4");  // maps inside an element are created
+  apply_override(doc, "l[2]=7");
+  apply_override(doc, "m[1][0]=[5]");
+  EXPECT_EQ(find_key(doc.root, "a.b[1].c")->as<int>(), 9);
+  EXPECT_EQ(find_key(doc.root, "a.b[0].c")->as<int>(), 1);
+  EXPECT_EQ(find_key(doc.root, "a.b[0].d")->as<int>(), 2);
+  EXPECT_EQ(find_key(doc.root, "a.b[0].e.f")->as<int>(), 4);
+  EXPECT_EQ(doc.root["a"]["b"].size(), 2u);
+  EXPECT_EQ(doc.root["l"].as<std::vector<int>>(), (std::vector<int>{1, 2, 7}));
+  EXPECT_EQ(find_key(doc.root, "m[1][0]")->as<std::vector<int>>(), std::vector<int>{5});
+  EXPECT_EQ(find_key(doc.root, "m[1][1]")->as<int>(), 4);
+}
+
+TEST(KeyPath, IndexPastTheEndNamesTheKeyAndTheLength) {
+  YamlDocument doc = load_yaml_string(kLists, "l.yaml");
+  std::string msg = message_of([&] { apply_override(doc, "a.b[2].c=1"); });
+  EXPECT_NE(msg.find("override 'a.b[2].c=1': 'a.b' has 2 element(s): no [2]"), std::string::npos)
+      << msg;
+  msg = message_of([&] { apply_override(doc, "m[0][5]=1"); });
+  EXPECT_NE(msg.find("'m[0]' has 2 element(s): no [5]"), std::string::npos) << msg;
+  // Nothing was added: a list is never grown.
+  EXPECT_EQ(doc.root["a"]["b"].size(), 2u);
+  EXPECT_EQ(doc.root["m"][0].size(), 2u);
+}
+
+TEST(KeyPath, IndexIntoANonListAndKeyIntoAListAreErrors) {
+  YamlDocument doc = load_yaml_string(kLists, "l.yaml");
+  std::string msg = message_of([&] { apply_override(doc, "a[0]=1"); });
+  EXPECT_NE(msg.find("'a' is a map, not a list to index with [0]"), std::string::npos) << msg;
+  msg = message_of([&] { apply_override(doc, "s[0]=1"); });
+  EXPECT_NE(msg.find("'s' is '5', not a list to index with [0]"), std::string::npos) << msg;
+  msg = message_of([&] { apply_override(doc, "x.y[0]=1"); });
+  EXPECT_NE(msg.find("'x.y' is missing, not a list to index with [0]"), std::string::npos) << msg;
+  msg = message_of([&] { apply_override(doc, "a.b.c=1"); });
+  EXPECT_NE(msg.find("'a.b' is not a map (a list of 2: index it, e.g. a.b[0])"), std::string::npos)
+      << msg;
+  msg = message_of([&] { apply_override(doc, "l[0].x=1"); });
+  EXPECT_NE(msg.find("'l[0]' is not a map"), std::string::npos) << msg;
+  msg = message_of([&] { apply_override(doc, "l[-1]=1"); });
+  EXPECT_NE(msg.find("override 'l[-1]=1': key 'l[-1]' has a negative index"), std::string::npos)
+      << msg;
+}
+
 TEST_F(YamlConfigTest, ChoiceRejectsUnknownValue) {
   ConfigNode root = ConfigNode::root(load_yaml_string("method: fusion\n", "m.yaml"));
   const std::string msg = message_of([&] {

@@ -116,38 +116,112 @@ YamlDocument load_yaml_string(const std::string& text, const std::string& source
   }
 }
 
+std::vector<KeyStep> parse_key_path(const std::string& key) {
+  auto bad = [&](const std::string& why) { return InputError("key '" + key + "' " + why); };
+  if (key.empty()) throw bad("is empty");
+  std::vector<KeyStep> steps;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t end = key.find_first_of(".[", pos);
+    const std::string name = key.substr(pos, end == std::string::npos ? end : end - pos);
+    if (name.empty()) throw bad("has an empty component (write a.b[0].c)");
+    if (name.find(']') != std::string::npos) throw bad("has a malformed index (write name[0])");
+    steps.push_back({name});
+    pos = end;
+    while (pos != std::string::npos && key[pos] == '[') {
+      const std::size_t close = key.find(']', pos);
+      if (close == std::string::npos) throw bad("has a malformed index (write name[0])");
+      const std::string digits = key.substr(pos + 1, close - pos - 1);
+      if (!digits.empty() && digits[0] == '-')
+        throw bad("has a negative index '[" + digits + "]': lists count from [0] at the front");
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos ||
+          digits.size() > 9)
+        throw bad("has a bad index '[" + digits + "]' (a whole number >= 0)");
+      steps.push_back({"", std::stoul(digits)});
+      pos = close + 1 < key.size() ? close + 1 : std::string::npos;
+    }
+    if (pos == std::string::npos) return steps;
+    if (key[pos] != '.') throw bad("has a malformed index (write name[0].next)");
+    ++pos;  // a trailing '.' leaves an empty name: an error above
+  }
+}
+
+std::optional<YAML::Node> find_key(const YAML::Node& root, const std::string& key) {
+  // Constructed, never assigned: assigning a yaml-cpp node writes into the tree.
+  std::vector<YAML::Node> chain{root};
+  for (const KeyStep& step : parse_key_path(key)) {
+    const YAML::Node& node = chain.back();
+    if (step.is_index()) {
+      if (!node.IsSequence() || step.index >= node.size()) return std::nullopt;
+      chain.push_back(node[step.index]);
+    } else {
+      if (!node.IsMap() || !node[step.name]) return std::nullopt;
+      chain.push_back(node[step.name]);
+    }
+  }
+  return chain.back();
+}
+
 void apply_override(YamlDocument& doc, const std::string& assignment) {
+  const std::string context = "override '" + assignment + "'";
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("override '" + assignment +
-                     "': expected key=value (e.g. encoders.bias_deg=5)");
-  const std::string key = assignment.substr(0, eq);
+    throw InputError(context + ": expected key=value (e.g. encoders[0].offset_deg=5)");
+  std::vector<KeyStep> steps;
+  try {
+    steps = parse_key_path(assignment.substr(0, eq));
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
+  }
   YAML::Node value;
   try {
     value = YAML::Load(assignment.substr(eq + 1));
   } catch (const YAML::ParserException& e) {
-    throw InputError("override '" + assignment + "': value is not valid YAML: " + e.msg);
-  }
-  std::vector<std::string> parts;
-  std::stringstream ss(key);
-  for (std::string part; std::getline(ss, part, '.');) {
-    if (part.empty()) throw InputError("override '" + assignment + "': empty key component");
-    parts.push_back(part);
+    throw InputError(context + ": value is not valid YAML: " + e.msg);
   }
   // Walk with explicit copies: yaml-cpp nodes are references, and assigning to
   // a loop variable would rebind the tree.
-  std::vector<YAML::Node> path{doc.root};
-  for (size_t i = 0; i + 1 < parts.size(); ++i) {
-    YAML::Node next = path.back()[parts[i]];
-    if (next && !next.IsMap() && !next.IsNull())
-      throw InputError("override '" + assignment + "': '" + parts[i] + "' is not a map");
-    if (!next || next.IsNull()) {
-      path.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
-      next = path.back()[parts[i]];
+  std::vector<YAML::Node> chain{doc.root};
+  std::string walked;  // the path of chain.back(), as written
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    YAML::Node node = chain.back();
+    const KeyStep& step = steps[i];
+    if (step.is_index()) {
+      const std::string index = "[" + std::to_string(step.index) + "]";
+      if (!node.IsSequence())
+        throw InputError(context + ": '" + walked + "' is " +
+                         (node && !node.IsNull() ? describe(node) : "missing") +
+                         ", not a list to index with " + index);
+      if (step.index >= node.size())
+        throw InputError(context + ": '" + walked + "' has " + std::to_string(node.size()) +
+                         " element(s): no " + index);
+      walked += index;
+    } else {
+      if (!node.IsMap()) {
+        const std::string hint = node.IsSequence() ? " (a list of " + std::to_string(node.size()) +
+                                                         ": index it, e.g. " + walked + "[0])"
+                                                   : "";
+        throw InputError(context + ": '" + walked + "' is not a map" + hint);
+      }
+      walked += (walked.empty() ? "" : ".") + step.name;
     }
-    path.push_back(next);
+    if (i + 1 == steps.size()) {
+      if (step.is_index())
+        node[step.index] = value;
+      else
+        node[step.name] = value;
+      return;
+    }
+    // A missing or null map on the way is created; a list never is.
+    const YAML::Node child = step.is_index() ? node[step.index] : node[step.name];
+    if ((!child || child.IsNull()) && !steps[i + 1].is_index()) {
+      if (step.is_index())
+        node[step.index] = YAML::Node(YAML::NodeType::Map);
+      else
+        node[step.name] = YAML::Node(YAML::NodeType::Map);
+    }
+    chain.push_back(step.is_index() ? node[step.index] : node[step.name]);
   }
-  path.back()[parts.back()] = value;
 }
 
 ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string path)

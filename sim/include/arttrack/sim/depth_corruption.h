@@ -10,7 +10,8 @@
 //      probability edge_dropout_probability (structured-light cameras lose
 //      silhouettes);
 //   2. random dropout with probability dropout_probability;
-//   3. Gaussian noise with sigma = s0 + s1 z^2 (method.md's depth model);
+//   3. Gaussian noise with sigma = s0 + s1 z^2
+//      (docs/method.md "Depth image likelihood");
 //   4. disparity quantisation, like a Kinect: the disparity
 //      d = baseline_focal / z (pixels) is rounded to a multiple of
 //      disparity_step_px, so the depth step grows as

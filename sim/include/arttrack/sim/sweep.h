@@ -117,12 +117,6 @@ void resolve_sweep(SweepSpec& spec);
 std::uint64_t cell_seed(const std::vector<std::string>& cell_overrides,
                         std::uint64_t scenario_seed);
 
-// load_scenario with overrides that may index lists: `a.b[i].c=value`
-// rewrites the list `a.b` of the loaded file and overrides it whole.
-// An index past the end: InputError naming the override.
-Scenario load_scenario_indexed(const std::filesystem::path& path,
-                               const std::vector<std::string>& overrides);
-
 // ---- running ----
 
 // One cell's outcome.

@@ -137,7 +137,8 @@ YamlDocument candidate_document(const YamlDocument& base,
 // lines (each prefixed with "# ").
 std::string tracker_yaml_text(const YamlDocument& doc, const std::string& comment);
 
-// The value of a dotted key in a document, if it is a number.
+// The value at a key path (`a.b[1].c`, as apply_override takes it) in a
+// document, if it is a number.
 bool document_number(const YamlDocument& doc, const std::string& key, double& value);
 
 // ---- the search ----

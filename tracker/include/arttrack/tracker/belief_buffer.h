@@ -1,7 +1,7 @@
 // A bounded, time-ordered record of joint measurements and of the belief
 // after each one, so that a delayed depth image can be applied at its own
-// time stamp and the later measurements re-filtered (method.md, "Image
-// delay"; paper Sec. IV-C).
+// time stamp and the later measurements re-filtered
+// (docs/method.md "Delayed images"; paper Sec. IV-C).
 //
 // The buffer is agnostic of what a belief is: it stores each as a flat
 // vector of `state_size` doubles (the filter bank saves and loads its state

@@ -1,7 +1,7 @@
 // The Coordinate Particle Filter (Wüthrich, Bohg, Kappler, Pfreundt, Schaal,
 // "The Coordinate Particle Filter", ICRA 2015) for the image update of the
-// joint angles (paper Eq. (13) and Sec. "Posterior in the angle"; method.md,
-// Inference steps 2.2-2.3).
+// joint angles (paper Eq. (13) and Sec. "Posterior in the angle";
+// docs/method.md "Coordinate Particle Filter").
 //
 // Target: the posterior p(x | image) ∝ p(image | x) prod_j N(x_j; m_j, s_j^2)
 // over n coordinates (joint angles, virtual joints) with a factorised

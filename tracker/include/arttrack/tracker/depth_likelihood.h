@@ -1,5 +1,6 @@
 // Depth image likelihood of rendered robot hypotheses (paper Eqs. (1)-(2),
-// the pixel model of Wüthrich et al., IROS 2013; method.md "Depth image").
+// the pixel model of Wüthrich et al., IROS 2013;
+// docs/method.md "Depth image likelihood").
 //
 // Per pixel, with observed depth z and the hypothesis' rendered depth r
 // (r = infinity where the ray misses the robot), noise sigma = s0 + s1 z^2,
@@ -10,8 +11,9 @@
 //   p_occ(z|inf) = w/Z + (1-w) lambda exp(-lambda z + lambda^2 sigma^2 / 2)
 //   p(z|r) = (1 - p_o) p_vis(z|r) + p_o p_occ(z|r).
 // p_occ is the truncated exponential occluder density on (0, r) blurred by the
-// noise, without the erf term of its lower end at depth 0 (as method.md and
-// the original implementation). A hypothesis scores
+// noise, without the erf term of its lower end at depth 0 (as the original
+// implementation; docs/method.md "Depth image likelihood"). A hypothesis
+// scores
 //   sum over valid pixels of log p(z|r) - log p(z|inf),
 // so pixels it does not cover add exactly 0 and only covered pixels cost work.
 //

@@ -1,6 +1,6 @@
 // The per-joint 2-D Gaussian belief over (angle, encoder bias) and the fold-back
 // of an image's angle posterior into it (paper Sec. "Full posterior", Eqs. (12)
-// and (17); method.md, Inference step 2.4).
+// and (17); docs/method.md "Fold-back into the joint filters").
 //
 // After an image, the particle filter gives a new Gaussian over the angle a
 // only. The image says nothing about the bias b directly (Eq. (11)), so the

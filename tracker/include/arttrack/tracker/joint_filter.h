@@ -1,8 +1,8 @@
 // Joint encoder filtering: one 2-state Kalman filter per joint over (angle a,
 // encoder bias b), all joints of the robot in one structure-of-arrays bank
-// (paper Sec. "Filtering joint measurements", Eq. (9); method.md, Inference
-// step 1). Virtual (camera) joints live in the same bank as 1-D random walks
-// without encoder and bias.
+// (paper Sec. "Filtering joint measurements", Eq. (9);
+// docs/method.md "Joint filter"). Virtual (camera) joints live in the same
+// bank as 1-D random walks without encoder and bias.
 //
 // Models, every noise in continuous time so parameters keep their meaning at
 // any joint rate and with variable time steps dt (seconds):
@@ -11,11 +11,12 @@
 //   bias     Ornstein-Uhlenbeck  db = -k b dt + sigma_b dW,  k = ln(1/c):
 //            b(t+dt) = c^dt b(t) + N(0, sigma_b^2 (1 - c^(2 dt)) / (2k))
 // The bias step is the EXACT discretisation of that process. It generalises
-// the paper's Eq. (5), b(t+dt) = c^dt b(t) + N(0, dt sigma_b^2) (also
-// method.md's formula), which is its first-order form for small k dt. The
-// difference shows in the stationary variance: here sigma_b^2 / (2 ln(1/c))
-// whatever the rate, against dt sigma_b^2 / (1 - c^(2 dt)) in the paper's
-// Eq. (8), which tends to the same value as dt -> 0 but drifts with dt.
+// the paper's Eq. (5), b(t+dt) = c^dt b(t) + N(0, dt sigma_b^2) (both in
+// docs/method.md "Joint filter"), which is its first-order form for small
+// k dt. The difference shows in the stationary variance: here
+// sigma_b^2 / (2 ln(1/c)) whatever the rate, against
+// dt sigma_b^2 / (1 - c^(2 dt)) in the paper's Eq. (8), which tends to the
+// same value as dt -> 0 but drifts with dt.
 // Choose c and sigma_b so that the stationary standard deviation covers the
 // largest bias expected (stationary_bias_std_rad()).
 //

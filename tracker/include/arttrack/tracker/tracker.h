@@ -1,8 +1,8 @@
-// The tracker: the public API of the method (method.md; Garcia Cifuentes et
-// al. 2017). Feed it joint encoder readings and depth images with their time
-// stamps; read the estimate at any time: joint angles and biases with
-// standard deviations, the camera correction, and each end effector's pose in
-// the estimated camera frame.
+// The tracker: the public API of the method (docs/method.md "Overview";
+// Garcia Cifuentes et al. 2017). Feed it joint encoder readings and depth
+// images with their time stamps; read the estimate at any time: joint angles
+// and biases with standard deviations, the camera correction, and each end
+// effector's pose in the estimated camera frame.
 //
 // Inside: one 2-state Kalman filter per joint (joint_filter.h) updated at the
 // encoder rate; each depth image is applied at its own time stamp (minus the
@@ -12,7 +12,8 @@
 // moments are folded back into the joint filters and the later joint
 // readings are re-filtered (belief_buffer.h).
 //
-// Beyond the paper (full fusion; docs/accuracy.md has the measurements):
+// Beyond the paper (full fusion; docs/method.md "Beyond the paper";
+// docs/accuracy.md has the measurements):
 // - Acquisition. The paper's CPF starts at the prior mean and moment-matches
 //   a few particles, so at the first image a joint can settle in a wrong
 //   mode (e.g. a wrist folded out of view, which scores better than an arm

@@ -18,7 +18,8 @@
 
 namespace arttrack {
 
-// The four methods the paper compares (Sec. V-C), as configurations of one tracker.
+// The four methods the paper compares (Sec. V-D, "Performance measures"), as
+// configurations of one tracker (docs/method.md "The four methods").
 enum class TrackingMethod {
   kEncodersOnly,      // forward kinematics of the raw encoder readings
   kCameraOffsetOnly,  // encoders taken as unbiased; images estimate the virtual camera joints

@@ -8,8 +8,10 @@
 //
 // Files may extend others (`extends: base.yaml`, relative to the file): maps
 // merge deeply, the extending file wins, lists and scalars are replaced.
-// Any key can be overridden after loading with `a.b.c=value` (value parsed
-// as YAML, so `5`, `true`, `[1, 2]` and `{x: 1}` all work).
+// Any key can be overridden after loading with `a.b[1].c=value`: a dotted
+// path whose steps may index lists, and a value parsed as YAML (so `5`,
+// `true`, `[1, 2]` and `{x: 1}` all work). This is the one override syntax:
+// `--set`, `--grid`, `tune --params` and `tracker_overrides` all use it.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -36,8 +38,27 @@ YamlDocument load_yaml_file(const std::string& path);
 // Parses YAML text; `source` names it in messages.
 YamlDocument load_yaml_string(const std::string& text, const std::string& source);
 
-// Applies an override `dotted.key=value` to the document. Intermediate maps are
-// created; indexing into a scalar is an error naming the key.
+// One step of a key path: a map key, or (name empty) a list index.
+struct KeyStep {
+  std::string name;
+  std::size_t index = 0;
+  bool is_index() const { return name.empty(); }
+};
+
+// Splits a key path `a.b[1].c` into its steps (a, b, [1], c). An empty
+// component, a malformed or negative index: InputError naming the key.
+std::vector<KeyStep> parse_key_path(const std::string& key);
+
+// The value at a key path, or nothing when a step is missing (a key absent
+// from its map, an index past the end, a step into a value of another kind).
+// A malformed path: InputError as parse_key_path.
+std::optional<YAML::Node> find_key(const YAML::Node& root, const std::string& key);
+
+// Applies an override `key.path=value` to the document. Missing (or null)
+// maps on the way are created; a list is never created or grown. Errors
+// (InputError, starting "override 'key=value'") name the step: a map key on
+// something that is not a map, an index into something that is not a list,
+// an index past the end (with the list's length).
 void apply_override(YamlDocument& doc, const std::string& assignment);
 
 // A map node under checked reading. Each get marks the key as used; finish()
