@@ -3,7 +3,8 @@
 // 1 for a runtime error (a bad input file, unstable physics, I/O), 2 for a
 // usage error (an unknown option, a missing or out-of-range argument, an
 // output folder holding a previous run's outputs without --force, an unknown
-// subcommand). `arttrack help [SUBCOMMAND]` prints the help.
+// subcommand, none). `arttrack help [SUBCOMMAND]` prints the help; `arttrack`
+// alone prints it too, as a usage error.
 #include <exception>
 #include <iostream>
 
@@ -11,7 +12,8 @@
 #include "commands.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"arttrack: probabilistic articulated robot tracking and its MuJoCo testbed"};
+  CLI::App app{"arttrack: probabilistic articulated robot tracking and its MuJoCo testbed",
+               "arttrack"};
   app.require_subcommand(1);
   // The version of the project and of the tracker library it links.
   app.set_version_flag("--version", "arttrack " ARTTRACK_VERSION);
@@ -30,6 +32,10 @@ int main(int argc, char** argv) {
   arttrack::cli::register_track(app);
   arttrack::cli::register_bench(app);
   arttrack::cli::register_help(app);
+  if (argc < 2) {  // no subcommand: the list of them, as a usage error
+    std::cerr << app.help();
+    return arttrack::cli::kExitUsageError;
+  }
   try {
     arttrack::cli::check_subcommand_name(app, argc, argv);
     app.parse(argc, argv);
