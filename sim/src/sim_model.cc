@@ -404,8 +404,9 @@ void report_derived_inertia(const fs::path& urdf, const std::vector<std::string>
   if (!reported.insert(urdf.string()).second) return;
   std::string names;
   for (const auto& l : links) names += (names.empty() ? "" : ", ") + l;
-  std::cerr << "notice: " << urdf.filename().string() << ": no <inertial> on " << links.size() << " links ("
-            << names << "); mass and inertia derived from their geometry (solid, 1000 kg/m^3)\n";
+  std::cerr << "notice: " << urdf.filename().string() << ": no <inertial> on " << links.size()
+            << " links (" << names
+            << "); mass and inertia derived from their geometry (solid, 1000 kg/m^3)\n";
 }
 
 }  // namespace
