@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -16,37 +15,24 @@
 #include <sstream>
 
 #include "arttrack/sim/depth_png.h"
+#include "arttrack/sim/method_trackers.h"
 #include "arttrack/sim/urdf_perturbation.h"
-#include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
-#include "arttrack/tracker/tracker.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/yaml_config.h"
+#include "text_format.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
+using text::shortest_number;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Pose columns of an end effector, in file order.
-constexpr const char* kPoseSuffixes[7] = {"_x", "_y", "_z", "_qw", "_qx", "_qy", "_qz"};
 
 // ---- numbers as text ----
-
-// The shortest text that reads back as the same double (so that a dataset
-// written from a run reproduces its numbers bit for bit).
-std::string number_text(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
-}
 
 // A whole field as a double ("nan", "inf" accepted); nullopt otherwise.
 std::optional<double> parse_number(const std::string& field) {
@@ -115,9 +101,9 @@ class CsvFile {
 };
 
 [[noreturn]] void fail_time_order(const CsvFile& csv, double t, double previous) {
-  csv.fail("time stamp " + number_text(t) + " s is " +
+  csv.fail("time stamp " + shortest_number(t) + " s is " +
            (t == previous ? "repeated" : "out of order") + " (the previous row's is " +
-           number_text(previous) + " s)");
+           shortest_number(previous) + " s)");
 }
 
 // ---- the parts of a dataset ----
@@ -296,16 +282,16 @@ void read_truth(const fs::path& path, Dataset& d) {
     } else {
       int component = -1;
       for (int c = 0; c < 7; ++c)
-        if (ends_with(kPoseSuffixes[c])) component = c;
+        if (ends_with(text::kPoseSuffixes[c])) component = c;
       // "_qx" also ends in "_x": the longest suffix wins.
       for (int c = 3; c < 7; ++c)
-        if (ends_with(kPoseSuffixes[c])) component = c;
+        if (ends_with(text::kPoseSuffixes[c])) component = c;
       if (component < 0)
         csv.fail("column '" + h +
                  "' is not time_s, camera_frame, occluded_fraction, a joint of joints.csv (J or "
                  "J_bias) or an end-effector pose component (E_x, E_y, E_z, E_qw, E_qx, E_qy, "
                  "E_qz)");
-      const std::string ee = h.substr(0, h.size() - std::strlen(kPoseSuffixes[component]));
+      const std::string ee = h.substr(0, h.size() - std::strlen(text::kPoseSuffixes[component]));
       auto it = std::find(d.truth_end_effectors.begin(), d.truth_end_effectors.end(), ee);
       if (it == d.truth_end_effectors.end()) {
         d.truth_end_effectors.push_back(ee);
@@ -322,7 +308,7 @@ void read_truth(const fs::path& path, Dataset& d) {
     for (int c = 0; c < 7; ++c)
       if (!pose_seen[e][c])
         csv.fail("end effector '" + d.truth_end_effectors[e] + "' has no column '" +
-                 d.truth_end_effectors[e] + kPoseSuffixes[c] + "'");
+                 d.truth_end_effectors[e] + text::kPoseSuffixes[c] + "'");
   if (d.truth_end_effectors.empty())
     csv.fail("has no end-effector pose columns (E_x, E_y, E_z, E_qw, E_qx, E_qy, E_qz)");
   auto all_or_none = [&](const std::vector<int>& seen, const char* suffix) {
@@ -377,7 +363,7 @@ void read_truth(const fs::path& path, Dataset& d) {
       Eigen::Quaterniond q(p[3], p[4], p[5], p[6]);
       if (std::abs(q.norm() - 1.0) > 1e-3)
         csv.fail("the quaternion of '" + d.truth_end_effectors[e] + "' is not a unit one (norm " +
-                 number_text(q.norm()) + ")");
+                 shortest_number(q.norm()) + ")");
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       T.linear() = q.normalized().toRotationMatrix();
       T.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
@@ -534,15 +520,15 @@ void DatasetWriter::begin_run(const RunStart& start) {
   for (const std::string& j : start.truth_joints) t << ',' << j;
   for (const std::string& j : start.truth_joints) t << ',' << j << "_bias";
   for (const std::string& e : start.end_effectors)
-    for (const char* s : kPoseSuffixes) t << ',' << e << s;
+    for (const char* s : text::kPoseSuffixes) t << ',' << e << s;
   t << '\n';
 }
 
 void DatasetWriter::joints(int run, double time_s, std::span<const double> readings_rad) {
   if (run != 0) return;
   std::ostream& out = files_->joints;
-  out << number_text(time_s);
-  for (double r : readings_rad) out << ',' << number_text(r);
+  out << shortest_number(time_s);
+  for (double r : readings_rad) out << ',' << shortest_number(r);
   out << '\n';
   ++joint_rows_;
 }
@@ -551,25 +537,21 @@ void DatasetWriter::image(int run, double stamp_s, double arrival_s, const Depth
   if (run != 0) return;
   const std::string file = stamp_file_name(stamp_s);
   write_depth_png_mm(dir_ / "depth" / file, image);
-  files_->index << number_text(stamp_s) << ',' << number_text(arrival_s) << ',' << file << '\n';
+  files_->index << shortest_number(stamp_s) << ',' << shortest_number(arrival_s) << ',' << file
+                << '\n';
   ++frames_;
 }
 
 void DatasetWriter::truth(int run, const TruthSample& truth) {
   if (run != 0) return;
   std::ostream& out = files_->truth;
-  out << number_text(truth.time_s) << ',' << (truth.camera_frame ? 1 : 0) << ','
-      << number_text(truth.occluded_fraction);
+  out << shortest_number(truth.time_s) << ',' << (truth.camera_frame ? 1 : 0) << ','
+      << shortest_number(truth.occluded_fraction);
   for (Eigen::Index j = 0; j < truth.angle_rad.size(); ++j)
-    out << ',' << number_text(truth.angle_rad[j]);
+    out << ',' << shortest_number(truth.angle_rad[j]);
   for (Eigen::Index j = 0; j < truth.bias_rad.size(); ++j)
-    out << ',' << number_text(truth.bias_rad[j]);
-  for (const Eigen::Isometry3d& T : truth.T_camera_ee) {
-    const Eigen::Quaterniond q(T.linear());
-    for (double v : {T.translation().x(), T.translation().y(), T.translation().z(), q.w(), q.x(),
-                     q.y(), q.z()})
-      out << ',' << number_text(v);
-  }
+    out << ',' << shortest_number(truth.bias_rad[j]);
+  for (const Eigen::Isometry3d& T : truth.T_camera_ee) out << text::pose_fields(T);
   out << '\n';
   ++truth_rows_;
 }
@@ -670,10 +652,11 @@ ExportSummary export_scenario(const fs::path& scenario_file,
   std::ostringstream camera;
   camera << "# Depth camera of the exported scenario: pinhole intrinsics (pixels), the URDF link\n"
             "# of its optical frame, the nominal delay the tracker assumes, metres per PNG count.\n"
-         << "width: " << K.width << "\nheight: " << K.height << "\nfx: " << number_text(K.fx)
-         << "\nfy: " << number_text(K.fy) << "\ncx: " << number_text(K.cx)
-         << "\ncy: " << number_text(K.cy) << "\nframe: " << sc.scene.camera_link
-         << "\ndelay_s: " << number_text(sc.tracker.camera_delay_s) << "\ndepth_unit_m: 0.001\n";
+         << "width: " << K.width << "\nheight: " << K.height << "\nfx: " << shortest_number(K.fx)
+         << "\nfy: " << shortest_number(K.fy) << "\ncx: " << shortest_number(K.cx)
+         << "\ncy: " << shortest_number(K.cy) << "\nframe: " << sc.scene.camera_link
+         << "\ndelay_s: " << shortest_number(sc.tracker.camera_delay_s)
+         << "\ndepth_unit_m: 0.001\n";
   write_text(out_dir / "camera.yaml", camera.str());
   write_robot(sc, out_dir);
   write_text(out_dir / "tracker.yaml", tracker_yaml(sc, start.tracker_seed));
@@ -681,17 +664,18 @@ ExportSummary export_scenario(const fs::path& scenario_file,
   YAML::Emitter meta;
   meta << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "source"
        << YAML::Value << sc.source << YAML::Key << "seed" << YAML::Value << start.seed << YAML::Key
-       << "duration_s" << YAML::Value << number_text(sc.duration_s) << YAML::Key << "methods"
+       << "duration_s" << YAML::Value << shortest_number(sc.duration_s) << YAML::Key << "methods"
        << YAML::Value << YAML::Flow << sc.methods << YAML::Key << "scoring" << YAML::Value
        << YAML::BeginMap << YAML::Key << "converged_after_s" << YAML::Value
-       << number_text(sc.scoring.options.converged_after_s) << YAML::Key
+       << shortest_number(sc.scoring.options.converged_after_s) << YAML::Key
        << "convergence_threshold_m" << YAML::Value
-       << number_text(sc.scoring.options.convergence_threshold_m) << YAML::Key << "lost_threshold_m"
-       << YAML::Value << number_text(sc.scoring.options.lost_threshold_m) << YAML::Key
-       << "lost_after_s" << YAML::Value << number_text(sc.scoring.options.lost_after_s)
-       << YAML::EndMap << YAML::Key << "version" << YAML::Value << result.recipe.version
-       << YAML::Key << "overrides" << YAML::Value << YAML::Flow << overrides << YAML::Key
-       << "scenario" << YAML::Value << YAML::Literal << sc.resolved_yaml << YAML::EndMap;
+       << shortest_number(sc.scoring.options.convergence_threshold_m) << YAML::Key
+       << "lost_threshold_m" << YAML::Value << shortest_number(sc.scoring.options.lost_threshold_m)
+       << YAML::Key << "lost_after_s" << YAML::Value
+       << shortest_number(sc.scoring.options.lost_after_s) << YAML::EndMap << YAML::Key << "version"
+       << YAML::Value << result.recipe.version << YAML::Key << "overrides" << YAML::Value
+       << YAML::Flow << overrides << YAML::Key << "scenario" << YAML::Value << YAML::Literal
+       << sc.resolved_yaml << YAML::EndMap;
   write_text(
       out_dir / "dataset.yaml",
       std::string("# Exported by arttrack export: run 0 of the scenario.\n") + meta.c_str() + "\n");
@@ -706,46 +690,6 @@ ExportSummary export_scenario(const fs::path& scenario_file,
 }
 
 // ---- tracking ----
-
-namespace {
-
-// The method whose estimate is rendered next to kept frames (as the runner).
-int render_method(const std::vector<TrackingMethod>& methods) {
-  for (std::size_t i = 0; i < methods.size(); ++i)
-    if (methods[i] == TrackingMethod::kFullFusion) return int(i);
-  for (std::size_t i = 0; i < methods.size(); ++i)
-    if (methods[i] != TrackingMethod::kEncodersOnly) return int(i);
-  return -1;
-}
-
-void write_estimate_header(std::ostream& out, const std::vector<std::string>& joints,
-                           const std::vector<std::string>& end_effectors) {
-  out << "time_s,method";
-  for (const std::string& j : joints)
-    out << ',' << j << "_rad," << j << "_std_rad," << j << "_bias_rad," << j << "_bias_std_rad";
-  out << ",cam_x_m,cam_y_m,cam_z_m,cam_roll_rad,cam_pitch_rad,cam_yaw_rad";
-  for (const std::string& e : end_effectors)
-    for (const char* s : kPoseSuffixes) out << ',' << e << s;
-  out << '\n';
-}
-
-void write_estimate_row(std::ostream& out, double t, const std::string& method,
-                        const TrackerEstimate& e) {
-  out << number_text(t) << ',' << method;
-  for (Eigen::Index j = 0; j < e.angle_rad.size(); ++j)
-    out << ',' << number_text(e.angle_rad[j]) << ',' << number_text(e.angle_std_rad[j]) << ','
-        << number_text(e.bias_rad[j]) << ',' << number_text(e.bias_std_rad[j]);
-  for (int k = 0; k < 6; ++k) out << ',' << number_text(e.camera_offset[k]);
-  for (const Eigen::Isometry3d& T : e.T_camera_ee) {
-    const Eigen::Quaterniond q(T.linear());
-    for (double v : {T.translation().x(), T.translation().y(), T.translation().z(), q.w(), q.x(),
-                     q.y(), q.z()})
-      out << ',' << number_text(v);
-  }
-  out << '\n';
-}
-
-}  // namespace
 
 TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
                           std::ostream* estimate_csv) {
@@ -805,11 +749,11 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   for (const DatasetFrame& f : d.frames)
     if (!(f.stamp_s >= joints_from_s - base.max_image_clock_offset_s &&
           f.stamp_s <= joints_to_s + base.max_image_clock_offset_s))
-      throw InputError(f.where + ": image stamped " + number_text(f.stamp_s) +
+      throw InputError(f.where + ": image stamped " + shortest_number(f.stamp_s) +
                        " s is more than input_checks.max_image_clock_offset_s = " +
-                       number_text(base.max_image_clock_offset_s) + " s outside the " +
-                       number_text(joints_from_s) + " .. " + number_text(joints_to_s) + " s of " +
-                       joints_csv.string() + ": the image and joint clocks differ");
+                       shortest_number(base.max_image_clock_offset_s) + " s outside the " +
+                       shortest_number(joints_from_s) + " .. " + shortest_number(joints_to_s) +
+                       " s of " + joints_csv.string() + ": the image and joint clocks differ");
 
   // The methods.
   std::vector<std::string> names = options.methods.empty() ? d.methods : options.methods;
@@ -827,17 +771,6 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
                        "no ground_truth.csv with joint angles");
   }
   if (methods.empty()) throw InputError("no method to run");
-
-  std::vector<std::unique_ptr<Tracker>> trackers;
-  for (TrackingMethod m : methods) {
-    TrackerConfig config = base;
-    config.method = m;
-    trackers.push_back(std::make_unique<Tracker>(robot, config, d.joint_names));
-    if (m == TrackingMethod::kVisionOnly)
-      trackers.back()->set_initial_configuration(
-          d.joint_names, std::span<const double>(d.truth.front().angle_rad.data(),
-                                                 std::size_t(d.truth.front().angle_rad.size())));
-  }
 
   // The result skeleton, as the runner fills it.
   ScenarioResult& r = out.result;
@@ -857,26 +790,23 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   for (TrackingMethod m : methods) {
     r.methods.push_back(method_name(m));
     scores.emplace_back(method_name(m), model_joints, base.end_effectors);
-    scores.back().begin_run();
-    MethodRun mr;
-    mr.method = method_name(m);
-    run.methods.push_back(std::move(mr));
   }
-  const int estimate_method = render_method(methods);
-  std::vector<double> keep_times;
-  for (int i = 0; i < options.frames_to_keep; ++i)
-    keep_times.push_back(r.duration_s * (i + 1) / (options.frames_to_keep + 1));
-
-  if (estimate_csv) write_estimate_header(*estimate_csv, model_joints, base.end_effectors);
-  auto write_estimates = [&](double t) {
-    if (!estimate_csv) return;
-    for (std::size_t i = 0; i < trackers.size(); ++i)
-      write_estimate_row(*estimate_csv, t, r.methods[i], trackers[i]->estimate());
-  };
+  TrackingSetup setup;
+  setup.robot = robot;
+  setup.config = base;
+  setup.methods = methods;
+  setup.joint_names = d.joint_names;
+  setup.camera = d.camera.intrinsics;
+  if (d.has_truth()) {  // vision only starts from the first row's angles
+    const Eigen::VectorXd& q0 = d.truth.front().angle_rad;
+    setup.vision_only_start_rad.assign(q0.data(), q0.data() + q0.size());
+  }
+  MethodTrackers trackers(setup, run, scores);
+  trackers.keep_frames(options.frames_to_keep, r.duration_s, r.frames);
+  if (estimate_csv) trackers.write_estimates_to(*estimate_csv);
 
   const std::size_t nj = model_joints.size(), n_rows = d.joint_time_s.size();
   const std::size_t ncol = d.joint_names.size();
-  const CameraIntrinsics& K = d.camera.intrinsics;
   std::size_t ji = 0, fi = 0, ti = 0;
   // An estimate row waiting for the images that arrive at its time.
   std::optional<double> pending_row;
@@ -889,16 +819,8 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
       truth.angle_rad[j] = row.angle_rad[column_of[j]];
       truth.bias_rad[j] = row.bias_rad[column_of[j]];
     }
-    ScoredSample scored;
-    for (std::size_t i = 0; i < trackers.size(); ++i) {
-      const TrackerEstimate est = trackers[i]->estimate();
-      if (estimate_csv) write_estimate_row(*estimate_csv, truth.time_s, r.methods[i], est);
-      // No camera truth in a dataset: the camera is not scored.
-      run.methods[i].samples.push_back(
-          score_estimate(est, truth, nullptr, d.truth_has_angles, d.truth_has_biases, scored));
-      scores[i].add(scored);
-    }
-    run.truth.push_back(std::move(truth));
+    // No camera truth in a dataset: the camera is not scored.
+    trackers.score(std::move(truth), nullptr, d.truth_has_angles, d.truth_has_biases);
   };
 
   auto deliver = [&](const DatasetFrame& f) {
@@ -909,26 +831,7 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
       warn(problem + "; frame skipped");
       return;
     }
-    for (auto& tracker : trackers) tracker->add_depth_image(f.stamp_s, *image, K);
-    ++run.frames_delivered;
-    if (keep_times.empty() || f.stamp_s < keep_times.front() || ji == 0) return;
-    keep_times.erase(keep_times.begin());
-    KeptFrame kept;
-    kept.stamp_s = f.stamp_s;
-    kept.arrival_s = f.arrival_s;
-    kept.observed = *image;
-    if (estimate_method >= 0) {
-      const TrackerEstimate e = trackers[estimate_method]->estimate();
-      Eigen::VectorXd q(robot->num_joints());
-      q.head(e.angle_rad.size()) = e.angle_rad;
-      q.tail<6>() = e.camera_offset;
-      KinematicsState state(*robot);
-      forward_kinematics(*robot, q, state);
-      DepthRenderer renderer(*robot, K);
-      renderer.render(state, kept.estimate);
-      kept.estimate_method = method_name(methods[estimate_method]);
-    }
-    r.frames.push_back(std::move(kept));
+    trackers.image(f.stamp_s, f.arrival_s, *image);
   };
 
   // Joints, images and truth rows merged in time order; at equal times
@@ -939,19 +842,12 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
     const double tt = ti < d.truth.size() ? d.truth[ti].time_s : kInf;
     const double next = std::min({tj, tf, tt});
     if (pending_row && (next > *pending_row || next == kInf)) {
-      if (!(tt == *pending_row)) write_estimates(*pending_row);
+      if (!(tt == *pending_row)) trackers.write_estimates(*pending_row);
       pending_row.reset();
     }
     if (next == kInf) break;
     if (tj == next) {
-      const std::span<const double> readings(&d.joint_readings_rad[ji * ncol], ncol);
-      for (std::size_t i = 0; i < trackers.size(); ++i) {
-        if (methods[i] == TrackingMethod::kVisionOnly) continue;
-        const auto start = Clock::now();
-        trackers[i]->add_joint_measurement(tj, readings);
-        run.methods[i].joint_update_us.push_back(
-            std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-      }
+      trackers.joints(tj, std::span<const double>(&d.joint_readings_rad[ji * ncol], ncol));
       ++ji;
       if (options.estimate_every_n_joints > 0 && (ji - 1) % options.estimate_every_n_joints == 0)
         pending_row = tj;
@@ -963,7 +859,7 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
     } else {
       if (ji == 0) {
         ++out.truth_rows_skipped;
-        warn((d.dir / "ground_truth.csv").string() + ": row at " + number_text(tt) +
+        warn((d.dir / "ground_truth.csv").string() + ": row at " + shortest_number(tt) +
              " s comes before the first joint reading; not scored");
       } else {
         score(d.truth[ti]);
@@ -972,26 +868,9 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
     }
   }
   if (d.frames.empty()) warn(d.dir.string() + ": no depth images (depth/ is empty or missing)");
-  for (std::size_t i = 0; i < trackers.size(); ++i) run.methods[i].stats = trackers[i]->stats();
+  trackers.finish();
   r.runs.push_back(std::move(run));
-
-  // Summaries and timings per method, against encoders only where it ran.
-  const MethodScores* reference = nullptr;
-  for (const MethodScores& s : scores)
-    if (s.method() == method_name(TrackingMethod::kEncodersOnly)) reference = &s;
-  for (std::size_t i = 0; i < scores.size(); ++i) {
-    MethodResult m{r.methods[i], scores[i], {}, {}};
-    if (d.has_truth())
-      m.summary = scores[i].summary(r.scoring, reference == &scores[i] ? nullptr : reference);
-    const MethodRun& mr = r.runs[0].methods[i];
-    m.timing.joint_update_us = percentiles(mr.joint_update_us);
-    m.timing.image_update_ms = percentiles(mr.stats.images.values(&ImageTiming::update_ms));
-    m.timing.evaluations_per_image =
-        mr.stats.images_applied
-            ? double(mr.stats.likelihood_evaluations) / double(mr.stats.images_applied)
-            : 0.0;
-    r.method_results.push_back(std::move(m));
-  }
+  summarise_methods(r, scores, d.has_truth());
   return out;
 }
 

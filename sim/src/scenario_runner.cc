@@ -11,11 +11,10 @@
 
 #include "arttrack/sim/dataset.h"
 #include "arttrack/sim/depth_camera.h"
+#include "arttrack/sim/method_trackers.h"
 #include "arttrack/sim/sim_model.h"
 #include "arttrack/sim/simulator.h"
-#include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 
 namespace arttrack::sim {
@@ -116,15 +115,6 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
   return s;
 }
 
-// The method whose estimate is rendered next to kept frames.
-int render_method(const std::vector<TrackingMethod>& methods) {
-  for (std::size_t i = 0; i < methods.size(); ++i)
-    if (methods[i] == TrackingMethod::kFullFusion) return int(i);
-  for (std::size_t i = 0; i < methods.size(); ++i)
-    if (methods[i] != TrackingMethod::kEncodersOnly) return int(i);
-  return -1;
-}
-
 class Run {
  public:
   Run(const Scenario& sc, const Setup& setup, Simulator& sim, DepthCamera& camera, int run,
@@ -134,9 +124,7 @@ class Run {
         setup_(setup),
         sim_(sim),
         camera_(camera),
-        scores_(scores),
         options_(options),
-        frames_(frames),
         encoders_(setup.sim_model->joint_names, sc.encoders, stream_seed(seed, kEncoders)),
         depth_noise_(sc.depth_corruption, stream_seed(seed, kDepth)),
         camera_poses_(setup.robot) {
@@ -152,31 +140,22 @@ class Run {
       sim_.set_occluder_pose(o.occluder, o.pose_at(0));
     for (const LinkLoad& l : sc.loads) load_body_.push_back(m.link_body[m.link_index(l.link)]);
 
+    TrackingSetup tracking;
+    tracking.robot = setup.robot;
+    tracking.config = sc.tracker;
+    tracking.config.source = sc.tracker_document.file;
+    tracking.config.seed = stream_seed(seed, kTracker);
+    tracking.config.asynchronous = options.realtime;
+    tracking.methods = setup.methods;
+    tracking.joint_names = m.joint_names;
+    tracking.camera = camera_.intrinsics();
     const GroundTruth g0 = sim_.ground_truth();
-    for (std::size_t i = 0; i < setup.methods.size(); ++i) {
-      TrackerConfig config = sc.tracker;
-      config.source = sc.tracker_document.file;
-      config.method = setup.methods[i];
-      config.seed = stream_seed(seed, kTracker);
-      config.asynchronous = options.realtime;
-      trackers_.push_back(std::make_unique<Tracker>(setup.robot, config, m.joint_names));
-      if (setup.methods[i] == TrackingMethod::kVisionOnly) {
-        // Vision only starts from the true configuration ("given").
-        trackers_.back()->set_initial_configuration(
-            m.joint_names, std::span<const double>(g0.q.data(), std::size_t(g0.q.size())));
-      }
-      MethodRun mr;
-      mr.method = method_name(setup.methods[i]);
-      result_.methods.push_back(std::move(mr));
-      scores_[i].begin_run();
-    }
-    estimate_method_ = render_method(setup.methods);
+    tracking.vision_only_start_rad.assign(g0.q.data(), g0.q.data() + g0.q.size());
+    trackers_.emplace(tracking, result_, scores);
     if (options.sink)
       options.sink->begin_run({run, seed, stream_seed(seed, kTracker), m.joint_names,
                                camera_.intrinsics(), setup.joint_names, sc.scoring.end_effectors});
-    if (run == 0 && options.frames_to_keep > 0)
-      for (int i = 0; i < options.frames_to_keep; ++i)
-        keep_times_.push_back(sc.duration_s * (i + 1) / (options.frames_to_keep + 1));
+    if (run == 0) trackers_->keep_frames(options.frames_to_keep, sc.duration_s, frames);
   }
 
   RunResult execute() {
@@ -205,13 +184,7 @@ class Run {
           t, n == 0 ? 0.0 : period, std::span<const double>(truth.q.data(), std::size_t(n_sim)),
           std::span<const double>(truth.actuator_torque.data(), std::size_t(n_sim)), readings);
       if (options_.sink) options_.sink->joints(result_.run, t, readings);
-      for (std::size_t i = 0; i < trackers_.size(); ++i) {
-        if (setup_.methods[i] == TrackingMethod::kVisionOnly) continue;
-        const auto start = Clock::now();
-        trackers_[i]->add_joint_measurement(t, readings);
-        result_.methods[i].joint_update_us.push_back(
-            std::chrono::duration<double, std::micro>(Clock::now() - start).count());
-      }
+      trackers_->joints(t, readings);
 
       // Camera captures at this step (the step nearest each capture time).
       bool frame_now = false;
@@ -247,10 +220,8 @@ class Run {
       if (options_.progress && n % progress_every == 0 && n > 0)
         options_.progress({result_.run, 0, t, sc_.duration_s});
     }
-    for (std::size_t i = 0; i < trackers_.size(); ++i) {
-      trackers_[i]->wait_until_idle();  // asynchronous: the last image
-      result_.methods[i].stats = trackers_[i]->stats();
-      if (!options_.realtime) continue;
+    trackers_->finish();
+    for (std::size_t i = 0; i < result_.methods.size() && options_.realtime; ++i) {
       // End to end: from capture to delivery (the scenario's latency, and any
       // lag of the simulation behind the wall clock), then inside the tracker.
       const TrackerStats& st = result_.methods[i].stats;
@@ -299,33 +270,11 @@ class Run {
   }
 
   void deliver(const InFlight& frame, double now) {
-    const CameraIntrinsics& K = camera_.intrinsics();
     if (options_.realtime)
       delivered_.emplace_back(frame.stamp_s,
                               std::chrono::duration<double>(Clock::now() - wall_start_).count());
-    for (auto& tracker : trackers_) tracker->add_depth_image(frame.stamp_s, frame.image, K);
+    trackers_->image(frame.stamp_s, now, frame.image);
     if (options_.sink) options_.sink->image(result_.run, frame.stamp_s, now, frame.image);
-    ++result_.frames_delivered;
-    if (keep_times_.empty() || frame.stamp_s < keep_times_.front()) return;
-    keep_times_.erase(keep_times_.begin());
-    KeptFrame kept;
-    kept.run = result_.run;
-    kept.stamp_s = frame.stamp_s;
-    kept.arrival_s = now;
-    kept.observed = frame.image;
-    if (estimate_method_ >= 0) {
-      const TrackerEstimate e = trackers_[estimate_method_]->estimate();
-      const RobotModel& robot = *setup_.robot;
-      Eigen::VectorXd q(robot.num_joints());
-      q.head(e.angle_rad.size()) = e.angle_rad;
-      q.tail<6>() = e.camera_offset;
-      KinematicsState state(robot);
-      forward_kinematics(robot, q, state);
-      DepthRenderer renderer(robot, K);
-      renderer.render(state, kept.estimate);
-      kept.estimate_method = method_name(setup_.methods[estimate_method_]);
-    }
-    frames_.push_back(std::move(kept));
   }
 
   void score(double t, const GroundTruth& g, bool camera_frame, double occluded) {
@@ -347,80 +296,31 @@ class Run {
     truth.T_base_camera = g.T_world_camera;
     truth.camera_offset = camera_poses_.offset_to(truth.angle_rad, g.T_world_camera);
 
-    ScoredSample scored;
-    for (std::size_t i = 0; i < trackers_.size(); ++i) {
-      result_.methods[i].samples.push_back(
-          score_estimate(trackers_[i]->estimate(), truth, &camera_poses_, true, true, scored));
-      scores_[i].add(scored);
-    }
-    if (options_.sink) options_.sink->truth(result_.run, truth);
-    result_.truth.push_back(std::move(truth));
+    const TruthSample& scored = trackers_->score(std::move(truth), &camera_poses_, true, true);
+    if (options_.sink) options_.sink->truth(result_.run, scored);
   }
 
   const Scenario& sc_;
   const Setup& setup_;
   Simulator& sim_;
   DepthCamera& camera_;
-  std::vector<MethodScores>& scores_;
   const RunOptions& options_;
-  std::vector<KeptFrame>& frames_;
   EncoderCorruption encoders_;
   DepthCorruption depth_noise_;
   std::optional<JointTrajectory> trajectory_;
   CameraPoses camera_poses_;
   std::vector<CameraFrame> frames_timing_;
   std::vector<int> load_body_;
-  std::vector<std::unique_ptr<Tracker>> trackers_;
-  std::deque<InFlight> in_flight_;
-  std::vector<double> keep_times_;
-  int estimate_method_ = -1;
   RunResult result_;
+  // Fills result_; after it, as it refers to it.
+  std::optional<MethodTrackers> trackers_;
+  std::deque<InFlight> in_flight_;
   Clock::time_point wall_start_;
   // Real time: (stamp, wall time of delivery since wall_start_) per delivered image, in order.
   std::vector<std::pair<double, double>> delivered_;
 };
 
 }  // namespace
-
-EstimateSample score_estimate(const TrackerEstimate& est, const TruthSample& truth,
-                              CameraPoses* camera, bool angles_known, bool biases_known,
-                              ScoredSample& scored) {
-  const std::size_t nj = std::size_t(est.angle_rad.size()), ne = truth.T_camera_ee.size();
-  EstimateSample s;
-  s.angle_rad = est.angle_rad;
-  s.angle_std_rad = est.angle_std_rad;
-  s.bias_rad = est.bias_rad;
-  s.bias_std_rad = est.bias_std_rad;
-  s.camera_offset = est.camera_offset;
-  s.camera_offset_std = est.camera_offset_std;
-  s.T_camera_ee = est.T_camera_ee;
-  s.health = est.health;
-  scored = ScoredSample{};
-  scored.time_s = truth.time_s;
-  for (std::size_t e = 0; e < ne; ++e)
-    s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
-  scored.end_effectors = s.ee_error;
-  auto per_joint = [nj](const Eigen::VectorXd& v) {
-    return std::vector<double>(v.data(), v.data() + nj);
-  };
-  if (angles_known) {
-    scored.angle_error_rad = per_joint(est.angle_rad - truth.angle_rad);
-    scored.angle_std_rad = per_joint(est.angle_std_rad);
-  }
-  if (biases_known) {
-    scored.bias_error_rad = per_joint(est.bias_rad - truth.bias_rad);
-    scored.bias_std_rad = per_joint(est.bias_std_rad);
-  }
-  if (camera && truth.T_base_camera) {
-    s.camera_error =
-        pose_error(camera->camera(est.angle_rad, est.camera_offset), *truth.T_base_camera);
-    scored.camera = s.camera_error;
-    const CameraOffset error = est.camera_offset - truth.camera_offset;
-    scored.camera_offset_error.assign(error.data(), error.data() + 6);
-    scored.camera_offset_std.assign(est.camera_offset_std.data(), est.camera_offset_std.data() + 6);
-  }
-  return s;
-}
 
 std::uint64_t run_seed(std::uint64_t seed, int run) {
   // 53 bits, so that JSON readers keep every digit.
@@ -482,31 +382,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
     result.runs.push_back(run.execute());
   }
 
-  // Summaries and timings per method, against encoders only where it ran.
-  const MethodScores* reference = nullptr;
-  for (const MethodScores& s : scores)
-    if (s.method() == method_name(TrackingMethod::kEncodersOnly)) reference = &s;
-  for (std::size_t i = 0; i < scores.size(); ++i) {
-    MethodResult r{result.methods[i], scores[i], {}, {}};
-    r.summary =
-        scores[i].summary(sc.scoring.options, reference == &scores[i] ? nullptr : reference);
-    std::vector<double> joint_us, image_ms, latency_ms;
-    long long evaluations = 0, images = 0;
-    for (const RunResult& run : result.runs) {
-      const MethodRun& mr = run.methods[i];
-      latency_ms.insert(latency_ms.end(), mr.image_latency_ms.begin(), mr.image_latency_ms.end());
-      joint_us.insert(joint_us.end(), mr.joint_update_us.begin(), mr.joint_update_us.end());
-      const std::vector<double> update_ms = mr.stats.images.values(&ImageTiming::update_ms);
-      image_ms.insert(image_ms.end(), update_ms.begin(), update_ms.end());
-      evaluations += mr.stats.likelihood_evaluations;
-      images += mr.stats.images_applied;
-    }
-    r.timing.joint_update_us = percentiles(joint_us);
-    r.timing.image_update_ms = percentiles(image_ms);
-    r.timing.evaluations_per_image = images ? double(evaluations) / double(images) : 0.0;
-    if (options.realtime) r.timing.image_latency_ms = percentiles(latency_ms);
-    result.method_results.push_back(std::move(r));
-  }
+  summarise_methods(result, scores, true);
   return result;
 }
 

@@ -1,6 +1,7 @@
 #include "text_format.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -38,6 +39,23 @@ std::string csv_number(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   return format_g(v, 17);
+}
+
+std::string shortest_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, r.ptr);
+}
+
+std::string pose_fields(const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.linear());
+  std::string out;
+  for (double v :
+       {T.translation().x(), T.translation().y(), T.translation().z(), q.w(), q.x(), q.y(), q.z()})
+    out += ',' + shortest_number(v);
+  return out;
 }
 
 std::string one_line(std::string s) {

@@ -1,11 +1,13 @@
 // Text helpers shared by the simulator's output writers (run outputs,
-// report, sweep, tuning): number formatting, CSV fields, HTML escaping,
+// report, sweep, tuning, datasets): number formatting, CSV fields, HTML escaping,
 // whole-file writes. Internal to arttrack_sim; outputs depend on these
 // byte for byte, so change a behaviour only together with its callers.
 #pragma once
 
 #include <filesystem>
 #include <string>
+
+#include <Eigen/Geometry>
 
 #include "arttrack/sim/scoring.h"
 
@@ -36,7 +38,20 @@ std::string format_g(double v, int digits);
 // except NaN of either sign is "nan" and infinities are "inf" and "-inf".
 std::string csv_number(double v);
 
+// The shortest text that reads back as the same double (std::to_chars), so
+// that a dataset or estimate.csv written from a run reproduces its numbers
+// bit for bit: 0.1 gives "0.1"; NaN "nan", infinities "inf" and "-inf".
+std::string shortest_number(double v);
+
 // ---- CSV ----
+
+// Column suffixes of an end effector E's pose in datasets and estimate.csv:
+// E_x, E_y, E_z (m), then the unit quaternion E_qw, E_qx, E_qy, E_qz.
+inline constexpr const char* kPoseSuffixes[7] = {"_x", "_y", "_z", "_qw", "_qx", "_qy", "_qz"};
+
+// The seven pose columns of T in kPoseSuffixes order, each as ',' and its
+// shortest_number.
+std::string pose_fields(const Eigen::Isometry3d& T);
 
 // `s` with every '\n', '\r' and '\t' replaced by one space (same length):
 // a message fit for one CSV field and one HTML line.

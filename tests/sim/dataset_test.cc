@@ -23,6 +23,7 @@
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
+#include "same_tracking.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
@@ -31,28 +32,6 @@ namespace {
 using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
-
-// Latency, jitter and drops (arrival differs from stamp, some frames never
-// come), depth noise and dropout, biased noisy encoders, a camera offset;
-// every 70 joint steps scored too; two end effectors; tracker overrides.
-constexpr char kScenario[] = R"(
-scene: scene.yaml
-duration_s: 1.5
-seed: 5
-methods: [encoders_only, camera_offset_only, full_fusion, vision_only]
-camera: {width: 80, height: 60, latency_s: 0.04, jitter_s: 0.015, drop_probability: 0.1,
-         noise_sigma0_m: 0.002, dropout_probability: 0.05}
-motion:
-  sinusoids:
-    - {joints: [left_arm_joint_1], amplitude_deg: 15, frequency_hz: 0.5}
-    - {joints: [right_arm_joint_2], amplitude_deg: 20, frequency_hz: 0.4, phase_deg: 90}
-encoders:
-  - {joints: [arms], offset_deg: 5, noise_deg: 0.05}
-miscalibration:
-  camera_offset: {xyz_m: [0.01, -0.01, 0.02], rpy_deg: [1, -1, 0.5]}
-scoring: {converged_after_s: 0.5, every_n_joint_steps: 70, end_effectors: [left_ee, right_ee]}
-tracker_overrides: {particle_filter.particles: 10}
-)";
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
@@ -115,7 +94,7 @@ class DatasetTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TestDir("dataset_suite");
-    scenario_file_ = dir_->write("scenario.yaml", kScenario);
+    scenario_file_ = dir_->write("scenario.yaml", test::kMeasuredScenario);
     summary_ = export_scenario(scenario_file_, {}, 17, dir_->path() / "exported");
   }
   static void TearDownTestSuite() {
@@ -215,36 +194,9 @@ TEST_F(DatasetTest, TrackingTheExportGivesTheRunsNumbers) {
   }
   EXPECT_GT(non_frame, 5u);  // every 70 joint steps too
 
-  for (std::size_t m = 0; m < a.methods.size(); ++m) {
-    SCOPED_TRACE(a.methods[m].method);
-    ASSERT_EQ(b.methods[m].samples.size(), a.methods[m].samples.size());
-    for (std::size_t i = 0; i < a.methods[m].samples.size(); ++i) {
-      const EstimateSample& x = a.methods[m].samples[i];
-      const EstimateSample& y = b.methods[m].samples[i];
-      // Bit for bit: the same inputs in the same order.
-      ASSERT_EQ(y.angle_rad, x.angle_rad) << "sample " << i;
-      ASSERT_EQ(y.bias_rad, x.bias_rad) << "sample " << i;
-      ASSERT_EQ(y.camera_offset, x.camera_offset) << "sample " << i;
-      for (std::size_t e = 0; e < x.ee_error.size(); ++e) {
-        // The truth went through a quaternion: within rounding.
-        EXPECT_NEAR(y.ee_error[e].translation_m, x.ee_error[e].translation_m, 1e-13);
-        EXPECT_NEAR(y.ee_error[e].rotation_rad, x.ee_error[e].rotation_rad, 1e-12);
-      }
-    }
-    const TrackerStats& sa = a.methods[m].stats;
-    const TrackerStats& sb = b.methods[m].stats;
-    EXPECT_EQ(sb.joint_measurements, sa.joint_measurements);
-    EXPECT_EQ(sb.images_received, sa.images_received);
-    EXPECT_EQ(sb.images_applied, sa.images_applied);
-    EXPECT_EQ(sb.likelihood_evaluations, sa.likelihood_evaluations);
-    const MethodSummary& pa = run.method_results[m].summary;
-    const MethodSummary& pb = t.method_results[m].summary;
-    EXPECT_NEAR(pb.all.translation_m.p50, pa.all.translation_m.p50, 1e-13);
-    EXPECT_NEAR(pb.all.translation_m.p99, pa.all.translation_m.p99, 1e-13);
-    EXPECT_NEAR(pb.converged.rotation_rad.p50, pa.converged.rotation_rad.p50, 1e-12);
-    EXPECT_EQ(pb.time_to_converge_s, pa.time_to_converge_s);
-    EXPECT_EQ(pb.all.reference.worse, pa.all.reference.worse);
-  }
+  // Bit for bit: the same inputs in the same order. The truth went through
+  // a quaternion: errors within rounding.
+  test::expect_same_tracking(run, t, 1e-13, 1e-12);
   // Image methods did use the images.
   EXPECT_GT(b.methods[2].stats.images_applied, 30);
 

@@ -111,6 +111,30 @@ actuators: {kp: 400, kv: 40}
 floor: false
 )";
 
+// A scenario whose measurements take every path from the simulator to the
+// trackers (dataset export and tracking, replay): latency, jitter and drops
+// (arrival differs from stamp, some frames never come), depth noise and
+// dropout, biased noisy encoders, a camera offset; every 70 joint steps
+// scored too (so from 0 s on); two end effectors; tracker overrides.
+constexpr char kMeasuredScenario[] = R"(
+scene: scene.yaml
+duration_s: 1.5
+seed: 5
+methods: [encoders_only, camera_offset_only, full_fusion, vision_only]
+camera: {width: 80, height: 60, latency_s: 0.04, jitter_s: 0.015, drop_probability: 0.1,
+         noise_sigma0_m: 0.002, dropout_probability: 0.05}
+motion:
+  sinusoids:
+    - {joints: [left_arm_joint_1], amplitude_deg: 15, frequency_hz: 0.5}
+    - {joints: [right_arm_joint_2], amplitude_deg: 20, frequency_hz: 0.4, phase_deg: 90}
+encoders:
+  - {joints: [arms], offset_deg: 5, noise_deg: 0.05}
+miscalibration:
+  camera_offset: {xyz_m: [0.01, -0.01, 0.02], rpy_deg: [1, -1, 0.5]}
+scoring: {converged_after_s: 0.5, every_n_joint_steps: 70, end_effectors: [left_ee, right_ee]}
+tracker_overrides: {particle_filter.particles: 10}
+)";
+
 // A folder with robot.urdf and scene.yaml, plus any other files written with
 // write(); named after the test so that tests never share one.
 class TestDir {

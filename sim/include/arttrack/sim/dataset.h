@@ -213,7 +213,8 @@ struct TrackResult {
 // robot, fed the joint readings (at their time) and the depth images (at
 // their arrival) in time order; at equal times joints first, then images,
 // then the estimate is read. Vision only starts from the first ground-truth
-// row's angles. Writes one estimate.csv row per method at every output
+// row's angles. Trackers are fed, scored and their frames kept as in
+// `arttrack run` (method_trackers.h). Writes one estimate.csv row per method at every output
 // instant into `estimate_csv` (if not null): time_s, method, per joint J
 // J_rad, J_std_rad, J_bias_rad, J_bias_std_rad, the camera correction
 // cam_x_m, cam_y_m, cam_z_m, cam_roll_rad, cam_pitch_rad, cam_yaw_rad, per end

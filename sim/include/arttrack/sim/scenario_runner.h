@@ -18,6 +18,10 @@
 // model's forward kinematics at the estimated angles and camera offset)
 // against the simulator's true camera, both relative to the robot base; and
 // the reported standard deviations against these errors (consistency).
+//
+// The runner simulates and measures; feeding the trackers, scoring their
+// estimates and keeping frames is method_trackers.h, shared with `arttrack
+// track` (dataset.h).
 #pragma once
 
 #include <cstdint>
@@ -149,16 +153,6 @@ struct EstimateSample {
   // The tracker's own verdict on its newest image (TrackerEstimate::health).
   TrackingHealth health;
 };
-
-// Scores one method's estimate against the truth at a scored instant: the
-// sample kept in the run's results and the one its ErrorTrace gets. The
-// truth's angles and biases are in the estimate's joint order;
-// angles_known / biases_known say whether they are real (a dataset may lack
-// them). `camera` (may be null: no camera scoring) is the tracker's nominal
-// model; it is used only where the truth has a camera pose.
-EstimateSample score_estimate(const TrackerEstimate& estimate, const TruthSample& truth,
-                              CameraPoses* camera, bool angles_known, bool biases_known,
-                              ScoredSample& scored);
 
 // One method in one run.
 struct MethodRun {
