@@ -328,8 +328,20 @@ struct Series {
   std::string name, colour;
   std::vector<double> x, y;
   std::vector<double> band_lo, band_hi;  // empty: no band
-  bool dashed = false;
+  enum class Stroke { kSolid, kDashed, kDotted } stroke = Stroke::kSolid;
 };
+
+const char* dash_attribute(Series::Stroke stroke) {
+  switch (stroke) {
+    case Series::Stroke::kDashed:
+      return " stroke-dasharray=\"5 3\"";
+    case Series::Stroke::kDotted:
+      return " stroke-dasharray=\"1.5 3\"";
+    case Series::Stroke::kSolid:
+      break;
+  }
+  return "";
+}
 
 struct LineChart {
   std::string id, title, x_label, y_label;
@@ -449,8 +461,7 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
     }
     if (d.str().empty()) continue;
     o << "<path d=\"" << d.str() << "\" fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\""
-      << px(c.line_width) << "\" stroke-linejoin=\"round\""
-      << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/>\n";
+      << px(c.line_width) << "\" stroke-linejoin=\"round\"" << dash_attribute(s.stroke) << "/>\n";
   }
   o << "</g>\n" << labels.str();
   if (c.legend) {
@@ -460,7 +471,7 @@ void line_chart(std::ostringstream& o, const LineChart& c) {
     double x = f.x1() - width;
     for (const Series& s : c.series) {
       o << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + 18) << "\" y1=\"14\" y2=\"14\" stroke=\""
-        << s.colour << "\" stroke-width=\"3\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "")
+        << s.colour << "\" stroke-width=\"3\"" << dash_attribute(s.stroke)
         << "/><text class=\"tl\" x=\"" << px(x + 22) << "\" y=\"18\">" << text::html_escape(s.name)
         << "</text>\n";
       x += 32 + 7.0 * s.name.size();
@@ -797,11 +808,13 @@ void health_section(std::ostringstream& o, const ScenarioResult& r) {
   for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
     const MethodRun* m = method_run(run, r.methods[mi]);
     if (!m) continue;
-    Series contradicted, explained;
+    Series contradicted, explained, abandoned;
     contradicted.name = r.methods[mi] + ": contradicted";
     explained.name = r.methods[mi] + ": explained";
-    contradicted.colour = explained.colour = method_colour(r.methods[mi], mi);
-    explained.dashed = true;
+    abandoned.name = r.methods[mi] + ": abandoned";
+    contradicted.colour = explained.colour = abandoned.colour = method_colour(r.methods[mi], mi);
+    explained.stroke = Series::Stroke::kDashed;
+    abandoned.stroke = Series::Stroke::kDotted;
     double lost_s = 0, previous_t = 0;
     bool any = false;
     for (std::size_t i = 0; i < run.truth.size() && i < m->samples.size(); ++i) {
@@ -815,6 +828,8 @@ void health_section(std::ostringstream& o, const ScenarioResult& r) {
       contradicted.y.push_back(100 * h.whole.contradicted_fraction);
       explained.x.push_back(t);
       explained.y.push_back(100 * h.whole.explained_fraction);
+      abandoned.x.push_back(t);
+      abandoned.y.push_back(100 * h.whole.abandoned_fraction);
     }
     if (!any) continue;
     std::ostringstream l;
@@ -822,11 +837,15 @@ void health_section(std::ostringstream& o, const ScenarioResult& r) {
     lost.push_back(l.str());
     c.series.push_back(std::move(contradicted));
     c.series.push_back(std::move(explained));
+    c.series.push_back(std::move(abandoned));
   }
   if (c.series.empty()) return;
   c.title = "Health over time, run 0: the estimate's render against the image";
   o << "<h2>Tracker health</h2>\n<p>Solid: share of the estimate's rendered robot pixels that "
-       "the camera sees through (contradicted); dashed: share within the explained depth. "
+       "the camera sees through (contradicted); dashed: share within the explained depth; "
+       "dotted: share of the pixels the estimate explained at its last good image that still "
+       "show the same depth but are no longer explained (abandoned: an estimate that left a "
+       "robot that did not move). "
     << "Lost (the tracker's own state): ";
   for (std::size_t i = 0; i < lost.size(); ++i) o << (i ? "; " : "") << lost[i];
   o << ".</p>\n";
@@ -868,7 +887,7 @@ void bias_section(std::ostringstream& o, const ScenarioResult& r) {
     Series truth, est;
     truth.name = "true bias";
     truth.colour = "#000";
-    truth.dashed = true;
+    truth.stroke = Series::Stroke::kDashed;
     est.name = "estimate";
     est.colour = colour;
     for (std::size_t i = 0; i < run.truth.size() && i < m->samples.size(); ++i) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <numbers>
+#include <random>
 
 #include "arttrack/tracker/error.h"
 
@@ -80,6 +81,41 @@ TEST(ImageInformation, OccludedPixelsCarryNoInformation) {
   EXPECT_EQ(none, 0.0);
   EXPECT_EQ(info.pixels_used(), 0);
   EXPECT_THROW(info.compute(s.renderer, {q0.data(), 3}, s.likelihood), InputError);
+}
+
+// How many independent pixels an image is worth, against three cases with a
+// known answer: residuals that are independent noise keep about all of them;
+// one shared offset (the estimate off by 4 mm along the optical axis, every
+// neighbour with the same residual) keeps next to none.
+TEST(ImageInformation, EffectivePixelFractionFromTheResiduals) {
+  PlateScene s;
+  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(s.model.num_joints());
+  KinematicsState state(s.model);
+  forward_kinematics(s.model, q0, state);
+  DepthImage rendered;
+  s.renderer.render(state, rendered);
+  ImageInformation info(std::vector<int>{s.dof_z});
+  const std::span<const double> at_q0{q0.data(), std::size_t(q0.size())};
+
+  s.likelihood.set_observation(rendered);  // no residual at all
+  info.compute(s.renderer, at_q0, s.likelihood);
+  EXPECT_DOUBLE_EQ(info.effective_pixel_fraction(), 1.0);
+
+  DepthImage noisy = rendered;  // independent noise of the model's sigma
+  std::mt19937 rng(7);
+  std::normal_distribution<float> noise(0.0f, float(s.params.noise_std_m));
+  for (float& z : noisy.depth_m)
+    if (z > 0) z += noise(rng);
+  s.likelihood.set_observation(noisy);
+  info.compute(s.renderer, at_q0, s.likelihood);
+  EXPECT_GT(info.effective_pixel_fraction(), 0.8);
+
+  DepthImage shifted = rendered;  // the same 4 mm everywhere
+  for (float& z : shifted.depth_m)
+    if (z > 0) z += 0.004f;
+  s.likelihood.set_observation(shifted);
+  info.compute(s.renderer, at_q0, s.likelihood);
+  EXPECT_LT(info.effective_pixel_fraction(), 0.01);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -313,6 +314,56 @@ TEST(TrackerTest, AsynchronousModeAppliesImagesOnAWorkerThread) {
   const TrackerEstimate e = tracker.estimate();
   EXPECT_GT(tracker.stats().images_applied, 80);
   EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.4, 1 * kDeg);
+}
+
+// An encoder that slips while the arm stands still moves the estimate to
+// where the camera sees nothing (no depth there, so nothing contradicts it).
+// The health check must still notice: the arm it explained is still in the
+// image, now unexplained (ChainHealth::abandoned_fraction).
+TEST(TrackerTest, HealthFlagsAnEstimateThatLeavesTheArmItFound) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const DepthImage truth = render_truth(*model, 0.2, -0.4);
+  double slipped_s = -1, flagged_s = -1;
+  TrackerEstimate flagged;
+  for (int k = 0; k <= 2000 && flagged_s < 0; ++k) {
+    const double t = 0.001 * k;
+    const double slip = t >= 1.0 ? 60 * kDeg : 0.0;
+    if (slip > 0 && slipped_s < 0) slipped_s = t;
+    tracker.add_joint_measurement(t, std::vector<double>{0.2 + slip, -0.4});
+    if (k % 33 != 0) continue;
+    tracker.add_depth_image(t, truth, kCamera);
+    const TrackerEstimate e = tracker.estimate();
+    if (t < 1.0) {
+      ASSERT_EQ(e.health.state, TrackingHealth::State::kTracking) << "at " << t << " s";
+    } else if (e.health.state == TrackingHealth::State::kLost || e.health.chains_reacquired > 0) {
+      flagged_s = t;
+      flagged = e;
+    }
+  }
+  ASSERT_GT(flagged_s, 0) << "the slip was never flagged";
+  EXPECT_LT(flagged_s - slipped_s, 0.2);  // lost_after_images = 3 images at 30 Hz
+  ASSERT_EQ(flagged.health.chains.size(), 1u);
+}
+
+// The control: the arm really moves, readings and images agree. The pixels
+// the estimate explained change in the image, so nothing is abandoned.
+TEST(TrackerTest, HealthDoesNotFlagARealMotion) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  double worst_abandoned = 0;
+  for (int k = 0; k <= 3000; ++k) {
+    const double t = 0.001 * k;
+    const double q0 = 0.2 + 0.8 * std::sin(2 * t), q1 = -0.4 + 0.5 * std::sin(3 * t);
+    tracker.add_joint_measurement(t, std::vector<double>{q0, q1});
+    if (k % 33 != 0) continue;
+    tracker.add_depth_image(t, render_truth(*model, q0, q1), kCamera);
+    const TrackerEstimate e = tracker.estimate();
+    EXPECT_EQ(e.health.state, TrackingHealth::State::kTracking) << "at " << t << " s";
+    if (std::isfinite(e.health.chains.at(0).abandoned_fraction))
+      worst_abandoned = std::max(worst_abandoned, e.health.chains[0].abandoned_fraction);
+  }
+  EXPECT_LT(worst_abandoned, 0.25);
 }
 
 }  // namespace

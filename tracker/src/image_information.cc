@@ -1,5 +1,6 @@
 #include "arttrack/tracker/image_information.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "arttrack/tracker/error.h"
@@ -84,7 +85,38 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     for (int p = 0; p < num_pixels; ++p) pixels_per_dof_[std::size_t(k)] += gradients_(p, k) != 0;
   information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
+  estimate_effective_pixel_fraction(likelihood.width());
   return information_;
+}
+
+void ImageInformation::estimate_effective_pixel_fraction(int width) {
+  const int num_pixels = int(used_.size());
+  effective_pixel_fraction_ = 1;
+  if (pixels_used_ == 0) return;
+  double sum_sq = 0;
+  for (int p = 0; p < num_pixels; ++p)
+    if (used_[std::size_t(p)]) sum_sq += double(residuals_[p]) * residuals_[p];
+  // Correlation of the residuals of used pixels `step` apart (1: the next
+  // column, width: the next row), without removing the mean: a shared
+  // offset is exactly the correlated part that must not count N times.
+  auto neighbour_correlation = [&](int step, bool same_row) {
+    double cross = 0, a2 = 0, b2 = 0;
+    for (int p = 0; p + step < num_pixels; ++p) {
+      if (same_row && (p % width) + step >= width) continue;
+      if (!used_[std::size_t(p)] || !used_[std::size_t(p + step)]) continue;
+      const double a = residuals_[p], b = residuals_[p + step];
+      cross += a * b;
+      a2 += a * a;
+      b2 += b * b;
+    }
+    if (!(a2 > 0 && b2 > 0)) return 0.0;
+    return std::clamp(cross / std::sqrt(a2 * b2), 0.0, 0.99);
+  };
+  const double rho_x = neighbour_correlation(1, true);
+  const double rho_y = neighbour_correlation(width, false);
+  const double mean_square = sum_sq / pixels_used_;
+  effective_pixel_fraction_ =
+      (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / std::max(1.0, mean_square);
 }
 
 }  // namespace arttrack

@@ -101,10 +101,14 @@ void TrackerConfig::validate(const std::string& context) const {
   if (!(acquisition.bias_std_rad > 0) || !std::isfinite(acquisition.bias_std_rad))
     fail("acquisition.bias_std_deg must be positive");
   if (!(acquisition.accept_margin_nats >= 0)) fail("acquisition.accept_margin_nats must be >= 0");
+  if (acquisition.searches < 1 || acquisition.searches > 100)
+    fail("acquisition.searches must be in [1, 100]");
   if (!(health.explained_m > 0) || !(health.contradicted_m > 0))
     fail("health.explained_m and health.contradicted_m must be positive");
   if (!(health.lost_contradicted_fraction >= 0 && health.lost_contradicted_fraction <= 1))
     fail("health.lost_contradicted_fraction must be in [0, 1]");
+  if (!(health.lost_abandoned_fraction >= 0 && health.lost_abandoned_fraction <= 1))
+    fail("health.lost_abandoned_fraction must be in [0, 1]");
   if (health.lost_after_images < 1 || health.min_pixels < 1)
     fail("health.lost_after_images and health.min_pixels must be at least 1");
   for (const auto& b : blocks) {
@@ -187,9 +191,11 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
   }
 
+  const ConfigNode uncertainty = root.child("uncertainty");
   c.image_information_scale =
-      root.child("uncertainty")
-          .number("image_information_scale", c.image_information_scale, 1e-6, 1);
+      uncertainty.number("image_information_scale", c.image_information_scale, 1e-6, 1);
+  c.discount_correlated_residuals =
+      uncertainty.get<bool>("discount_correlated_residuals", c.discount_correlated_residuals);
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
   c.refinement_min_pixels = int(refinement.number("min_pixels", c.refinement_min_pixels, 1, 1e7));
@@ -202,6 +208,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   a.period_s = acq.number("period_s", a.period_s, 0, 1e6);
   a.bias_std_rad = acq.number("bias_std_deg", a.bias_std_rad / kDeg, 0.1, 180) * kDeg;
   a.accept_margin_nats = acq.number("accept_margin_nats", a.accept_margin_nats, 0, 1e6);
+  a.searches = int(acq.number("searches", a.searches, 1, 100));
 
   const ConfigNode health = root.child("health");
   TrackerConfig::Health& h = c.health;
@@ -209,6 +216,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   h.contradicted_m = health.number("contradicted_m", h.contradicted_m, 1e-4, 1);
   h.lost_contradicted_fraction =
       health.number("lost_contradicted_fraction", h.lost_contradicted_fraction, 0, 1);
+  h.lost_abandoned_fraction =
+      health.number("lost_abandoned_fraction", h.lost_abandoned_fraction, 0, 1);
   h.lost_after_images = int(health.number("lost_after_images", h.lost_after_images, 1, 1e6));
   h.min_pixels = int(health.number("min_pixels", h.min_pixels, 1, 1e7));
 

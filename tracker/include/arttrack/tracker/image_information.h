@@ -69,6 +69,19 @@ class ImageInformation {
   int pixels_used() const { return pixels_used_; }
   const std::vector<int>& pixels_per_dof() const { return pixels_per_dof_; }
 
+  // How many independent measurements the last compute()'s pixels are worth,
+  // as a fraction of pixels_used(), from their normalised residuals u = (z -
+  // r) / sigma: the pixel model takes every u as independent N(0, 1), but an
+  // estimate off by more than the noise (or a model that differs from the
+  // robot) leaves residuals that are larger and that neighbouring pixels
+  // share. With rho_x, rho_y the correlations of horizontally and vertically
+  // adjacent residuals (each clamped to [0, 0.99]) and s^2 their mean square,
+  //   fraction = (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / max(1, s^2),
+  // the effective sample size of a separable first-order autoregressive
+  // field, and the variance of unit weight of least squares. 1 when no
+  // pixel was used.
+  double effective_pixel_fraction() const { return effective_pixel_fraction_; }
+
  private:
   std::vector<int> dofs_;
   ImageInformationParams params_;
@@ -82,6 +95,9 @@ class ImageInformation {
   Eigen::VectorXd gradient_;
   int pixels_used_ = 0;
   std::vector<int> pixels_per_dof_;
+  double effective_pixel_fraction_ = 1;
+
+  void estimate_effective_pixel_fraction(int width);
 };
 
 }  // namespace arttrack

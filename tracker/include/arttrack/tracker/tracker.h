@@ -32,8 +32,12 @@
 //   back, a chain out of view keeps what the encoders say.
 // - Health. After each image the robot is rendered at the estimate's mean
 //   and compared with the image: the share of its pixels the camera sees
-//   through (contradicted) or confirms (explained), whole and per chain; a
-//   contradicted share above a threshold for a few images is "lost".
+//   through (contradicted) or confirms (explained), whole and per chain, and
+//   the share of the pixels a chain explained at its last good image that
+//   the image still shows unchanged but the render no longer explains
+//   (abandoned: an estimate that left a robot that did not move, e.g. after
+//   an encoder slip, to where nothing contradicts it). A contradicted or
+//   abandoned share above its threshold for a few images is "lost".
 // - Refinement (off by default: docs/accuracy.md). After the particles, one
 //   Gauss-Newton step on the depth
 //   residuals with the full prior covariance (DART's local refinement),
@@ -73,11 +77,22 @@ namespace arttrack {
 // (TrackerConfig::Health). Fractions are of the rendered pixels that have a
 // valid observed depth; NaN when there are fewer than min_pixels of them
 // (e.g. the robot out of view: no verdict, not a failure).
+//
+// The render alone cannot see an estimate that left the robot it had found
+// (an arm folded out of view or behind something is contradicted nowhere).
+// So the tracker keeps, per chain, the pixels its render explained at the
+// last image where the chain was not poor; `abandoned_fraction` is the
+// share of them whose observed depth is still the same (the robot it
+// explained is still there) but that the chain's render no longer explains.
+// A real motion changes the image at those pixels; an estimate that moved
+// while the robot did not leaves them abandoned. NaN before a chain has
+// min_pixels such pixels.
 struct ChainHealth {
   std::string name;         // the chain's first joint, e.g. "left_arm_joint_1"
   int rendered_pixels = 0;  // with a valid observed depth
   double explained_fraction = std::numeric_limits<double>::quiet_NaN();
   double contradicted_fraction = std::numeric_limits<double>::quiet_NaN();
+  double abandoned_fraction = std::numeric_limits<double>::quiet_NaN();
 };
 struct TrackingHealth {
   enum class State { kNoImage, kTracking, kLost };

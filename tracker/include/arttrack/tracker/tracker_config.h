@@ -88,6 +88,9 @@ struct TrackerConfig {
   // information counts this much, in (0, 1] (1: every explained pixel an
   // independent measurement).
   double image_information_scale = 1.0;
+  // Also scale each image's information by how many independent pixels its
+  // residuals are worth (ImageInformation::effective_pixel_fraction).
+  bool discount_correlated_residuals = false;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = false;
@@ -113,6 +116,9 @@ struct TrackerConfig {
     // A chain takes the search's result when it scores this many nats better
     // (log-likelihood ratio of the image plus log prior of the encoders).
     double accept_margin_nats = 5.0;
+    // Independent searches per acquisition (first image, re-acquisition);
+    // the one the image plus the prior prefer is used.
+    int searches = 3;
   };
   Acquisition acquisition;
   // Health (TrackerEstimate::health): a rendered robot pixel is explained
@@ -124,6 +130,7 @@ struct TrackerConfig {
     double explained_m = 0.01;
     double contradicted_m = 0.02;
     double lost_contradicted_fraction = 0.25;
+    double lost_abandoned_fraction = 0.25;  // ChainHealth::abandoned_fraction
     int lost_after_images = 3;
     int min_pixels = 20;  // fewer rendered pixels with a valid depth: no verdict
   };
