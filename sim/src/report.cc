@@ -635,6 +635,7 @@ body{font-family:"DejaVu Sans",Helvetica,Arial,sans-serif;font-size:14px;color:#
 main{max-width:1200px;margin:0 auto;padding:12px 16px}
 h1{font-size:22px;margin:8px 0}h2{font-size:18px;margin:22px 0 6px;border-bottom:1px solid #ccc}
 p.read{background:#f4f6f8;padding:6px 10px;border-left:3px solid #789}
+p.warn{background:#fff4e5;padding:6px 10px;border-left:3px solid #d80}
 dl.meta{display:grid;grid-template-columns:max-content 1fr;gap:2px 14px;margin:6px 0}
 dl.meta dt{font-weight:bold}dl.meta dd{margin:0}
 .two{display:grid;grid-template-columns:1fr 1fr;gap:10px}
@@ -674,6 +675,12 @@ void header(std::ostringstream& o, const ScenarioResult& r) {
     captured += run.frames_captured, delivered += run.frames_delivered;
   o << "</dd><dt>depth frames</dt><dd>" << captured << " captured, " << delivered
     << " delivered to the trackers (all runs)</dd></dl>\n";
+  if (r.duration_s <= r.scoring.converged_after_s)
+    o << "<p class=\"warn\"><strong>Short run:</strong> it ends at " << fixed(r.duration_s, 1)
+      << "&nbsp;s, before the converged window starts (scoring.converged_after_s = "
+      << fixed(r.scoring.converged_after_s, 1)
+      << "&nbsp;s), so the converged statistics, times to converge and lost runs below are "
+         "empty. Run longer, or set scoring.converged_after_s lower.</p>\n";
   o << "<p class=\"read\">How to read: errors are of the end-effector pose in each method's "
        "<em>estimated</em> camera frame against the true pose in the true camera frame (paper "
        "Sec.&nbsp;V); lower is better. Boxes span the middle half of the samples (p25&ndash;p75), "
@@ -790,7 +797,7 @@ void error_time_section(std::ostringstream& o, const ScenarioResult& r) {
   c.title = std::string("Translation error over time, ") +
             (median ? "median over " + std::to_string(r.runs.size()) + " runs" : "run 0") +
             (r.end_effectors.size() > 1 ? " (worst of " + ees + ")" : " (" + ees + ")");
-  c.x_marks.push_back({r.scoring.converged_after_s, "converged from here"});
+  c.x_marks.push_back({r.scoring.converged_after_s, "converged window from here"});
   c.y_marks.push_back({r.scoring.convergence_threshold_m * kMm, "convergence threshold"});
   o << "<h2>Error over time</h2>\n";
   line_chart(o, c);

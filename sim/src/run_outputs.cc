@@ -245,6 +245,11 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   for (const std::string& e : r.end_effectors) out << ' ' << e;
   const bool several = r.end_effectors.size() > 1;
   if (several) out << " (worst: per sample, the worse end effector)";
+  if (r.duration_s <= r.scoring.converged_after_s)
+    out << "\nwarning: the run ends at " << r.duration_s
+        << " s, before the converged window starts (scoring.converged_after_s = "
+        << r.scoring.converged_after_s
+        << " s): converged statistics, times to converge and lost runs are empty";
   std::ostringstream after, lost_rule;
   after << "from " << r.scoring.converged_after_s << " s on";
   lost_rule << "lost: > " << r.scoring.lost_threshold_m * mm << " mm for > "

@@ -283,6 +283,9 @@ TEST(Report, EmptyConvergedWindowSaysNoSamples) {
   EXPECT_NE(chart(html, "box-translation-converged").find("no samples"), std::string::npos);
   EXPECT_EQ(chart(html, "box-translation-all").find("no samples"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
+  // It says why, at the top, and a run long enough does not.
+  EXPECT_NE(html.find("Short run:"), std::string::npos);
+  EXPECT_EQ(report_html(synthetic_result()).find("Short run:"), std::string::npos);
 }
 
 TEST(Report, EmptyResultGivesAPageSayingSo) {
