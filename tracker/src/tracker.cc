@@ -122,7 +122,8 @@ struct Tracker::Impl {
   double last_acquisition_s = kNoTime;
   int images_seen = 0;
   int poor_images = 0;
-  std::vector<char> chain_poor;  // per chain: poor (ChainHealth thresholds) at the last image
+  int failed_reacquisitions = 0;  // in a row, without a good image between
+  std::vector<char> chain_poor;   // per chain: poor (ChainHealth thresholds) at the last image
   // Per chain: the observed depth where its render was explained at its last
   // good image (0 elsewhere), at the likelihood's resolution (ChainHealth).
   std::vector<std::vector<float>> explained_depth_m;
@@ -475,8 +476,13 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   if (acquisition_on && !first && !reading_at_t.empty()) {
     const bool periodic =
         config.acquisition.period_s > 0 && t - last_acquisition_s >= config.acquisition.period_s;
-    if (periodic || poor_images >= config.health.lost_after_images) {
-      periodic_search = periodic && poor_images < config.health.lost_after_images;
+    // A re-acquisition that did not help (the chain still poor) is retried
+    // after twice as many poor images each time, up to 16 times as many: a
+    // tracker that stays lost (a wrong model, images that do not match the
+    // joints) must not spend every image on searches.
+    const int due = config.health.lost_after_images << std::min(failed_reacquisitions, 4);
+    if (periodic || poor_images >= due) {
+      periodic_search = periodic && poor_images < due;
       reacquire(prior, reading_at_t, camera, image.image, t);
     }
   }
@@ -632,6 +638,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
   health.last_acquisition_ms = ms_since(start);
   last_acquisition_s = time_s;
   poor_images = 0;
+  ++failed_reacquisitions;  // until the health check finds a good image
 }
 
 // The reported covariance after an image at time_s (belief: after its
@@ -813,6 +820,7 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
   health.whole.abandoned_fraction = kept_pixels > 0 ? double(abandoned_pixels) / kept_pixels
                                                     : std::numeric_limits<double>::quiet_NaN();
   poor_images = poor ? poor_images + 1 : 0;
+  if (!poor) failed_reacquisitions = 0;
   health.state = poor_images >= h.lost_after_images ? TrackingHealth::State::kLost
                                                     : TrackingHealth::State::kTracking;
   health.image_stamp_s = stamp_s;
