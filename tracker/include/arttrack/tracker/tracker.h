@@ -22,7 +22,9 @@
 //   over the same image with a coarse-to-fine depth noise (a wide noise gives
 //   a nearly aligned arm credit, so the search has a basin to follow), each
 //   pass proposing around the previous one, the last targeting the filter's
-//   prior exactly (importance-corrected).
+//   prior exactly (importance-corrected). It runs acquisition.searches
+//   times with independent draws; the result the image plus the prior
+//   prefer is kept (one search lands in a wrong mode now and then).
 // - Re-acquisition (augmented MCL). When the health check says lost (and,
 //   if acquisition.period_s > 0, periodically), the prior of every joint
 //   whose bias is estimated is re-opened around the encoder reading with a
@@ -38,7 +40,7 @@
 //   (abandoned: an estimate that left a robot that did not move, e.g. after
 //   an encoder slip, to where nothing contradicts it). A contradicted or
 //   abandoned share above its threshold for a few images is "lost".
-// - Refinement (off by default: docs/accuracy.md). After the particles, one
+// - Refinement (refinement.enabled). After the particles, one
 //   Gauss-Newton step on the depth
 //   residuals with the full prior covariance (DART's local refinement),
 //   taken only if it raises the exact target: it moves the mean along the
@@ -47,7 +49,9 @@
 // - Reported uncertainty. The standard deviations of the biases, angles and
 //   camera offsets are the marginals of a full covariance updated with each
 //   image's Gauss-Newton information (posterior_covariance.h,
-//   image_information.h), not the particle filter's collapsed moments.
+//   image_information.h), not the particle filter's collapsed moments; each
+//   image counts as many independent pixels as its residuals' correlation
+//   and size say it is worth (uncertainty.discount_correlated_residuals).
 // - An optional floor on the moment-matched variance
 //   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //

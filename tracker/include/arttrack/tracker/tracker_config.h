@@ -90,10 +90,10 @@ struct TrackerConfig {
   double image_information_scale = 1.0;
   // Also scale each image's information by how many independent pixels its
   // residuals are worth (ImageInformation::effective_pixel_fraction).
-  bool discount_correlated_residuals = false;
+  bool discount_correlated_residuals = true;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
-  bool refine_mean = false;
+  bool refine_mean = true;
   // A DOF takes part in the step when at least this many explained pixels
   // depend on it.
   int refinement_min_pixels = 30;
