@@ -694,6 +694,63 @@ void header(std::ostringstream& o, const ScenarioResult& r) {
        "the worst error).</p>\n";
 }
 
+// The page's answer first: per method, whether it converged, how fast, how
+// often it was lost, and how often it was worse than encoders only; then the
+// best method among those never lost.
+void verdict_section(std::ostringstream& o, const ScenarioResult& r) {
+  if (r.method_results.empty()) return;
+  o << "<h2>Verdict</h2>\n<table><tr><th class=\"m\">method</th><th>verdict</th>"
+       "<th>converged p50 / p99, mm</th><th>median time to converge</th><th>lost runs</th>"
+       "<th>worse than encoders only</th></tr>\n";
+  const MethodResult* best = nullptr;
+  for (const MethodResult& m : r.method_results) {
+    const MethodSummary& s = m.summary;
+    const Percentiles& c = s.converged.translation_m;
+    std::vector<double> times;
+    std::size_t never = 0;
+    for (const std::optional<double>& t : s.time_to_converge_s) {
+      if (t)
+        times.push_back(*t);
+      else
+        ++never;
+    }
+    std::sort(times.begin(), times.end());
+    const std::size_t lost = s.lost_runs();
+    std::string verdict;
+    if (c.count == 0)
+      verdict = "no converged window";
+    else if (lost > 0)
+      verdict = "<strong>lost</strong> in " + std::to_string(lost) + " of " +
+                std::to_string(s.num_runs) + " runs";
+    else if (never == s.time_to_converge_s.size())
+      verdict = "never converged";
+    else
+      verdict = "tracks";
+    if (c.count > 0 && lost == 0 && (!best || c.p50 < best->summary.converged.translation_m.p50))
+      best = &m;
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td><td>" << verdict
+      << "</td><td>"
+      << (c.count ? fixed(c.p50 * kMm, 1) + " / " + fixed(c.p99 * kMm, 1) : std::string("-"))
+      << "</td><td>"
+      << (times.empty() ? std::string("never")
+                        : fixed(times[times.size() / 2], 1) + "&nbsp;s" +
+                              (never ? " (" + std::to_string(never) + " never)" : ""))
+      << "</td><td>" << lost << " of " << s.num_runs << "</td><td>"
+      << (s.converged.reference.compared
+              ? fixed(100.0 * s.converged.reference.share_worse(), 0) + "% of samples"
+              : std::string("-"))
+      << "</td></tr>\n";
+  }
+  o << "</table>\n<p>";
+  if (best)
+    o << "Best: <strong>" << text::html_escape(best->method)
+      << "</strong> (the lowest converged median among the methods never lost).";
+  else
+    o << "No method was both converged and never lost.";
+  o << " Converged: samples from " << fixed(r.scoring.converged_after_s, 1)
+    << "&nbsp;s on, the worst end effector per sample.</p>\n";
+}
+
 void box_section(std::ostringstream& o, const ScenarioResult& r) {
   o << "<h2>End-effector errors per method</h2>\n";
   struct Quantity {
@@ -1208,6 +1265,7 @@ std::string report_html(const ScenarioResult& r) {
     << "<title>arttrack: " << text::html_escape(r.scenario) << "</title>\n"
     << kStyle << "</head><body><main>\n";
   header(o, r);
+  verdict_section(o, r);
   box_section(o, r);
   error_time_section(o, r);
   health_section(o, r);

@@ -266,7 +266,9 @@ TEST(Report, ShowsTheSummaryNumbers) {
   // full_fusion converges when its error drops below 10 mm: 0.2 + 40 exp(-t) < 10 for t > 1.41 s,
   // the first sample after is at 1.5 s; the others never converge.
   EXPECT_NE(html.find("<td>1.5</td>"), std::string::npos);
-  EXPECT_EQ(count(html, "<td>never</td>"), 2u);
+  // In the summary table (the verdict at the top says "never" for them too).
+  EXPECT_EQ(count(html.substr(html.find("<h2>End-effector errors")), "<td>never</td>"), 2u);
+  EXPECT_EQ(count(html, "<td>never</td>"), 4u);
   // The JSON itself, folded in.
   EXPECT_NE(html.find(summary_json(r)), std::string::npos);
   // Header facts.
@@ -286,6 +288,21 @@ TEST(Report, EmptyConvergedWindowSaysNoSamples) {
   // It says why, at the top, and a run long enough does not.
   EXPECT_NE(html.find("Short run:"), std::string::npos);
   EXPECT_EQ(report_html(synthetic_result()).find("Short run:"), std::string::npos);
+}
+
+// The page opens with its answer: a verdict row per method and the best
+// method among those never lost.
+TEST(Report, OpensWithAVerdictPerMethod) {
+  const ScenarioResult r = synthetic_result();
+  const std::string html = report_html(r);
+  const std::size_t verdict = html.find("<h2>Verdict</h2>");
+  ASSERT_NE(verdict, std::string::npos);
+  EXPECT_LT(verdict, html.find("<h2>End-effector errors per method</h2>"));
+  const std::string table = html.substr(verdict, html.find("</table>", verdict) - verdict);
+  for (const MethodResult& m : r.method_results)
+    EXPECT_NE(table.find(">" + m.method + "<"), std::string::npos) << m.method;
+  EXPECT_NE(html.find("Best: <strong>", verdict), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
 }
 
 TEST(Report, EmptyResultGivesAPageSayingSo) {
