@@ -706,15 +706,9 @@ void verdict_section(std::ostringstream& o, const ScenarioResult& r) {
   for (const MethodResult& m : r.method_results) {
     const MethodSummary& s = m.summary;
     const Percentiles& c = s.converged.translation_m;
-    std::vector<double> times;
-    std::size_t never = 0;
-    for (const std::optional<double>& t : s.time_to_converge_s) {
-      if (t)
-        times.push_back(*t);
-      else
-        ++never;
-    }
-    std::sort(times.begin(), times.end());
+    const double convergence_s = median_convergence_s(s);  // as in the tables below
+    const auto never = std::size_t(
+        std::count(s.time_to_converge_s.begin(), s.time_to_converge_s.end(), std::nullopt));
     const std::size_t lost = s.lost_runs();
     std::string verdict;
     if (c.count == 0)
@@ -732,9 +726,9 @@ void verdict_section(std::ostringstream& o, const ScenarioResult& r) {
       << "</td><td>"
       << (c.count ? fixed(c.p50 * kMm, 1) + " / " + fixed(c.p99 * kMm, 1) : std::string("-"))
       << "</td><td>"
-      << (times.empty() ? std::string("never")
-                        : fixed(times[times.size() / 2], 1) + "&nbsp;s" +
-                              (never ? " (" + std::to_string(never) + " never)" : ""))
+      << (std::isfinite(convergence_s) ? fixed(convergence_s, 1) + "&nbsp;s" +
+                                             (never ? " (" + std::to_string(never) + " never)" : "")
+                                       : std::string("never"))
       << "</td><td>" << lost << " of " << s.num_runs << "</td><td>"
       << (s.converged.reference.compared
               ? fixed(100.0 * s.converged.reference.share_worse(), 0) + "% of samples"

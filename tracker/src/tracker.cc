@@ -53,6 +53,12 @@ void load_belief(std::span<const double> in, JointBelief& b) {
   std::copy(in.begin() + 4 * n, in.begin() + 5 * n, b.var_b.begin());
 }
 
+// log N(x; mean, sd^2) up to its constant: a prior's term in a search's target.
+double gaussian_log_kernel(double x, double mean, double sd) {
+  const double u = (x - mean) / sd;
+  return -0.5 * u * u;
+}
+
 struct PendingImage {
   double stamp_s;
   double apply_time_s;  // stamp minus the camera delay
@@ -115,7 +121,7 @@ struct Tracker::Impl {
   std::unique_ptr<HypothesisEvaluator> search_evaluator;
   std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
   std::vector<double> search_mean, search_std, open_mean, open_std, candidate;
-  std::vector<double> found_mean, found_variance;  // re-acquisition's best search
+  std::vector<double> found_mean, found_variance;  // acquire()'s best search
   std::vector<double> reading_at_t;      // encoder readings at the image's time (DOF order)
   std::vector<std::vector<int>> chains;  // physical DOFs per kinematic chain
   std::vector<LinkSet> chain_links;
@@ -559,11 +565,9 @@ void Tracker::Impl::acquire(std::span<const double> mean, std::span<const double
              *pool);
     const std::span<const double> found = cpf->mean();
     double target = score(found);
-    for (int j = 0; j < n; ++j) {
-      if (!(stddev[j] > 0)) continue;
-      const double u = (found[j] - mean[j]) / stddev[j];
-      target -= 0.5 * u * u;
-    }
+    for (int j = 0; j < n; ++j)
+      if (stddev[j] > 0) target += gaussian_log_kernel(found[j], mean[j], stddev[j]);
+    // The first search always fills found_* (even if its target is NaN).
     if (!(target > best_target) && attempt > 0) continue;
     best_target = target;
     std::copy(found.begin(), found.end(), found_mean.begin());
@@ -597,8 +601,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     open_std[j] = std::sqrt(open ? var_b + var_q[j] : std::max(0.0, belief.var_a[j]));
   }
   auto log_prior = [&](int j, double a) {
-    const double u = (a - open_mean[j]) / open_std[j];
-    return -0.5 * u * u;
+    return gaussian_log_kernel(a, open_mean[j], open_std[j]);
   };
   acquire(open_mean, open_std, camera, observed);
   const std::vector<double>& found = found_mean;
@@ -767,13 +770,17 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
   for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
   forward_kinematics(*render_model, check_q, check_kinematics);
   const float max_range = float(config.depth_model.max_range_m);
+  // A rendered depth r explains an observed z within explained_m.
+  auto explains = [&](float r, float z) {
+    return r > 0 && z > 0 && std::abs(z - r) <= h.explained_m;
+  };
   auto assess = [&](ChainHealth& out) {
     int rendered = 0, explained = 0, contradicted = 0;
     for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
       const float r = check_image.depth_m[i], z = observed.depth_m[i];
       if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
       ++rendered;
-      if (std::abs(z - r) <= h.explained_m) ++explained;
+      if (explains(r, z)) ++explained;
       if (z > r + h.contradicted_m) ++contradicted;
     }
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -798,8 +805,8 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
       if (!(kept[i] > 0)) continue;
       ++kept_count;
       const float z = observed.depth_m[i], r = check_image.depth_m[i];
-      if (!(z > 0) || std::abs(z - kept[i]) > h.explained_m) continue;  // the scene moved
-      if (!(r > 0) || std::abs(z - r) > h.explained_m) ++abandoned;
+      if (!explains(kept[i], z)) continue;  // the scene moved
+      if (!explains(r, z)) ++abandoned;
     }
     chain.abandoned_fraction = kept_count >= h.min_pixels
                                    ? double(abandoned) / kept_count
@@ -814,7 +821,7 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
     if (chain_poor[c]) continue;  // keep the evidence of its last good image
     for (std::size_t i = 0; i < kept.size(); ++i) {
       const float r = check_image.depth_m[i], z = observed.depth_m[i];
-      kept[i] = r > 0 && z > 0 && z <= max_range && std::abs(z - r) <= h.explained_m ? z : 0.0f;
+      kept[i] = z <= max_range && explains(r, z) ? z : 0.0f;
     }
   }
   health.whole.abandoned_fraction = kept_pixels > 0 ? double(abandoned_pixels) / kept_pixels
