@@ -101,6 +101,15 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
   EXPECT_NE(tracker_config_error("joints: {per_joint: {elbow: {noise: 1}}}\n")
                 .find("joints.per_joint.elbow.noise"),
             std::string::npos);
+  // The keys of the abandoned-pixel check, the searches and the discount.
+  for (const auto& [yaml, key] :
+       {std::pair{"acquisition: {searches: 0}\n", "acquisition.searches"},
+        {"acquisition: {searches: 101}\n", "acquisition.searches"},
+        {"health: {lost_abandoned_fraction: 1.5}\n", "health.lost_abandoned_fraction"},
+        {"health: {lost_abandoned_fraction: -0.1}\n", "health.lost_abandoned_fraction"},
+        {"uncertainty: {discount_correlated_residuals: often}\n",
+         "uncertainty.discount_correlated_residuals"}})
+    EXPECT_NE(tracker_config_error(yaml).find(key), std::string::npos) << yaml;
 }
 
 TEST(TrackerConfigTest, ThreadsHaveTheWorkerPoolsBound) {
