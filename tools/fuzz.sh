@@ -55,7 +55,8 @@ ds=$dir/seed_dataset
 rm -rf "$ds"
 "$dir/arttrack" export scenarios/default.yaml --set duration_s=0.1 --set camera.width=32 \
   --set camera.height=24 --set joint_rate_hz=100 --out "$ds" >/dev/null
-png=$(ls "$ds"/depth/*.png | head -1)
+pngs=("$ds"/depth/*.png)  # no `ls | head` under pipefail (SIGPIPE)
+png=${pngs[0]}
 {
   for f in camera.yaml joints.csv ground_truth.csv; do cat "$ds/$f"; printf '\n@@@\n'; done
   printf 'stamp_s,arrival_s,file\n0,0,a.png\n\n@@@\n'

@@ -60,8 +60,12 @@ for kind in shared static; do
   cmake --build "$tmp/example-$kind" > "$tmp/example.log" 2>&1 ||
     { cat "$tmp/example.log" >&2; fail "examples/ ($kind) does not build"; }
   if [ "$kind" = shared ]; then
-    ldd "$tmp/example-$kind/track_arm" | grep -q "$libdir/libarttrack_tracker.so" ||
-      fail "the shared example does not use $libdir/libarttrack_tracker.so"
+    # ldd's output is kept first: `ldd | grep -q` under pipefail fails at
+    # random when grep exits early and ldd dies of SIGPIPE.
+    deps=$(ldd "$tmp/example-$kind/track_arm")
+    used=$(awk '/libarttrack_tracker\.so/ { print $3 }' <<< "$deps")
+    [ -n "$used" ] && [ "$used" -ef "$libdir/libarttrack_tracker.so" ] ||
+      fail "the shared example does not use $libdir/libarttrack_tracker.so; ldd says: $deps"
   fi
   echo "== track_arm ($kind)"
   "$tmp/example-$kind/track_arm" || fail "track_arm ($kind) failed"
