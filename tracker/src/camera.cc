@@ -57,18 +57,45 @@ CameraIntrinsics CameraIntrinsics::scaled_to(int new_width, int new_height) cons
   return k;
 }
 
+namespace {
+
+// The source pixel subsample_depth() keeps for target pixel i: the one under
+// the target pixel's centre.
+int subsample_source_index(int i, int new_size, int size) {
+  return std::min(size - 1, int((i + 0.5) * size / new_size));
+}
+
+// Mean over the target pixels of (kept source pixel's centre - target
+// pixel's centre), in source pixels.
+double mean_subsample_shift(int new_size, int size) {
+  double sum = 0;
+  for (int i = 0; i < new_size; ++i)
+    sum += (subsample_source_index(i, new_size, size) + 0.5) - (i + 0.5) * size / new_size;
+  return sum / new_size;
+}
+
+}  // namespace
+
 DepthImage subsample_depth(const DepthImage& image, int new_width, int new_height) {
   ARTTRACK_CHECK_ARGUMENT(new_width > 0 && new_height > 0);
   DepthImage out(new_width, new_height);
   for (int v = 0; v < new_height; ++v) {
-    // Source pixel whose centre is nearest the target pixel's centre.
-    const int sv = std::min(image.height - 1, int((v + 0.5) * image.height / new_height));
-    for (int u = 0; u < new_width; ++u) {
-      const int su = std::min(image.width - 1, int((u + 0.5) * image.width / new_width));
-      out.at(u, v) = image.at(su, sv);
-    }
+    const int sv = subsample_source_index(v, new_height, image.height);
+    for (int u = 0; u < new_width; ++u)
+      out.at(u, v) = image.at(subsample_source_index(u, new_width, image.width), sv);
   }
   return out;
+}
+
+CameraIntrinsics subsampled_intrinsics(const CameraIntrinsics& source, int new_width,
+                                       int new_height) {
+  CameraIntrinsics k = source.scaled_to(new_width, new_height);
+  if (new_width == source.width && new_height == source.height) return k;
+  // A point at source x = fx X / Z + cx is seen by the target pixel whose
+  // kept source pixel is centred there: target x = (x - shift) / scale.
+  k.cx -= mean_subsample_shift(new_width, source.width) * new_width / source.width;
+  k.cy -= mean_subsample_shift(new_height, source.height) * new_height / source.height;
+  return k;
 }
 
 }  // namespace arttrack

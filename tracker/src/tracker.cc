@@ -454,7 +454,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     }
   }
   if (config.asynchronous) lock.unlock();
-  const CameraIntrinsics camera = image.camera.scaled_to(likelihood.width(), likelihood.height());
+  const CameraIntrinsics camera =
+      subsampled_intrinsics(image.camera, likelihood.width(), likelihood.height());
   likelihood.set_observation(image.image);
   if (!check_renderer || check_camera.width != camera.width ||
       check_camera.height != camera.height || check_camera.fx != camera.fx ||

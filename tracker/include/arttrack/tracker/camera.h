@@ -78,7 +78,20 @@ struct DepthImage {
 };
 
 // Subsamples by taking the centre pixel of each block (no averaging across
-// depth edges, which would invent depths that are on no surface).
+// depth edges, which would invent depths that are on no surface): target
+// pixel u is source pixel floor((u + 0.5) W / w), clamped.
 DepthImage subsample_depth(const DepthImage& image, int new_width, int new_height);
+
+// The intrinsics of the image subsample_depth() returns, for a source image
+// with intrinsics `source`. Not scaled_to(): the source pixel a block keeps
+// has its centre up to half a source pixel from the block's centre (exactly
+// half, always the same way, when the factor is even), so the subsampled
+// pixels look along rays shifted by that much. The principal point takes the
+// mean shift over the image: a render with scaled_to()'s intrinsics sits a
+// quarter pixel off an image subsampled 2:1, which cost the true
+// configuration 1,350 nats against one with the camera rolled by a degree
+// and both shoulders turned back (docs/accuracy.md, "Consistency").
+CameraIntrinsics subsampled_intrinsics(const CameraIntrinsics& source, int new_width,
+                                       int new_height);
 
 }  // namespace arttrack

@@ -49,7 +49,8 @@ TriangleMesh make_box(const Eigen::Vector3d& size_m);
 TriangleMesh make_cylinder(double radius_m, double length_m, int segments);
 
 // A UV sphere centred at the origin: `segments` meridians and segments / 2
-// latitude bands, enlarged like the cylinder so its silhouette is unbiased.
+// latitude bands, enlarged until it holds the sphere's volume, so that its
+// surface, and the depth rendered from it, is the sphere's on average.
 TriangleMesh make_sphere(double radius_m, int segments);
 
 }  // namespace arttrack
