@@ -81,13 +81,13 @@ struct TrackerConfig {
     std::vector<std::string> joints;
   };
   std::vector<Block> blocks;
-  // Exponent beta in (0, 1] on the image likelihood in the particle filter
+  // Exponent beta in [1e-3, 1] on the image likelihood in the particle filter
   // (CoordinateParticleFilter::run): 1 counts every pixel as an independent
   // measurement; neighbouring pixels share model and calibration errors, so
   // fewer than that is honest.
   double likelihood_exponent = 1.0;
   // The reported uncertainty (posterior_covariance.h): an image's
-  // information counts this much, in (0, 1] (1: every explained pixel an
+  // information counts this much, in [1e-6, 1] (1: every explained pixel an
   // independent measurement).
   double image_information_scale = 1.0;
   // Also scale each image's information by how many independent pixels its
