@@ -1,6 +1,8 @@
 #include "arttrack/tracker/tracker_config.h"
 
+#include <initializer_list>
 #include <string>
+#include <variant>
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
@@ -11,17 +13,32 @@ namespace {
 
 constexpr double kDeg = kDegree;
 
+// A number of a section by its key: a whole number for an int field; `unit`:
+// one unit of the key in the field's units (kDeg for a _deg key held in rad).
+struct NumberKey {
+  const char* key;
+  std::variant<double*, int*> field;
+  double unit = 1.0;
+};
+
+// Reads the keys given (the others keep their fields' values); the ranges
+// are validate's.
+void read_numbers(const ConfigNode& node, std::initializer_list<NumberKey> keys) {
+  for (const NumberKey& k : keys) {
+    if (double* const* d = std::get_if<double*>(&k.field))
+      **d = node.number(k.key, **d / k.unit) * k.unit;
+    else
+      *std::get<int*>(k.field) = node.whole_number(k.key, *std::get<int*>(k.field));
+  }
+}
+
 // Joint filter keys; `base` supplies the values of keys not given.
 JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base) {
   JointFilterParams p = base;
-  p.encoder_noise_rad = node.number("encoder_noise_deg", base.encoder_noise_rad / kDeg) * kDeg;
-  p.angle_diffusion_rad_per_sqrt_s =
-      node.number("angle_diffusion_deg_per_sqrt_s", base.angle_diffusion_rad_per_sqrt_s / kDeg) *
-      kDeg;
-  p.bias_diffusion_rad_per_sqrt_s =
-      node.number("bias_diffusion_deg_per_sqrt_s", base.bias_diffusion_rad_per_sqrt_s / kDeg) *
-      kDeg;
-  p.bias_decay_per_s = node.number("bias_decay_per_s", base.bias_decay_per_s);
+  read_numbers(node, {{"encoder_noise_deg", &p.encoder_noise_rad, kDeg},
+                      {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kDeg},
+                      {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kDeg},
+                      {"bias_decay_per_s", &p.bias_decay_per_s}});
   p.estimate_bias = node.get<bool>("estimate_bias", base.estimate_bias);
   return p;
 }
@@ -152,25 +169,16 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   for (const std::string& name : per_joint.keys())
     c.joint_overrides[name] = read_joint_params(per_joint.child(name), c.joint_defaults);
 
-  const ConfigNode cam = root.child("camera_offset");
-  c.camera_translation.diffusion_per_sqrt_s =
-      cam.number("translation_diffusion_m_per_sqrt_s", c.camera_translation.diffusion_per_sqrt_s);
-  c.camera_translation.initial_std =
-      cam.number("translation_initial_std_m", c.camera_translation.initial_std);
-  c.camera_rotation.diffusion_per_sqrt_s =
-      cam.number("rotation_diffusion_deg_per_sqrt_s",
-                 c.camera_rotation.diffusion_per_sqrt_s / kDeg) *
-      kDeg;
-  c.camera_rotation.initial_std =
-      cam.number("rotation_initial_std_deg", c.camera_rotation.initial_std / kDeg) * kDeg;
-
-  const ConfigNode vision = root.child("vision_only");
-  c.vision_only_angle_diffusion_rad_per_sqrt_s =
-      vision.number("angle_diffusion_deg_per_sqrt_s",
-                    c.vision_only_angle_diffusion_rad_per_sqrt_s / kDeg) *
-      kDeg;
-  c.vision_only_initial_std_rad =
-      vision.number("initial_std_deg", c.vision_only_initial_std_rad / kDeg) * kDeg;
+  read_numbers(
+      root.child("camera_offset"),
+      {{"translation_diffusion_m_per_sqrt_s", &c.camera_translation.diffusion_per_sqrt_s},
+       {"translation_initial_std_m", &c.camera_translation.initial_std},
+       {"rotation_diffusion_deg_per_sqrt_s", &c.camera_rotation.diffusion_per_sqrt_s, kDeg},
+       {"rotation_initial_std_deg", &c.camera_rotation.initial_std, kDeg}});
+  read_numbers(
+      root.child("vision_only"),
+      {{"angle_diffusion_deg_per_sqrt_s", &c.vision_only_angle_diffusion_rad_per_sqrt_s, kDeg},
+       {"initial_std_deg", &c.vision_only_initial_std_rad, kDeg}});
 
   const ConfigNode dm = root.child("depth_model");
   DepthModelParams& d = c.depth_model;
@@ -180,74 +188,63 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                 {"independent", "truncated"}) == "truncated"
           ? OccluderModel::kTruncated
           : OccluderModel::kIndependent;
-  d.outlier_weight = dm.number("outlier_weight", d.outlier_weight);
-  d.noise_std_m = dm.number("noise_std_m", d.noise_std_m);
-  d.noise_quadratic_per_m = dm.number("noise_quadratic_per_m", d.noise_quadratic_per_m);
-  d.max_range_m = dm.number("max_range_m", d.max_range_m);
-  d.occluder_decay_per_m = dm.number("occluder_decay_per_m", d.occluder_decay_per_m);
-  d.occlusion_prior = dm.number("occlusion_prior", d.occlusion_prior);
-  d.width = dm.whole_number("width", d.width);
-  d.height = dm.whole_number("height", d.height);
-
-  const ConfigNode render = root.child("render");
-  c.render_cylinder_segments = render.whole_number("cylinder_segments", c.render_cylinder_segments);
-  c.render_sphere_segments = render.whole_number("sphere_segments", c.render_sphere_segments);
+  read_numbers(dm, {{"outlier_weight", &d.outlier_weight},
+                    {"noise_std_m", &d.noise_std_m},
+                    {"noise_quadratic_per_m", &d.noise_quadratic_per_m},
+                    {"max_range_m", &d.max_range_m},
+                    {"occluder_decay_per_m", &d.occluder_decay_per_m},
+                    {"occlusion_prior", &d.occlusion_prior},
+                    {"width", &d.width},
+                    {"height", &d.height}});
+  read_numbers(root.child("render"), {{"cylinder_segments", &c.render_cylinder_segments},
+                                      {"sphere_segments", &c.render_sphere_segments}});
 
   const ConfigNode pf = root.child("particle_filter");
-  c.particle_filter.num_particles = pf.whole_number("particles", c.particle_filter.num_particles);
-  c.particle_filter.max_kl_divergence =
-      pf.number("max_kl_divergence", c.particle_filter.max_kl_divergence);
-  c.particle_filter.proposal_scale = pf.number("proposal_scale", c.particle_filter.proposal_scale);
-  c.particle_filter.bandwidth_factor =
-      pf.number("bandwidth_factor", c.particle_filter.bandwidth_factor);
-  c.likelihood_exponent = pf.number("likelihood_exponent", c.likelihood_exponent);
+  read_numbers(pf, {{"particles", &c.particle_filter.num_particles},
+                    {"max_kl_divergence", &c.particle_filter.max_kl_divergence},
+                    {"proposal_scale", &c.particle_filter.proposal_scale},
+                    {"bandwidth_factor", &c.particle_filter.bandwidth_factor},
+                    {"likelihood_exponent", &c.likelihood_exponent},
+                    {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);
-  c.threads = pf.whole_number("threads", c.threads);
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
   }
 
   const ConfigNode uncertainty = root.child("uncertainty");
-  c.image_information_scale =
-      uncertainty.number("image_information_scale", c.image_information_scale);
+  read_numbers(uncertainty, {{"image_information_scale", &c.image_information_scale}});
   c.discount_correlated_residuals =
       uncertainty.get<bool>("discount_correlated_residuals", c.discount_correlated_residuals);
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
-  c.refinement_min_pixels = refinement.whole_number("min_pixels", c.refinement_min_pixels);
+  read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels}});
 
-  const ConfigNode acq = root.child("acquisition");
   TrackerConfig::Acquisition& a = c.acquisition;
-  a.passes = acq.whole_number("passes", a.passes);
-  a.coarse_noise_std_m = acq.number("coarse_noise_std_m", a.coarse_noise_std_m);
-  a.proposal_shrink = acq.number("proposal_shrink", a.proposal_shrink);
-  a.period_s = acq.number("period_s", a.period_s);
-  a.bias_std_rad = acq.number("bias_std_deg", a.bias_std_rad / kDeg) * kDeg;
-  a.accept_margin_nats = acq.number("accept_margin_nats", a.accept_margin_nats);
-  a.searches = acq.whole_number("searches", a.searches);
-
-  const ConfigNode health = root.child("health");
+  read_numbers(root.child("acquisition"), {{"passes", &a.passes},
+                                           {"coarse_noise_std_m", &a.coarse_noise_std_m},
+                                           {"proposal_shrink", &a.proposal_shrink},
+                                           {"period_s", &a.period_s},
+                                           {"bias_std_deg", &a.bias_std_rad, kDeg},
+                                           {"accept_margin_nats", &a.accept_margin_nats},
+                                           {"searches", &a.searches}});
   TrackerConfig::Health& h = c.health;
-  h.explained_m = health.number("explained_m", h.explained_m);
-  h.contradicted_m = health.number("contradicted_m", h.contradicted_m);
-  h.lost_contradicted_fraction =
-      health.number("lost_contradicted_fraction", h.lost_contradicted_fraction);
-  h.lost_abandoned_fraction = health.number("lost_abandoned_fraction", h.lost_abandoned_fraction);
-  h.lost_after_images = health.whole_number("lost_after_images", h.lost_after_images);
-  h.min_pixels = health.whole_number("min_pixels", h.min_pixels);
+  read_numbers(root.child("health"), {{"explained_m", &h.explained_m},
+                                      {"contradicted_m", &h.contradicted_m},
+                                      {"lost_contradicted_fraction", &h.lost_contradicted_fraction},
+                                      {"lost_abandoned_fraction", &h.lost_abandoned_fraction},
+                                      {"lost_after_images", &h.lost_after_images},
+                                      {"min_pixels", &h.min_pixels}});
 
   const ConfigNode timing = root.child("timing");
-  c.camera_delay_s = timing.number("camera_delay_s", c.camera_delay_s);
-  c.buffer_capacity = timing.whole_number("buffer_capacity", c.buffer_capacity);
-  c.max_pending_images = timing.whole_number("max_pending_images", c.max_pending_images);
+  read_numbers(timing, {{"camera_delay_s", &c.camera_delay_s},
+                        {"buffer_capacity", &c.buffer_capacity},
+                        {"max_pending_images", &c.max_pending_images}});
   c.asynchronous = timing.get<bool>("asynchronous", c.asynchronous);
 
-  const ConfigNode checks = root.child("input_checks");
-  c.joint_limit_margin_rad =
-      checks.number("joint_limit_margin_deg", c.joint_limit_margin_rad / kDeg) * kDeg;
-  c.max_image_clock_offset_s =
-      checks.number("max_image_clock_offset_s", c.max_image_clock_offset_s);
+  read_numbers(root.child("input_checks"),
+               {{"joint_limit_margin_deg", &c.joint_limit_margin_rad, kDeg},
+                {"max_image_clock_offset_s", &c.max_image_clock_offset_s}});
 
   root.finish();
   c.validate(doc.file);
