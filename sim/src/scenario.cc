@@ -502,11 +502,20 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocumen
   }
   try {
     s.tracker = tracker_config_from_yaml(doc);
-  } catch (const InputError& e) {
-    if (over.keys().empty() && s.scene.tracker_overrides.empty()) throw;
-    root.fail("tracker_overrides", std::string("(or the scene's robot.tracker_overrides) give a "
-                                               "bad tracker configuration: ") +
-                                       e.what());
+  } catch (const ConfigKeyError& e) {
+    if (resolved) throw;
+    // Name where the bad key was set: the scenario's tracker_overrides win
+    // over the scene's, which win over the tracker file (which the error
+    // names already).
+    const auto sets = [&](const std::string& key) {
+      return e.key() == key || e.key().starts_with(key + ".") || e.key().starts_with(key + "[");
+    };
+    for (const std::string& key : over.keys())
+      if (sets(key)) root.fail("tracker_overrides." + e.key(), e.problem());
+    for (const auto& [key, value] : s.scene.tracker_overrides)
+      if (sets(key))
+        throw ConfigKeyError(s.scene.source, "robot.tracker_overrides." + e.key(), e.problem());
+    throw;
   }
   // The tracker's nominal camera is the simulated camera's link.
   s.tracker.camera_frame = s.scene.camera_link;

@@ -327,10 +327,16 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
                {"scoring.lost_after_s=-1"});
   expect_error(f, {f.string(), "'scoring.lost_after_s'", "number"}, {"scoring.lost_after_s=long"});
   expect_error(f, {"'scene'"}, {"scene=missing.yaml"});
-  expect_error(f, {f.string(), "'tracker_overrides'", "particle_filter.particles"},
+  expect_error(f,
+               {f.string(), "key 'tracker_overrides.particle_filter.particles' must be a number"},
                {"tracker_overrides={particle_filter.particles: {a: 1}}"});
-  expect_error(f, {"'tracker_overrides'", "particles"},
+  expect_error(f,
+               {f.string(),
+                "key 'tracker_overrides.particle_filter.particles' = 0 is out of range "
+                "[1, 1000000]"},
                {"tracker_overrides={particle_filter.particles: 0}"});
+  expect_error(f, {f.string(), "key 'tracker_overrides.joints.per_joint.a.bias_decay_per_s' = 2"},
+               {"tracker_overrides={joints.per_joint.a: {bias_decay_per_s: 2}}"});
   expect_error(f, {"'tracker_overrides.particle_filter.particles'", "not a map"},
                {"tracker_overrides={particle_filter: 3, particle_filter.particles: 1}"});
 }
@@ -388,8 +394,20 @@ TEST(Scenario, SceneGroupsAndTrackerOverrides) {
   dir.write("bad_scene.yaml", scene.substr(0, over) +
                                   "  tracker_overrides: {particle_filter.particles: 0}\n" +
                                   scene.substr(scene.find("camera:")));
-  expect_error(dir.write("b.yaml", "scene: bad_scene.yaml\n"),
-               {"'tracker_overrides'", "robot.tracker_overrides", "particles"});
+  expect_error(
+      dir.write("b.yaml", "scene: bad_scene.yaml\n"),
+      {"bad_scene.yaml: key 'robot.tracker_overrides.particle_filter.particles' = 0 is out "
+       "of range"});
+  // A bad tracker file is named as such, though the scene has tracker_overrides.
+  const fs::path tracker = dir.write("t.yaml", "depth_model: {max_range_m: 200}\n");
+  try {
+    load_scenario(dir.write("d.yaml", "scene: scene.yaml\ntracker: t.yaml\n"));
+    ADD_FAILURE() << "no error for a bad tracker file";
+  } catch (const InputError& e) {
+    EXPECT_EQ(
+        std::string(e.what()),
+        tracker.string() + ": key 'depth_model.max_range_m' = 200 is out of range [0.1, 100]");
+  }
   // A group the scene does not declare: the error lists those it does.
   expect_error(dir.write("c.yaml", "scene: scene.yaml\nencoders: [{joints: [legs]}]\n"),
                {"'encoders[0].joints'", "legs", "all, arms, head, left_arm, right_arm"});

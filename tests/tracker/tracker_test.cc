@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -195,6 +196,26 @@ TEST(TrackerTest, BadInputIsAnErrorNamingTheItem) {
       std::string::npos);
 }
 
+// A configuration built in code is validated before anything is built from
+// it: the error names the YAML key, whichever part of the tracker would have
+// tripped over the value later (the likelihood, the joint filters).
+TEST(TrackerTest, ConstructorValidatesTheConfigurationFirst) {
+  auto model = arm_model();
+  for (const auto& [change, key] :
+       std::vector<std::pair<std::function<void(TrackerConfig&)>, std::string>>{
+           {[](TrackerConfig& c) { c.depth_model.max_range_m = 0; }, "depth_model.max_range_m"},
+           {[](TrackerConfig& c) { c.joint_overrides["elbow"].bias_decay_per_s = 1; },
+            "joints.per_joint.elbow.bias_decay_per_s"},
+           {[](TrackerConfig& c) { c.camera_rotation.initial_std = 0; },
+            "camera_offset.rotation_initial_std_deg"}}) {
+    TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+    c.source = "my config";
+    change(c);
+    const std::string e = error_of([&] { Tracker(model, c, {"shoulder", "elbow"}); });
+    EXPECT_NE(e.find("my config: key '" + key + "' = "), std::string::npos) << e;
+  }
+}
+
 // A reading far outside its joint's limits (limits +-2 rad, margin 30
 // degrees) or not finite is dropped and counted, and leaves the estimate as
 // it was; so does an image stamped far from the joint clock or not finite.
@@ -234,7 +255,7 @@ TEST(TrackerTest, BrokenReadingsAreDroppedAndCounted) {
 TEST(TrackerTest, InputChecksDoNotChangeValidInput) {
   auto model = arm_model();
   TrackerConfig loose = small_config(TrackingMethod::kFullFusion);
-  loose.joint_limit_margin_rad = 1e6;
+  loose.joint_limit_margin_rad = 3600 * kDeg;  // the largest margin: ten turns
   loose.max_image_clock_offset_s = 1e6;
   Tracker checked(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
   Tracker unchecked(model, loose, {"shoulder", "elbow"});

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "arttrack/tracker/error.h"
+#include "config_range.h"
 
 namespace arttrack {
 
@@ -133,30 +134,22 @@ double kl_divergence_from_uniform(std::span<const double> weights) {
 
 // ------------------------------------------------------------------- filter
 
+void CoordinateParticleFilterParams::validate(std::string_view source,
+                                              const std::string& prefix) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  check_range(source, prefix + "particles", num_particles, ConfigRange::closed(1, 1e6));
+  check_range(source, prefix + "max_kl_divergence", max_kl_divergence,
+              ConfigRange::closed(0, kInf));
+  check_range(source, prefix + "proposal_scale", proposal_scale, ConfigRange::closed(1e-6, 1e6));
+  check_range(source, prefix + "no_evidence_nats", no_evidence_nats, ConfigRange::closed(0, kInf));
+  check_range(source, prefix + "bandwidth_factor", bandwidth_factor, ConfigRange::closed(0, 10));
+}
+
 CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<SamplingBlock> blocks,
                                                    const CoordinateParticleFilterParams& params)
     : dimension_(dimension), blocks_(std::move(blocks)), params_(params) {
   if (dimension_ <= 0) throw InputError("particle filter: dimension must be positive");
-  if (params_.num_particles < 1) {
-    throw InputError("particle filter: num_particles = " + std::to_string(params_.num_particles) +
-                     " must be at least 1");
-  }
-  if (!(params_.max_kl_divergence >= 0)) {
-    throw InputError("particle filter: max_kl_divergence = " +
-                     std::to_string(params_.max_kl_divergence) + " must be >= 0");
-  }
-  if (!(params_.proposal_scale > 0) || !std::isfinite(params_.proposal_scale)) {
-    throw InputError("particle filter: proposal_scale = " + std::to_string(params_.proposal_scale) +
-                     " must be positive");
-  }
-  if (!(params_.bandwidth_factor >= 0) || !std::isfinite(params_.bandwidth_factor)) {
-    throw InputError("particle filter: bandwidth_factor = " +
-                     std::to_string(params_.bandwidth_factor) + " must be >= 0");
-  }
-  if (!(params_.no_evidence_nats >= 0)) {
-    throw InputError("particle filter: no_evidence_nats = " +
-                     std::to_string(params_.no_evidence_nats) + " must be >= 0");
-  }
+  params_.validate("particle filter");
   if (blocks_.empty()) throw InputError("particle filter: no sampling blocks");
   sampled_.assign(dimension_, false);
   for (const SamplingBlock& b : blocks_) {

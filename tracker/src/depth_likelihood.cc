@@ -8,6 +8,7 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/fast_math.h"
+#include "config_range.h"
 
 namespace arttrack {
 namespace {
@@ -47,31 +48,27 @@ double log_weight(double x) { return x > 0 ? std::log(x) : kNegInf; }
 
 }  // namespace
 
-void DepthModelParams::validate(std::string_view context) const {
-  auto fail = [&](const char* field, double value, const char* range) {
-    throw InputError(std::string(context) + ": " + field + " = " + std::to_string(value) +
-                     " must be " + range);
-  };
-  if (!(outlier_weight >= 1e-9 && outlier_weight <= 1))
-    fail("outlier_weight", outlier_weight, "in [1e-9, 1]");
-  if (!(noise_std_m >= 1e-6 && noise_std_m <= 1)) fail("noise_std_m", noise_std_m, "in [1e-6, 1]");
-  if (!(noise_quadratic_per_m >= 0 && noise_quadratic_per_m <= 1))
-    fail("noise_quadratic_per_m", noise_quadratic_per_m, "in [0, 1]");
-  if (!(max_range_m > 0 && max_range_m <= 1000)) fail("max_range_m", max_range_m, "in (0, 1000]");
-  if (!(occluder_decay_per_m >= 1e-3 && occluder_decay_per_m <= 100))
-    fail("occluder_decay_per_m", occluder_decay_per_m, "in [1e-3, 100]");
-  if (!(occlusion_prior >= 0 && occlusion_prior <= 1))
-    fail("occlusion_prior", occlusion_prior, "in [0, 1]");
-  if (width <= 0 || height <= 0 || width > 10000 || height > 10000)
-    fail("width/height", width, "positive (and at most 10000)");
+void DepthModelParams::validate(std::string_view source, const std::string& prefix) const {
+  check_range(source, prefix + "outlier_weight", outlier_weight, ConfigRange::closed(1e-9, 1));
+  check_range(source, prefix + "noise_std_m", noise_std_m, ConfigRange::closed(1e-6, 0.5));
+  check_range(source, prefix + "noise_quadratic_per_m", noise_quadratic_per_m,
+              ConfigRange::closed(0, 1));
+  check_range(source, prefix + "max_range_m", max_range_m, ConfigRange::closed(0.1, 100));
+  check_range(source, prefix + "occluder_decay_per_m", occluder_decay_per_m,
+              ConfigRange::closed(1e-3, 100));
+  check_range(source, prefix + "occlusion_prior", occlusion_prior, ConfigRange::closed(0, 1));
+  check_range(source, prefix + "width", width, ConfigRange::closed(4, 4096));
+  check_range(source, prefix + "height", height, ConfigRange::closed(3, 4096));
   // The noise at the maximum range must stay small against the occluder
   // decay length (lambda sigma <= 1): it bounds the per-pixel ratios that
   // log_ratio() multiplies (see there), and a noise of a decay length would
   // make the occluder model meaningless anyway.
   const double sigma_max = noise_std_m + noise_quadratic_per_m * max_range_m * max_range_m;
   if (occluder_decay_per_m * sigma_max > 1)
-    fail("occluder_decay_per_m x noise at max range", occluder_decay_per_m * sigma_max,
-         "at most 1");
+    fail_key(source, prefix + "occluder_decay_per_m",
+             "= " + std::to_string(occluder_decay_per_m) + " times the depth noise at " + prefix +
+                 "max_range_m (" + std::to_string(sigma_max) + " m) is " +
+                 std::to_string(occluder_decay_per_m * sigma_max) + ": it must be at most 1");
 }
 
 DepthLikelihood::DepthLikelihood(const DepthModelParams& params) : params_(params) {

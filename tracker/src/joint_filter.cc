@@ -6,6 +6,7 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
+#include "config_range.h"
 
 namespace arttrack {
 namespace {
@@ -116,6 +117,21 @@ std::vector<VirtualJointParams> per_joint_params(
   return expand_params(joint_names, defaults, overrides, context);
 }
 
+void JointFilterParams::validate(std::string_view source, const std::string& prefix) const {
+  check_range(source, prefix + "encoder_noise_deg", encoder_noise_rad,
+              ConfigRange::open_closed(0, 90), kDegree);
+  check_range(source, prefix + "angle_diffusion_deg_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
+              ConfigRange::closed(0, 1e5), kDegree);
+  // sigma_b and c matter only while the bias is estimated; c is held to
+  // (0, 1) either way, so that a per-joint override that switches the
+  // estimate on never inherits an impossible decay.
+  ConfigRange sigma_b = ConfigRange::closed(0, 1e5);
+  sigma_b.lo_open = estimate_bias;
+  check_range(source, prefix + "bias_diffusion_deg_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
+              sigma_b, kDegree);
+  check_range(source, prefix + "bias_decay_per_s", bias_decay_per_s, ConfigRange::open(0, 1));
+}
+
 JointFilterModel::JointFilterModel(std::vector<std::string> encoder_joints,
                                    std::vector<JointFilterParams> encoder_params,
                                    std::vector<std::string> virtual_joints,
@@ -141,20 +157,7 @@ JointFilterModel::JointFilterModel(std::vector<std::string> encoder_joints,
   };
   for (int j = 0; j < num_encoder_; ++j) {
     const JointFilterParams& p = encoder_params[j];
-    const std::string& n = names_[j];
-    if (!(p.encoder_noise_rad > 0) || !std::isfinite(p.encoder_noise_rad))
-      throw bad(n, "encoder_noise_rad (must be > 0)", p.encoder_noise_rad);
-    if (!(p.angle_diffusion_rad_per_sqrt_s >= 0) ||
-        !std::isfinite(p.angle_diffusion_rad_per_sqrt_s))
-      throw bad(n, "angle_diffusion_rad_per_sqrt_s (must be >= 0)",
-                p.angle_diffusion_rad_per_sqrt_s);
-    if (p.estimate_bias) {
-      if (!(p.bias_diffusion_rad_per_sqrt_s > 0) || !std::isfinite(p.bias_diffusion_rad_per_sqrt_s))
-        throw bad(n, "bias_diffusion_rad_per_sqrt_s (must be > 0)",
-                  p.bias_diffusion_rad_per_sqrt_s);
-      if (!(p.bias_decay_per_s > 0 && p.bias_decay_per_s < 1))
-        throw bad(n, "bias_decay_per_s (must be in (0, 1))", p.bias_decay_per_s);
-    }
+    p.validate("joint filter: joint '" + names_[j] + "'");
     var_q_.push_back(p.encoder_noise_rad * p.encoder_noise_rad);
     rate_a_.push_back(p.angle_diffusion_rad_per_sqrt_s * p.angle_diffusion_rad_per_sqrt_s);
     if (p.estimate_bias) {

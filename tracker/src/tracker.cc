@@ -67,6 +67,12 @@ struct PendingImage {
   Clock::time_point received;  // add_depth_image was called
 };
 
+// The configuration, validated before any member is built from it.
+const TrackerConfig& validated(const TrackerConfig& config) {
+  config.validate(config.source);
+  return config;
+}
+
 }  // namespace
 
 struct Tracker::Impl {
@@ -176,8 +182,7 @@ struct Tracker::Impl {
 
 Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
                     const std::vector<std::string>& encoder_joints)
-    : model(std::move(m)), config(c), likelihood(c.depth_model), rng(c.seed) {
-  config.validate(config.source);
+    : model(std::move(m)), config(validated(c)), likelihood(c.depth_model), rng(c.seed) {
   n = model->num_joints();
   for (int j = 0; j < n; ++j)
     if (!model->is_virtual_joint(j)) ++n_phys;

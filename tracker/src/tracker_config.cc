@@ -1,30 +1,44 @@
 #include "arttrack/tracker/tracker_config.h"
 
-#include <cmath>
-#include <limits>
+#include <initializer_list>
+#include <string>
+#include <variant>
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
+#include "config_range.h"
 
 namespace arttrack {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kDeg = kDegree;
+
+// A number of a section by its key: a whole number for an int field; `unit`:
+// one unit of the key in the field's units (kDeg for a _deg key held in rad).
+struct NumberKey {
+  const char* key;
+  std::variant<double*, int*> field;
+  double unit = 1.0;
+};
+
+// Reads the keys given (the others keep their fields' values); the ranges
+// are validate's.
+void read_numbers(const ConfigNode& node, std::initializer_list<NumberKey> keys) {
+  for (const NumberKey& k : keys) {
+    if (double* const* d = std::get_if<double*>(&k.field))
+      **d = node.number(k.key, **d / k.unit) * k.unit;
+    else
+      *std::get<int*>(k.field) = node.whole_number(k.key, *std::get<int*>(k.field));
+  }
+}
 
 // Joint filter keys; `base` supplies the values of keys not given.
 JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base) {
   JointFilterParams p = base;
-  p.encoder_noise_rad =
-      node.number("encoder_noise_deg", base.encoder_noise_rad / kDeg, 0, 90) * kDeg;
-  p.angle_diffusion_rad_per_sqrt_s =
-      node.number("angle_diffusion_deg_per_sqrt_s", base.angle_diffusion_rad_per_sqrt_s / kDeg, 0,
-                  1e5) *
-      kDeg;
-  p.bias_diffusion_rad_per_sqrt_s = node.number("bias_diffusion_deg_per_sqrt_s",
-                                                base.bias_diffusion_rad_per_sqrt_s / kDeg, 0, 1e5) *
-                                    kDeg;
-  p.bias_decay_per_s = node.number("bias_decay_per_s", base.bias_decay_per_s, 1e-12, 1 - 1e-12);
+  read_numbers(node, {{"encoder_noise_deg", &p.encoder_noise_rad, kDeg},
+                      {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kDeg},
+                      {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kDeg},
+                      {"bias_decay_per_s", &p.bias_decay_per_s}});
   p.estimate_bias = node.get<bool>("estimate_bias", base.estimate_bias);
   return p;
 }
@@ -60,61 +74,85 @@ TrackingMethod parse_method(const std::string& name, const std::string& context)
                    "' (expected encoders_only, camera_offset_only, full_fusion or vision_only)");
 }
 
-void TrackerConfig::validate(const std::string& context) const {
-  auto fail = [&](const std::string& what) { throw InputError(context + ": " + what); };
-  if (camera_frame.empty()) fail("camera_frame is empty");
-  depth_model.validate(context);
-  if (particle_filter.num_particles < 1) fail("particle_filter.particles must be at least 1");
-  if (!(particle_filter.max_kl_divergence >= 0)) fail("particle_filter.max_kl_divergence < 0");
-  if (!(particle_filter.proposal_scale > 0)) fail("particle_filter.proposal_scale must be > 0");
-  if (threads < 0 || threads > kMaxWorkerThreads)
-    fail("particle_filter.threads = " + std::to_string(threads) + " must be in [0, " +
-         std::to_string(kMaxWorkerThreads) + "]");
-  if (!(camera_delay_s >= 0) || !std::isfinite(camera_delay_s))
-    fail("timing.camera_delay_s must be a finite number >= 0");
-  if (buffer_capacity < 2) fail("timing.buffer_capacity must be at least 2");
-  if (max_pending_images < 1) fail("timing.max_pending_images must be at least 1");
-  if (!(joint_limit_margin_rad >= 0) || !std::isfinite(joint_limit_margin_rad))
-    fail("input_checks.joint_limit_margin_deg must be a finite number >= 0");
-  if (!(max_image_clock_offset_s > 0) || !std::isfinite(max_image_clock_offset_s))
-    fail("input_checks.max_image_clock_offset_s must be a finite number > 0");
-  if (!(vision_only_angle_diffusion_rad_per_sqrt_s >= 0))
-    fail("vision_only.angle_diffusion_deg_per_sqrt_s < 0");
-  if (render_cylinder_segments != 0 && !(render_cylinder_segments >= 3))
-    fail("render.cylinder_segments must be 0 (the model's) or at least 3");
-  if (render_sphere_segments != 0 && !(render_sphere_segments >= 4))
-    fail("render.sphere_segments must be 0 (the model's) or at least 4");
-  if (!(likelihood_exponent > 0 && likelihood_exponent <= 1))
-    fail("particle_filter.likelihood_exponent must be in (0, 1]");
-  if (refinement_min_pixels < 1) fail("refinement.min_pixels must be >= 1");
-  if (!(image_information_scale > 0 && image_information_scale <= 1))
-    fail("uncertainty.image_information_scale must be in (0, 1]");
-  if (acquisition.passes < 1 || acquisition.passes > 10)
-    fail("acquisition.passes must be in [1, 10]");
-  if (!(acquisition.coarse_noise_std_m >= depth_model.noise_std_m &&
-        acquisition.coarse_noise_std_m <= 0.5))
-    fail("acquisition.coarse_noise_std_m must be in [depth_model.noise_std_m, 0.5]");
-  if (!(acquisition.proposal_shrink > 0 && acquisition.proposal_shrink <= 1))
-    fail("acquisition.proposal_shrink must be in (0, 1]");
-  if (!(acquisition.period_s >= 0) || !std::isfinite(acquisition.period_s))
-    fail("acquisition.period_s must be a finite number >= 0");
-  if (!(acquisition.bias_std_rad > 0) || !std::isfinite(acquisition.bias_std_rad))
-    fail("acquisition.bias_std_deg must be positive");
-  if (!(acquisition.accept_margin_nats >= 0)) fail("acquisition.accept_margin_nats must be >= 0");
-  if (acquisition.searches < 1 || acquisition.searches > 100)
-    fail("acquisition.searches must be in [1, 100]");
-  if (!(health.explained_m > 0) || !(health.contradicted_m > 0))
-    fail("health.explained_m and health.contradicted_m must be positive");
-  if (!(health.lost_contradicted_fraction >= 0 && health.lost_contradicted_fraction <= 1))
-    fail("health.lost_contradicted_fraction must be in [0, 1]");
-  if (!(health.lost_abandoned_fraction >= 0 && health.lost_abandoned_fraction <= 1))
-    fail("health.lost_abandoned_fraction must be in [0, 1]");
-  if (health.lost_after_images < 1 || health.min_pixels < 1)
-    fail("health.lost_after_images and health.min_pixels must be at least 1");
-  for (const auto& b : blocks) {
-    if (b.name.empty()) fail("particle_filter.blocks: a block has no name");
-    if (b.joints.empty()) fail("particle_filter.blocks: block '" + b.name + "' has no joints");
+// Every range of the configuration, in the YAML's keys and units; the
+// structs' own validate functions hold theirs (depth model, joint filters,
+// particle filter).
+void TrackerConfig::validate(const std::string& source) const {
+  const auto check = [&](const std::string& key, double value, const ConfigRange& range,
+                         double unit = 1.0) { check_range(source, key, value, range, unit); };
+  using R = ConfigRange;
+  if (camera_frame.empty()) fail_key(source, "camera_frame", "is empty");
+
+  joint_defaults.validate(source, "joints.defaults.");
+  for (const auto& [name, p] : joint_overrides)
+    p.validate(source, "joints.per_joint." + name + ".");
+  check("camera_offset.translation_diffusion_m_per_sqrt_s", camera_translation.diffusion_per_sqrt_s,
+        R::closed(0, 10));
+  check("camera_offset.translation_initial_std_m", camera_translation.initial_std,
+        R::open_closed(0, 10));
+  check("camera_offset.rotation_diffusion_deg_per_sqrt_s", camera_rotation.diffusion_per_sqrt_s,
+        R::closed(0, 1e4), kDeg);
+  check("camera_offset.rotation_initial_std_deg", camera_rotation.initial_std,
+        R::open_closed(0, 180), kDeg);
+  check("vision_only.angle_diffusion_deg_per_sqrt_s", vision_only_angle_diffusion_rad_per_sqrt_s,
+        R::closed(0, 1e5), kDeg);
+  check("vision_only.initial_std_deg", vision_only_initial_std_rad, R::closed(0, 180), kDeg);
+
+  depth_model.validate(source, "depth_model.");
+  check("render.cylinder_segments", render_cylinder_segments, R::closed(3, 1024).or_zero());
+  check("render.sphere_segments", render_sphere_segments, R::closed(4, 1024).or_zero());
+
+  particle_filter.validate(source, "particle_filter.");
+  check("particle_filter.likelihood_exponent", likelihood_exponent, R::closed(1e-3, 1));
+  check("particle_filter.threads", threads, R::closed(0, kMaxWorkerThreads));
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const std::string key = "particle_filter.blocks[" + std::to_string(i) + "]";
+    if (blocks[i].name.empty()) fail_key(source, key + ".name", "is empty");
+    if (blocks[i].joints.empty())
+      fail_key(source, key + ".joints", "is empty (block '" + blocks[i].name + "')");
   }
+
+  check("uncertainty.image_information_scale", image_information_scale, R::closed(1e-6, 1));
+  check("refinement.min_pixels", refinement_min_pixels, R::closed(1, 1e7));
+
+  const Acquisition& a = acquisition;
+  check("acquisition.passes", a.passes, R::closed(1, 10));
+  // The search anneals from the coarse noise down to the pixel model's.
+  R coarse = R::closed(depth_model.noise_std_m, 0.5);
+  coarse.lo_key = "depth_model.noise_std_m";
+  check("acquisition.coarse_noise_std_m", a.coarse_noise_std_m, coarse);
+  if (a.passes > 1) {
+    // The first search pass's likelihood must be a valid depth model too.
+    DepthModelParams coarsest = depth_model;
+    coarsest.noise_std_m = a.coarse_noise_std_m;
+    try {
+      coarsest.validate(source, "depth_model.");
+    } catch (const ConfigKeyError& e) {
+      fail_key(source, "acquisition.coarse_noise_std_m",
+               "= " + std::to_string(a.coarse_noise_std_m) +
+                   " as the depth noise of the first search pass: " + e.key() + " " + e.problem());
+    }
+  }
+  check("acquisition.proposal_shrink", a.proposal_shrink, R::closed(0.05, 1));
+  check("acquisition.period_s", a.period_s, R::closed(0, 1e6));
+  check("acquisition.bias_std_deg", a.bias_std_rad, R::closed(0.1, 180), kDeg);
+  check("acquisition.accept_margin_nats", a.accept_margin_nats, R::closed(0, 1e6));
+  check("acquisition.searches", a.searches, R::closed(1, 100));
+
+  const Health& h = health;
+  check("health.explained_m", h.explained_m, R::closed(1e-4, 1));
+  check("health.contradicted_m", h.contradicted_m, R::closed(1e-4, 1));
+  check("health.lost_contradicted_fraction", h.lost_contradicted_fraction, R::closed(0, 1));
+  check("health.lost_abandoned_fraction", h.lost_abandoned_fraction, R::closed(0, 1));
+  check("health.lost_after_images", h.lost_after_images, R::closed(1, 1e6));
+  check("health.min_pixels", h.min_pixels, R::closed(1, 1e7));
+
+  check("timing.camera_delay_s", camera_delay_s, R::closed(0, 10));
+  check("timing.buffer_capacity", buffer_capacity, R::closed(2, 1e7));
+  check("timing.max_pending_images", max_pending_images, R::closed(1, 1000));
+
+  check("input_checks.joint_limit_margin_deg", joint_limit_margin_rad, R::closed(0, 3600), kDeg);
+  check("input_checks.max_image_clock_offset_s", max_image_clock_offset_s, R::closed(1e-3, 1e6));
 }
 
 TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
@@ -131,25 +169,16 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   for (const std::string& name : per_joint.keys())
     c.joint_overrides[name] = read_joint_params(per_joint.child(name), c.joint_defaults);
 
-  const ConfigNode cam = root.child("camera_offset");
-  c.camera_translation.diffusion_per_sqrt_s = cam.number(
-      "translation_diffusion_m_per_sqrt_s", c.camera_translation.diffusion_per_sqrt_s, 0, 10);
-  c.camera_translation.initial_std =
-      cam.number("translation_initial_std_m", c.camera_translation.initial_std, 0, 10);
-  c.camera_rotation.diffusion_per_sqrt_s =
-      cam.number("rotation_diffusion_deg_per_sqrt_s", c.camera_rotation.diffusion_per_sqrt_s / kDeg,
-                 0, 1e4) *
-      kDeg;
-  c.camera_rotation.initial_std =
-      cam.number("rotation_initial_std_deg", c.camera_rotation.initial_std / kDeg, 0, 180) * kDeg;
-
-  const ConfigNode vision = root.child("vision_only");
-  c.vision_only_angle_diffusion_rad_per_sqrt_s =
-      vision.number("angle_diffusion_deg_per_sqrt_s",
-                    c.vision_only_angle_diffusion_rad_per_sqrt_s / kDeg, 0, 1e5) *
-      kDeg;
-  c.vision_only_initial_std_rad =
-      vision.number("initial_std_deg", c.vision_only_initial_std_rad / kDeg, 0, 180) * kDeg;
+  read_numbers(
+      root.child("camera_offset"),
+      {{"translation_diffusion_m_per_sqrt_s", &c.camera_translation.diffusion_per_sqrt_s},
+       {"translation_initial_std_m", &c.camera_translation.initial_std},
+       {"rotation_diffusion_deg_per_sqrt_s", &c.camera_rotation.diffusion_per_sqrt_s, kDeg},
+       {"rotation_initial_std_deg", &c.camera_rotation.initial_std, kDeg}});
+  read_numbers(
+      root.child("vision_only"),
+      {{"angle_diffusion_deg_per_sqrt_s", &c.vision_only_angle_diffusion_rad_per_sqrt_s, kDeg},
+       {"initial_std_deg", &c.vision_only_initial_std_rad, kDeg}});
 
   const ConfigNode dm = root.child("depth_model");
   DepthModelParams& d = c.depth_model;
@@ -159,79 +188,63 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                 {"independent", "truncated"}) == "truncated"
           ? OccluderModel::kTruncated
           : OccluderModel::kIndependent;
-  d.outlier_weight = dm.number("outlier_weight", d.outlier_weight, 1e-9, 1);
-  d.noise_std_m = dm.number("noise_std_m", d.noise_std_m, 1e-6, 1);
-  d.noise_quadratic_per_m = dm.number("noise_quadratic_per_m", d.noise_quadratic_per_m, 0, 1);
-  d.max_range_m = dm.number("max_range_m", d.max_range_m, 0.1, 100);
-  d.occluder_decay_per_m = dm.number("occluder_decay_per_m", d.occluder_decay_per_m, 1e-6, 100);
-  d.occlusion_prior = dm.number("occlusion_prior", d.occlusion_prior, 0, 1);
-  d.width = int(dm.number("width", d.width, 4, 4096));
-  d.height = int(dm.number("height", d.height, 3, 4096));
-
-  const ConfigNode render = root.child("render");
-  c.render_cylinder_segments =
-      int(render.number("cylinder_segments", c.render_cylinder_segments, 0, 1024));
-  c.render_sphere_segments =
-      int(render.number("sphere_segments", c.render_sphere_segments, 0, 1024));
+  read_numbers(dm, {{"outlier_weight", &d.outlier_weight},
+                    {"noise_std_m", &d.noise_std_m},
+                    {"noise_quadratic_per_m", &d.noise_quadratic_per_m},
+                    {"max_range_m", &d.max_range_m},
+                    {"occluder_decay_per_m", &d.occluder_decay_per_m},
+                    {"occlusion_prior", &d.occlusion_prior},
+                    {"width", &d.width},
+                    {"height", &d.height}});
+  read_numbers(root.child("render"), {{"cylinder_segments", &c.render_cylinder_segments},
+                                      {"sphere_segments", &c.render_sphere_segments}});
 
   const ConfigNode pf = root.child("particle_filter");
-  c.particle_filter.num_particles =
-      int(pf.number("particles", c.particle_filter.num_particles, 1, 1e6));
-  c.particle_filter.max_kl_divergence =
-      pf.number("max_kl_divergence", c.particle_filter.max_kl_divergence, 0, kInf);
-  c.particle_filter.proposal_scale =
-      pf.number("proposal_scale", c.particle_filter.proposal_scale, 1e-6, 1e6);
-  c.particle_filter.bandwidth_factor =
-      pf.number("bandwidth_factor", c.particle_filter.bandwidth_factor, 0, 10);
-  c.likelihood_exponent = pf.number("likelihood_exponent", c.likelihood_exponent, 1e-3, 1);
+  read_numbers(pf, {{"particles", &c.particle_filter.num_particles},
+                    {"max_kl_divergence", &c.particle_filter.max_kl_divergence},
+                    {"proposal_scale", &c.particle_filter.proposal_scale},
+                    {"bandwidth_factor", &c.particle_filter.bandwidth_factor},
+                    {"likelihood_exponent", &c.likelihood_exponent},
+                    {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);
-  c.threads = int(pf.number("threads", c.threads, 0, kMaxWorkerThreads));
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
   }
 
   const ConfigNode uncertainty = root.child("uncertainty");
-  c.image_information_scale =
-      uncertainty.number("image_information_scale", c.image_information_scale, 1e-6, 1);
+  read_numbers(uncertainty, {{"image_information_scale", &c.image_information_scale}});
   c.discount_correlated_residuals =
       uncertainty.get<bool>("discount_correlated_residuals", c.discount_correlated_residuals);
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
-  c.refinement_min_pixels = int(refinement.number("min_pixels", c.refinement_min_pixels, 1, 1e7));
+  read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels}});
 
-  const ConfigNode acq = root.child("acquisition");
   TrackerConfig::Acquisition& a = c.acquisition;
-  a.passes = int(acq.number("passes", a.passes, 1, 10));
-  a.coarse_noise_std_m = acq.number("coarse_noise_std_m", a.coarse_noise_std_m, 1e-4, 0.5);
-  a.proposal_shrink = acq.number("proposal_shrink", a.proposal_shrink, 0.05, 1);
-  a.period_s = acq.number("period_s", a.period_s, 0, 1e6);
-  a.bias_std_rad = acq.number("bias_std_deg", a.bias_std_rad / kDeg, 0.1, 180) * kDeg;
-  a.accept_margin_nats = acq.number("accept_margin_nats", a.accept_margin_nats, 0, 1e6);
-  a.searches = int(acq.number("searches", a.searches, 1, 100));
-
-  const ConfigNode health = root.child("health");
+  read_numbers(root.child("acquisition"), {{"passes", &a.passes},
+                                           {"coarse_noise_std_m", &a.coarse_noise_std_m},
+                                           {"proposal_shrink", &a.proposal_shrink},
+                                           {"period_s", &a.period_s},
+                                           {"bias_std_deg", &a.bias_std_rad, kDeg},
+                                           {"accept_margin_nats", &a.accept_margin_nats},
+                                           {"searches", &a.searches}});
   TrackerConfig::Health& h = c.health;
-  h.explained_m = health.number("explained_m", h.explained_m, 1e-4, 1);
-  h.contradicted_m = health.number("contradicted_m", h.contradicted_m, 1e-4, 1);
-  h.lost_contradicted_fraction =
-      health.number("lost_contradicted_fraction", h.lost_contradicted_fraction, 0, 1);
-  h.lost_abandoned_fraction =
-      health.number("lost_abandoned_fraction", h.lost_abandoned_fraction, 0, 1);
-  h.lost_after_images = int(health.number("lost_after_images", h.lost_after_images, 1, 1e6));
-  h.min_pixels = int(health.number("min_pixels", h.min_pixels, 1, 1e7));
+  read_numbers(root.child("health"), {{"explained_m", &h.explained_m},
+                                      {"contradicted_m", &h.contradicted_m},
+                                      {"lost_contradicted_fraction", &h.lost_contradicted_fraction},
+                                      {"lost_abandoned_fraction", &h.lost_abandoned_fraction},
+                                      {"lost_after_images", &h.lost_after_images},
+                                      {"min_pixels", &h.min_pixels}});
 
   const ConfigNode timing = root.child("timing");
-  c.camera_delay_s = timing.number("camera_delay_s", c.camera_delay_s, 0, 10);
-  c.buffer_capacity = int(timing.number("buffer_capacity", c.buffer_capacity, 2, 1e7));
-  c.max_pending_images = int(timing.number("max_pending_images", c.max_pending_images, 1, 1000));
+  read_numbers(timing, {{"camera_delay_s", &c.camera_delay_s},
+                        {"buffer_capacity", &c.buffer_capacity},
+                        {"max_pending_images", &c.max_pending_images}});
   c.asynchronous = timing.get<bool>("asynchronous", c.asynchronous);
 
-  const ConfigNode checks = root.child("input_checks");
-  c.joint_limit_margin_rad =
-      checks.number("joint_limit_margin_deg", c.joint_limit_margin_rad / kDeg, 0, 3600) * kDeg;
-  c.max_image_clock_offset_s =
-      checks.number("max_image_clock_offset_s", c.max_image_clock_offset_s, 1e-3, 1e6);
+  read_numbers(root.child("input_checks"),
+               {{"joint_limit_margin_deg", &c.joint_limit_margin_rad, kDeg},
+                {"max_image_clock_offset_s", &c.max_image_clock_offset_s}});
 
   root.finish();
   c.validate(doc.file);

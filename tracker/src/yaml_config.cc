@@ -1,6 +1,8 @@
 #include "arttrack/tracker/yaml_config.h"
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -10,6 +12,8 @@ namespace arttrack {
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Deep merge: maps merge key by key, anything else in `over` replaces `base`.
 YAML::Node merge(const YAML::Node& base, const YAML::Node& over) {
@@ -243,9 +247,8 @@ std::string ConfigNode::flow_text(const std::string& key) const {
 }
 
 void ConfigNode::fail(const std::string& key, const std::string& problem) const {
-  std::string what = "key '" + path_of(key) + "'";
-  if (path_of(key).empty()) what = "the document";
-  throw InputError(file_ + ": " + what + " " + problem);
+  if (path_of(key).empty()) throw InputError(file_ + ": the document " + problem);
+  throw ConfigKeyError(file_, path_of(key), problem);
 }
 
 bool ConfigNode::has(const std::string& key) const {
@@ -255,6 +258,23 @@ bool ConfigNode::has(const std::string& key) const {
 YAML::Node ConfigNode::value(const std::string& key) const {
   used_->insert(key);
   return node_[key];
+}
+
+double ConfigNode::number(const std::string& key, double fallback) const {
+  return number(key, fallback, -kInf, kInf);
+}
+
+int ConfigNode::whole_number(const std::string& key, int fallback) const {
+  if (!has(key)) return fallback;
+  const double v = required_number(key, -kInf, kInf);
+  if (v != std::floor(v) || v < std::numeric_limits<int>::min() ||
+      v > std::numeric_limits<int>::max()) {
+    std::ostringstream os;
+    os << "= " << v << " is not a whole number (from " << std::numeric_limits<int>::min() << " to "
+       << std::numeric_limits<int>::max() << ")";
+    fail(key, os.str());
+  }
+  return int(v);
 }
 
 double ConfigNode::number(const std::string& key, double fallback, double min, double max) const {
@@ -271,6 +291,7 @@ double ConfigNode::required_number(const std::string& key, double min, double ma
   } catch (const YAML::Exception&) {
     fail(key, "must be a number, got " + describe(n));
   }
+  if (std::isnan(v)) fail(key, "must be a number, got " + describe(n));
   if (!(v >= min && v <= max)) {
     std::ostringstream os;
     os << "= " << v << " is out of range [" << min << ", " << max << "]";

@@ -46,6 +46,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <type_traits>
 #include <vector>
@@ -185,6 +186,13 @@ struct CoordinateParticleFilterParams {
   // occlusion of occlusion__no_bias the hidden hand's error went from p50
   // 6.6 / p99 38.8 mm to 38.3 / 82.4 mm, worse than encoders only).
   double bandwidth_factor = 0.0;
+
+  // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
+  // followed by the field's YAML name (num_particles is "particles"), for a
+  // value outside its range: particles in [1, 1e6], max_kl_divergence in
+  // [0, inf], proposal_scale in [1e-6, 1e6], no_evidence_nats in [0, inf],
+  // bandwidth_factor in [0, 10].
+  void validate(std::string_view source, const std::string& prefix = "") const;
 };
 
 // One CPF over a fixed dimension and block layout; keeps its particles and

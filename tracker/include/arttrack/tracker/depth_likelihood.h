@@ -63,10 +63,11 @@ struct DepthModelParams {
   // [1e-9, 1]. Its floor under every pixel density keeps scores finite.
   double outlier_weight = 0.01;
   // Depth noise sigma = noise_std_m + noise_quadratic_per_m * z^2, metres;
-  // noise_std_m in [1e-6, 1], noise_quadratic_per_m in [0, 1] per metre.
+  // noise_std_m in [1e-6, 0.5] (the tracker's coarsest search noise is at
+  // most 0.5 and at least this), noise_quadratic_per_m in [0, 1] per metre.
   double noise_std_m = 0.003;
   double noise_quadratic_per_m = 0;
-  // Sensor maximum range Z, metres.
+  // Sensor maximum range Z, metres, in [0.1, 100].
   double max_range_m = 6;
   // Decay rate lambda of the occluder density with distance from the camera,
   // per metre, in [1e-3, 100] (ln 2: an occluder is half as likely one metre
@@ -75,12 +76,16 @@ struct DepthModelParams {
   // Prior probability p_o that an external object occludes a pixel.
   double occlusion_prior = 0.25;
   // Resolution the likelihood is evaluated at (the tracker renders at it;
-  // observed images are subsampled to it).
+  // observed images are subsampled to it), width in [4, 4096], height in
+  // [3, 4096].
   int width = 80;
   int height = 60;
 
-  // Throws InputError naming `context` and the field for an out-of-range value.
-  void validate(std::string_view context) const;
+  // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
+  // followed by the field's YAML name (e.g. "depth_model.max_range_m"), for
+  // a value outside its range. The tracker's configuration checks these
+  // fields here (TrackerConfig::validate), and so does DepthLikelihood.
+  void validate(std::string_view source, const std::string& prefix = "") const;
 };
 
 // The likelihood of one observed image. set_observation() once per image;

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace arttrack {
 
@@ -14,6 +15,27 @@ namespace arttrack {
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// An InputError about one key of a configuration: "<source>: key '<key>'
+// <problem>", e.g. "t.yaml: key 'depth_model.max_range_m' = 200 is out of
+// range [0.1, 100]". The parts are kept for a caller that knows better where
+// the key was set (a scenario's tracker_overrides over a tracker file).
+class ConfigKeyError : public InputError {
+ public:
+  ConfigKeyError(std::string source, std::string key, std::string problem)
+      : InputError(source + ": key '" + key + "' " + problem),
+        source_(std::move(source)),
+        key_(std::move(key)),
+        problem_(std::move(problem)) {}
+  const std::string& source() const { return source_; }
+  // The dotted path as the user writes it, e.g. joints.per_joint.elbow.bias_decay_per_s.
+  const std::string& key() const { return key_; }
+  // What is wrong, starting with the value where there is one ("= 200 is ...").
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string source_, key_, problem_;
 };
 
 }  // namespace arttrack

@@ -58,6 +58,14 @@ struct JointFilterParams {
   // Stationary bias standard deviation sigma_b / sqrt(2 ln(1/c)), rad (0 when
   // the bias is not estimated).
   double stationary_bias_std_rad() const;
+
+  // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
+  // followed by the field's YAML name in degrees (e.g.
+  // "joints.per_joint.elbow.encoder_noise_deg"), for a value outside its
+  // range: encoder noise in (0, 90] degrees, angle diffusion in [0, 1e5]
+  // deg/sqrt(s), bias diffusion in (0, 1e5] deg/sqrt(s) ([0, 1e5] when the
+  // bias is not estimated), c in (0, 1).
+  void validate(std::string_view source, const std::string& prefix = "") const;
 };
 
 // Noise of one virtual (camera offset) joint: a random walk around the
@@ -87,8 +95,9 @@ std::vector<VirtualJointParams> per_joint_params(
 class JointFilterModel {
  public:
   // Encoder joints (with their parameters, same order) then virtual joints.
-  // Throws InputError naming the joint for a bad value (negative noise, c
-  // outside (0, 1) for a joint whose bias is estimated, duplicate name).
+  // Throws InputError naming the joint for a bad value
+  // (JointFilterParams::validate; a virtual joint's negative diffusion or
+  // initial std that is not positive) or a duplicate name.
   JointFilterModel(std::vector<std::string> encoder_joints,
                    std::vector<JointFilterParams> encoder_params,
                    std::vector<std::string> virtual_joints = {},

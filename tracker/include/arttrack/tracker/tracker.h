@@ -212,7 +212,7 @@ class Tracker {
   // (every physical joint of the model exactly once, unless the method is
   // vision_only, which takes none). Throws InputError naming an unknown,
   // missing or repeated joint, an unknown end effector or block joint, or a
-  // bad configuration value.
+  // bad configuration value (TrackerConfig::validate, checked first).
   Tracker(std::shared_ptr<const RobotModel> model, const TrackerConfig& config,
           const std::vector<std::string>& encoder_joints);
   ~Tracker();

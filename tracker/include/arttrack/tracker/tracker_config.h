@@ -1,8 +1,10 @@
 // Configuration of a Tracker: which of the paper's four methods, the noise of
 // every joint, the depth model, the particle filter, the delay buffer.
 //
-// Plain structs with in-class defaults, filled from YAML and checked there
-// (tracker_config_yaml.h: this header needs no yaml-cpp). The shipped
+// Plain structs with in-class defaults, filled from YAML
+// (tracker_config_yaml.h: this header needs no yaml-cpp) and checked once,
+// by TrackerConfig::validate, which holds every range: the file reader calls
+// it, and so does the Tracker for a configuration built in code. The shipped
 // defaults are tracker/config/default.yaml, compiled into the library
 // (default_tracker_config()); they name no joint or link of a particular
 // robot. YAML uses degrees where it says `_deg`; the structs hold radians.
@@ -79,13 +81,13 @@ struct TrackerConfig {
     std::vector<std::string> joints;
   };
   std::vector<Block> blocks;
-  // Exponent beta in (0, 1] on the image likelihood in the particle filter
+  // Exponent beta in [1e-3, 1] on the image likelihood in the particle filter
   // (CoordinateParticleFilter::run): 1 counts every pixel as an independent
   // measurement; neighbouring pixels share model and calibration errors, so
   // fewer than that is honest.
   double likelihood_exponent = 1.0;
   // The reported uncertainty (posterior_covariance.h): an image's
-  // information counts this much, in (0, 1] (1: every explained pixel an
+  // information counts this much, in [1e-6, 1] (1: every explained pixel an
   // independent measurement).
   double image_information_scale = 1.0;
   // Also scale each image's information by how many independent pixels its
@@ -161,8 +163,15 @@ struct TrackerConfig {
   double joint_limit_margin_rad = 30 * 0.017453292519943295;  // 30 degrees
   double max_image_clock_offset_s = 10.0;
 
-  // Throws InputError naming `context` and the field for an impossible value.
-  void validate(const std::string& context) const;
+  // Like Ceres' Solver::Options::IsValid: checks every field against its
+  // range (the only place the ranges are written), including the joint
+  // defaults and per-joint overrides, the camera offset and the sub-structs
+  // (DepthModelParams::validate, CoordinateParticleFilterParams::validate,
+  // JointFilterParams::validate). Throws ConfigKeyError (error.h) naming
+  // `source`, the key as the YAML writes it (e.g.
+  // "joints.per_joint.l_elbow.bias_diffusion_deg_per_sqrt_s"), the value and
+  // the allowed range, in the YAML's units (degrees for a `_deg` key).
+  void validate(const std::string& source) const;
 };
 
 // The text of tracker/config/default.yaml as built into the library (every

@@ -75,6 +75,11 @@ class ConfigNode {
   // An optional value with a default.
   template <class T>
   T get(const std::string& key, const T& fallback) const;
+  // A number (infinities pass, NaN does not): the range is the caller's to
+  // check, as TrackerConfig::validate does.
+  double number(const std::string& key, double fallback) const;
+  // A whole number that fits an int (2.5 and 1e12 are errors).
+  int whole_number(const std::string& key, int fallback) const;
   // A number with an inclusive range check.
   double number(const std::string& key, double fallback, double min, double max) const;
   double required_number(const std::string& key, double min, double max) const;
@@ -105,6 +110,8 @@ class ConfigNode {
   const std::string& file() const { return file_; }
   // Full dotted path of a key of this node, for messages.
   std::string path_of(const std::string& key) const;
+  // Throws ConfigKeyError (error.h) naming the file and the key's full path;
+  // InputError naming the document when the path is empty.
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
 
  private:
