@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <csetjmp>
+#include <cstdint>
 #include <cstdio>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "arttrack/tracker/error.h"
+#include "colour_map.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -30,6 +33,46 @@ void on_error(png_structp png, png_const_charp msg) {
 
 void on_warning(png_structp, png_const_charp) {}
 
+void on_memory_write(png_structp png, png_bytep data, png_size_t n) {
+  auto* out = static_cast<std::vector<std::uint8_t>*>(png_get_io_ptr(png));
+  bool ok = true;
+  try {
+    out->insert(out->end(), data, data + n);
+  } catch (const std::bad_alloc&) {
+    ok = false;
+  }
+  if (!ok) png_error(png, "out of memory");  // outside the handler: no exception left behind
+}
+
+void on_memory_flush(png_structp) {}
+
+// Writes an image through libpng to `fp`, or to `memory` if fp is null.
+bool write_rows(FILE* fp, std::vector<std::uint8_t>* memory, int width, int height, int bit_depth,
+                int color_type, png_bytep* rows, PngError* err) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, err, on_error, on_warning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_write_struct(&png, &info);
+    std::snprintf(err->message, sizeof(err->message), "out of memory");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  if (fp)
+    png_init_io(png, fp);
+  else
+    png_set_write_fn(png, memory, on_memory_write, on_memory_flush);
+  png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bit_depth, color_type,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  png_write_image(png, rows);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
 bool write_raw(const char* path, int width, int height, int bit_depth, int color_type,
                png_bytep* rows, PngError* err) {
   FILE* fp = std::fopen(path, "wb");
@@ -37,31 +80,12 @@ bool write_raw(const char* path, int width, int height, int bit_depth, int color
     std::snprintf(err->message, sizeof(err->message), "cannot open for writing");
     return false;
   }
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, err, on_error, on_warning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(fp);
-    std::snprintf(err->message, sizeof(err->message), "out of memory");
-    return false;
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(fp);
-    return false;
-  }
-  png_init_io(png, fp);
-  png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bit_depth, color_type,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  png_write_image(png, rows);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  if (std::fclose(fp) != 0) {
+  const bool ok = write_rows(fp, nullptr, width, height, bit_depth, color_type, rows, err);
+  if (std::fclose(fp) != 0 && ok) {
     std::snprintf(err->message, sizeof(err->message), "write failed");
     return false;
   }
-  return true;
+  return ok;
 }
 
 struct RawImage {
@@ -131,16 +155,6 @@ bool read_raw(const char* path, RawImage* img, PngError* err) {
   throw InputError(path.string() + ": " + what);
 }
 
-// Jet colour map, t in [0, 1] from blue through cyan, yellow to red.
-void jet(double t, unsigned char* rgb) {
-  const auto channel = [t](double centre) {
-    return std::clamp(1.5 - 4.0 * std::abs(t - centre), 0.0, 1.0);
-  };
-  rgb[0] = (unsigned char)std::lround(255 * channel(0.75));
-  rgb[1] = (unsigned char)std::lround(255 * channel(0.5));
-  rgb[2] = (unsigned char)std::lround(255 * channel(0.25));
-}
-
 }  // namespace
 
 void write_depth_png_mm(const fs::path& path, const DepthImage& depth) {
@@ -203,12 +217,28 @@ void write_depth_preview_png(const fs::path& path, const DepthImage& depth, doub
     for (int u = 0; u < depth.width; ++u) {
       const float z = depth.at(u, v);
       if (!(std::isfinite(z) && z > 0)) continue;  // black: no return
-      jet(1.0 - std::clamp((z - min_m) / span, 0.0, 1.0), rows[v] + 3 * u);
+      const Rgb c = turbo(1.0 - std::clamp((z - min_m) / span, 0.0, 1.0));
+      rows[v][3 * u] = c.r, rows[v][3 * u + 1] = c.g, rows[v][3 * u + 2] = c.b;
     }
   }
   PngError err;
   if (!write_raw(path.c_str(), depth.width, depth.height, 8, PNG_COLOR_TYPE_RGB, rows.data(), &err))
     fail(path, std::string("cannot write preview PNG: ") + err.message);
+}
+
+std::vector<std::uint8_t> encode_png_rgb(int width, int height, std::span<const std::uint8_t> rgb) {
+  if (width <= 0 || height <= 0) throw InputError("PNG encoding: empty image");
+  if (rgb.size() != std::size_t(width) * std::size_t(height) * 3)
+    throw InputError("PNG encoding: " + std::to_string(rgb.size()) + " bytes for a " +
+                     std::to_string(width) + "x" + std::to_string(height) + " RGB image");
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  for (int v = 0; v < height; ++v)
+    rows[std::size_t(v)] = const_cast<png_bytep>(rgb.data() + std::size_t(v) * width * 3);
+  std::vector<std::uint8_t> out;
+  PngError err;
+  if (!write_rows(nullptr, &out, width, height, 8, PNG_COLOR_TYPE_RGB, rows.data(), &err))
+    throw InputError(std::string("PNG encoding failed: ") + err.message);
+  return out;
 }
 
 }  // namespace arttrack::sim

@@ -1,10 +1,12 @@
 // Text helpers shared by the simulator's output writers (run outputs,
-// report, sweep, tuning, datasets): number formatting, CSV fields, HTML escaping,
+// report, sweep, tuning, datasets): number formatting, CSV fields, HTML escaping, base64,
 // whole-file writes. Internal to arttrack_sim; outputs depend on these
 // byte for byte, so change a behaviour only together with its callers.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -68,6 +70,10 @@ std::string csv_field(const std::string& s);
 // '&' -> "&amp;", '<' -> "&lt;", '>' -> "&gt;", '"' -> "&quot;"; every other
 // byte (also '\'' and non-ASCII UTF-8) unchanged.
 std::string html_escape(const std::string& s);
+
+// Standard base64 of `bytes` (RFC 4648 alphabet, '=' padding, no line
+// breaks): for data URIs.
+std::string base64(std::span<const std::uint8_t> bytes);
 
 // ---- files ----
 

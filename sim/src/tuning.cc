@@ -1,7 +1,6 @@
 #include "arttrack/sim/tuning.h"
 
 #include <yaml-cpp/yaml.h>
-#include <nlopt.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -48,143 +47,6 @@ bool is_integer_key(const std::string& key) {
 }
 
 }  // namespace
-
-// ---- optimiser ----
-
-Optimizer parse_optimizer(const std::string& name) {
-  if (name == "bobyqa") return Optimizer::kBobyqa;
-  if (name == "cobyla") return Optimizer::kCobyla;
-  if (name == "neldermead") return Optimizer::kNelderMead;
-  if (name == "direct") return Optimizer::kDirect;
-  throw InputError("--optimizer '" + name + "': expected bobyqa, cobyla, neldermead or direct");
-}
-
-const char* optimizer_name(Optimizer o) {
-  switch (o) {
-    case Optimizer::kBobyqa:
-      return "bobyqa";
-    case Optimizer::kCobyla:
-      return "cobyla";
-    case Optimizer::kNelderMead:
-      return "neldermead";
-    case Optimizer::kDirect:
-      return "direct";
-  }
-  return "?";
-}
-
-namespace {
-
-struct SearchContext {
-  const std::function<double(const std::vector<double>&)>* f = nullptr;
-  int budget = 0;
-  int calls = 0;
-  double best = std::numeric_limits<double>::infinity();
-  std::vector<double> best_u;
-  std::exception_ptr error;
-  bool budget_spent = false;
-};
-
-double nlopt_objective(unsigned n, const double* x, double* /*grad*/, void* data) {
-  auto* ctx = static_cast<SearchContext*>(data);
-  if (ctx->calls >= ctx->budget) {
-    ctx->budget_spent = true;
-    throw nlopt::forced_stop();
-  }
-  std::vector<double> u(x, x + n);
-  for (double& v : u) v = std::clamp(v, 0.0, 1.0);
-  double value = 0;
-  try {
-    value = (*ctx->f)(u);
-  } catch (...) {
-    ctx->error = std::current_exception();
-    throw nlopt::forced_stop();
-  }
-  ++ctx->calls;
-  if (value < ctx->best || ctx->best_u.empty()) {
-    ctx->best = value;
-    ctx->best_u = u;
-  }
-  return value;
-}
-
-std::string stop_text(nlopt::result r) {
-  switch (r) {
-    case nlopt::SUCCESS:
-      return "converged";
-    case nlopt::STOPVAL_REACHED:
-      return "target value reached";
-    case nlopt::FTOL_REACHED:
-      return "objective changes below tolerance";
-    case nlopt::XTOL_REACHED:
-      return "steps below tolerance";
-    case nlopt::MAXEVAL_REACHED:
-      return "budget spent";
-    case nlopt::MAXTIME_REACHED:
-      return "time limit";
-    default:
-      return "stopped (code " + std::to_string(int(r)) + ")";
-  }
-}
-
-}  // namespace
-
-OptimizerResult minimize_unit_box(const std::function<double(const std::vector<double>&)>& f,
-                                  const std::vector<double>& u0, Optimizer optimizer, int budget,
-                                  double tolerance) {
-  const unsigned n = unsigned(u0.size());
-  if (n == 0) throw InputError("tune: no parameters to optimise");
-  if (budget < 1) throw InputError("--budget must be >= 1");
-  nlopt::algorithm alg = nlopt::LN_BOBYQA;
-  switch (optimizer) {
-    case Optimizer::kBobyqa:
-      alg = nlopt::LN_BOBYQA;
-      break;
-    case Optimizer::kCobyla:
-      alg = nlopt::LN_COBYLA;
-      break;
-    case Optimizer::kNelderMead:
-      alg = nlopt::LN_NELDERMEAD;
-      break;
-    case Optimizer::kDirect:
-      alg = nlopt::GN_DIRECT_L;
-      break;
-  }
-  nlopt::srand(20170101);  // deterministic, whatever the algorithm
-  nlopt::opt opt(alg, n);
-  opt.set_lower_bounds(std::vector<double>(n, 0.0));
-  opt.set_upper_bounds(std::vector<double>(n, 1.0));
-  opt.set_maxeval(budget);
-  opt.set_xtol_abs(tolerance);
-  if (optimizer != Optimizer::kDirect) opt.set_initial_step(0.25);
-
-  SearchContext ctx;
-  ctx.f = &f;
-  ctx.budget = budget;
-  opt.set_min_objective(nlopt_objective, &ctx);
-  std::vector<double> x(n);
-  for (unsigned i = 0; i < n; ++i) x[i] = std::clamp(u0[i], 0.0, 1.0);
-  OptimizerResult result;
-  double value = 0;
-  try {
-    result.stop = stop_text(opt.optimize(x, value));
-  } catch (const nlopt::forced_stop&) {
-    if (ctx.error) std::rethrow_exception(ctx.error);
-    result.stop = ctx.budget_spent ? "budget spent" : "forced stop";
-  } catch (const nlopt::roundoff_limited&) {
-    result.stop = "roundoff limited";
-  } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("optimiser: invalid arguments: ") + e.what());
-  } catch (const std::runtime_error& e) {
-    if (ctx.error) std::rethrow_exception(ctx.error);
-    result.stop = std::string("optimiser failure: ") + e.what();
-  }
-  if (ctx.error) std::rethrow_exception(ctx.error);
-  result.evaluations = ctx.calls;
-  result.u = ctx.best_u.empty() ? x : ctx.best_u;
-  result.value = ctx.best;
-  return result;
-}
 
 // ---- parameters and objective ----
 
@@ -372,6 +234,13 @@ double objective_value(const Objective& objective, const std::vector<ScenarioOut
   return agg + objective.time_penalty_per_ms * ms / double(outcomes.size());
 }
 
+std::string seeds_text(const std::vector<ScenarioOutcome>& outcomes) {
+  std::string s;
+  for (const ScenarioOutcome& o : outcomes)
+    s += (s.empty() ? "" : ", ") + o.name + " " + (o.failed ? "-" : std::to_string(o.seed));
+  return s;
+}
+
 // ---- the search ----
 
 namespace {
@@ -380,14 +249,6 @@ std::string values_text(const std::vector<TuningParameter>& params, const std::v
   std::string s;
   for (std::size_t i = 0; i < params.size(); ++i)
     s += (i ? " " : "") + params[i].key + "=" + params[i].text(v[i]);
-  return s;
-}
-
-// The scenario seed of each outcome: "default 1, noisy_camera 1".
-std::string seeds_text(const std::vector<ScenarioOutcome>& outcomes) {
-  std::string s;
-  for (const ScenarioOutcome& o : outcomes)
-    s += (s.empty() ? "" : ", ") + o.name + " " + (o.failed ? "-" : std::to_string(o.seed));
   return s;
 }
 
@@ -566,212 +427,6 @@ void write_search_csv(std::ostream& out, const TuningOptions& options, const Tun
     }
     out << ',' << text::csv_field(status.empty() ? "ok" : status) << '\n';
   }
-}
-
-namespace {
-
-struct Shown {
-  std::string stat;
-  std::string label;
-  double scale;
-  std::string unit;
-};
-
-const std::vector<Shown>& shown_stats() {
-  static const std::vector<Shown> s = {
-      {"p50_translation_m", "translation p50", 1e3, "mm"},
-      {"p99_translation_m", "translation p99", 1e3, "mm"},
-      {"converged_p50_translation_m", "converged translation p50", 1e3, "mm"},
-      {"converged_p75_translation_m", "converged translation p75", 1e3, "mm"},
-      {"converged_p99_translation_m", "converged translation p99", 1e3, "mm"},
-      {"converged_p50_rotation_rad", "converged rotation p50", 180 / M_PI, "deg"},
-      {"convergence_time_s", "convergence time", 1, "s"},
-      {"p50_image_update_ms", "image update p50", 1, "ms"},
-  };
-  return s;
-}
-
-double outcome_stat(const ScenarioOutcome& o, const std::string& name) {
-  const auto& names = outcome_statistics();
-  const auto it = std::find(names.begin(), names.end(), name);
-  return it == names.end() ? kNaN : o.stats[std::size_t(it - names.begin())];
-}
-
-std::string show(double v) {
-  if (std::isnan(v)) return "-";
-  if (std::isinf(v)) return "never";
-  return text::format_g(v, 4);
-}
-
-std::string change(double a, double b) {
-  if (!std::isfinite(a) || !std::isfinite(b) || a == 0) return "";
-  const double pct = 100 * (b - a) / a;
-  return (pct > 0 ? "+" : "") + text::format_g(pct, 3) + "%";
-}
-
-// Grouped bars of the translation statistics, default (grey) vs tuned (blue).
-void bar_chart(std::ostream& o, const ScenarioOutcome& d, const ScenarioOutcome& t) {
-  std::vector<const Shown*> bars;
-  for (const Shown& s : shown_stats())
-    if (s.unit == "mm") bars.push_back(&s);
-  double top = 0;
-  for (const Shown* s : bars)
-    for (const ScenarioOutcome* x : {&d, &t}) {
-      const double v = outcome_stat(*x, s->stat) * s->scale;
-      if (std::isfinite(v)) top = std::max(top, v);
-    }
-  if (top <= 0) top = 1;
-  const double W = 560, H = 190, left = 44, bottom = 36, plot_h = H - bottom - 10;
-  const double group = (W - left - 10) / double(bars.size());
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" font-family=\"sans-serif\" font-size=\"10\">";
-  o << "<line x1=\"" << left << "\" y1=\"10\" x2=\"" << left << "\" y2=\"" << 10 + plot_h
-    << "\" stroke=\"#888\"/><text x=\"" << left - 4 << "\" y=\"14\" text-anchor=\"end\">"
-    << text::format_g(top, 3) << "</text><text x=\"" << left - 4 << "\" y=\"" << 10 + plot_h
-    << "\" text-anchor=\"end\">0</text><text x=\"4\" y=\"" << 10 + plot_h / 2 << "\">mm</text>";
-  for (std::size_t i = 0; i < bars.size(); ++i) {
-    const double gx = left + group * double(i);
-    int k = 0;
-    for (const ScenarioOutcome* x : {&d, &t}) {
-      const double v = outcome_stat(*x, bars[i]->stat) * bars[i]->scale;
-      const double h = std::isfinite(v) ? std::min(v / top, 1.0) * plot_h : 0;
-      const double bx = gx + 6 + k * (group - 12) / 2;
-      o << "<rect x=\"" << bx << "\" y=\"" << 10 + plot_h - h << "\" width=\"" << (group - 14) / 2
-        << "\" height=\"" << h << "\" fill=\"" << (k == 0 ? "#999" : "#1f77b4") << "\"><title>"
-        << (k == 0 ? "default " : "tuned ") << text::html_escape(bars[i]->label) << ": " << show(v)
-        << " mm</title></rect>";
-      ++k;
-    }
-    o << "<text x=\"" << gx + group / 2 << "\" y=\"" << H - bottom + 14
-      << "\" text-anchor=\"middle\">"
-      << text::html_escape(bars[i]->label.substr(0, bars[i]->label.find(' ')))
-      << "</text><text x=\"" << gx + group / 2 << "\" y=\"" << H - bottom + 26
-      << "\" text-anchor=\"middle\">"
-      << text::html_escape(bars[i]->label.substr(bars[i]->label.find(' ') + 1)) << "</text>";
-  }
-  o << "</svg>";
-}
-
-// Objective per evaluation (dots) and best so far (line).
-void search_chart(std::ostream& o, const TuningResult& r) {
-  const double W = 560, H = 200, left = 60, bottom = 28, top_m = 10;
-  std::vector<double> v;
-  for (const Evaluation& e : r.history) v.push_back(e.objective);
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (double x : v)
-    if (x < kFailedStatistic) {
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-  if (!(lo <= hi)) lo = 0, hi = 1;
-  if (hi == lo) hi = lo + (lo == 0 ? 1 : std::fabs(lo) * 0.1);
-  const double n = std::max<double>(1, double(v.size()) - 1);
-  auto X = [&](std::size_t i) { return left + (W - left - 10) * double(i) / n; };
-  // Logarithmic when the values span more than a factor 4 (a bad candidate
-  // would flatten the rest).
-  const bool log_y = lo > 0 && hi / lo > 4;
-  auto Y = [&](double x) {
-    x = std::clamp(x, lo, hi);
-    const double t = log_y ? std::log(x / lo) / std::log(hi / lo) : (x - lo) / (hi - lo);
-    return top_m + (H - bottom - top_m) * (1 - t);
-  };
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" font-family=\"sans-serif\" font-size=\"10\"><rect x=\"" << left << "\" y=\"" << top_m
-    << "\" width=\"" << W - left - 10 << "\" height=\"" << H - bottom - top_m
-    << "\" fill=\"none\" stroke=\"#ccc\"/><text x=\"" << left - 4 << "\" y=\"" << top_m + 8
-    << "\" text-anchor=\"end\">" << text::format_g(hi, 3) << "</text><text x=\"" << left - 4
-    << "\" y=\"" << H - bottom << "\" text-anchor=\"end\">" << text::format_g(lo, 3)
-    << "</text><text x=\"" << (W + left) / 2 << "\" y=\"" << H - 6
-    << "\" text-anchor=\"middle\">evaluation" << (log_y ? " (objective on a log scale)" : "")
-    << "</text>";
-  std::string line;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    best = std::min(best, v[i]);
-    line += (i ? " L" : "M") + text::format_g(X(i), 6) + " " + text::format_g(Y(best), 6);
-    o << "<circle cx=\"" << X(i) << "\" cy=\"" << Y(v[i]) << "\" r=\"3\" fill=\""
-      << (i == r.best ? "#d62728" : "#1f77b4") << "\"><title>evaluation " << i + 1 << ": "
-      << text::format_g(v[i], 6) << "</title></circle>";
-  }
-  o << "<path d=\"" << line << "\" fill=\"none\" stroke=\"#2ca02c\" stroke-width=\"1.5\"/></svg>";
-}
-
-}  // namespace
-
-std::string tuning_html(const TuningOptions& options, const TuningResult& r) {
-  std::ostringstream o;
-  const Evaluation& best = r.history.at(r.best);
-  o << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Tuning</title><style>"
-    << "body{font-family:sans-serif;margin:1.5em;max-width:1100px}table{border-collapse:collapse;"
-       "margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 8px;font-size:13px}"
-       "td.n{text-align:right}.better{color:#070}.worse{color:#b00}"
-    << "</style></head><body>\n<h1>Tuning: " << text::html_escape(options.objective.text())
-    << " of " << text::html_escape(options.objective.method) << "</h1>\n<p>";
-  o << "Minimised: the "
-    << (options.objective.aggregate == Objective::Aggregate::kMean ? "mean" : "maximum")
-    << " over the tuning scenarios of <code>" << text::html_escape(options.objective.statistic)
-    << "</code>";
-  if (options.objective.time_penalty_per_ms > 0)
-    o << " plus " << text::format_g(options.objective.time_penalty_per_ms, 6)
-      << " per ms of the mean p50 image update time";
-  o << ". Optimiser " << optimizer_name(options.optimizer) << ", budget " << options.budget << ", "
-    << r.history.size() << " evaluations (" << text::html_escape(r.optimizer.stop)
-    << "); base configuration <code>" << text::html_escape(options.base_config.string())
-    << "</code>; scenario seeds" << (options.seed >= 0 ? " (--seed)" : "") << ": "
-    << text::html_escape(seeds_text(r.compare_default)) << ". Best: evaluation " << best.index
-    << ", objective " << text::format_g(best.objective, 6)
-    << ".</p>\n<h2>Parameters</h2>\n<table><tr><th>key</th><th>interval</th><th>default</th>"
-       "<th>tuned</th></tr>\n";
-  for (std::size_t i = 0; i < r.params.size(); ++i) {
-    const TuningParameter& p = r.params[i];
-    o << "<tr><td><code>" << text::html_escape(p.key) << "</code></td><td>[" << p.text(p.lo) << ", "
-      << p.text(p.hi) << "]" << (p.integer ? " whole" : "") << "</td><td class=\"n\">"
-      << (std::isnan(r.default_values[i]) ? "-" : text::format_g(r.default_values[i], 6))
-      << "</td><td class=\"n\"><b>" << p.text(best.values[i]) << "</b></td></tr>\n";
-  }
-  o << "</table>\n<h2>Search</h2>\n";
-  search_chart(o, r);
-  o << "\n<h2>Default against tuned</h2>\n<table><tr><th>scenario</th><th>role</th><th>"
-    << text::html_escape(options.objective.statistic)
-    << " default</th><th>tuned</th><th>change</th></tr>\n";
-  for (std::size_t i = 0; i < r.compare_default.size(); ++i) {
-    const double a = r.compare_default[i].objective_statistic,
-                 b = r.compare_tuned[i].objective_statistic;
-    o << "<tr><td>" << text::html_escape(r.compare_default[i].name) << "</td><td>"
-      << (r.compare_is_validation[i] ? "validation" : "tuning") << "</td><td class=\"n\">"
-      << show(a) << "</td><td class=\"n\">" << show(b) << "</td><td class=\"n "
-      << (b < a   ? "better"
-          : b > a ? "worse"
-                  : "")
-      << "\">" << change(a, b) << "</td></tr>\n";
-  }
-  o << "</table>\n<p>Bars: grey default, blue tuned.</p>\n";
-  for (std::size_t i = 0; i < r.compare_default.size(); ++i) {
-    const ScenarioOutcome& d = r.compare_default[i];
-    const ScenarioOutcome& t = r.compare_tuned[i];
-    o << "<h3>" << text::html_escape(d.name) << " ("
-      << (r.compare_is_validation[i] ? "validation" : "tuning") << ", <code>"
-      << text::html_escape(d.scenario.string()) << "</code>)</h3>\n";
-    for (const ScenarioOutcome* x : {&d, &t})
-      if (x->failed)
-        o << "<p class=\"worse\">" << (x == &d ? "default" : "tuned")
-          << " failed: " << text::html_escape(x->message) << "</p>\n";
-    o << "<table><tr><th>statistic</th><th>default</th><th>tuned</th><th>change</th></tr>\n";
-    for (const Shown& s : shown_stats()) {
-      const double a = outcome_stat(d, s.stat) * s.scale, b = outcome_stat(t, s.stat) * s.scale;
-      o << "<tr><td>" << text::html_escape(s.label) << " (" << s.unit << ")</td><td class=\"n\">"
-        << show(a) << "</td><td class=\"n\">" << show(b) << "</td><td class=\"n "
-        << (b < a   ? "better"
-            : b > a ? "worse"
-                    : "")
-        << "\">" << change(a, b) << "</td></tr>\n";
-    }
-    o << "</table>\n";
-    bar_chart(o, d, t);
-    o << "\n";
-  }
-  o << "</body></html>\n";
-  return o.str();
 }
 
 }  // namespace arttrack::sim

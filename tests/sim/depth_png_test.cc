@@ -1,5 +1,5 @@
-// Depth PNG files: millimetre round trip, the preview's colours, and errors
-// that name the file.
+// Depth PNG files: millimetre round trip, the preview's colours, RGB images
+// encoded in memory, and errors that name the file.
 #include "arttrack/sim/depth_png.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +17,7 @@
 
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
+#include "png_rgb.h"
 
 namespace arttrack::sim {
 namespace {
@@ -60,33 +61,41 @@ TEST(DepthPng, MillimetreRoundTrip) {
 // Reads an 8-bit RGB PNG with libpng's simplified API (independent of the
 // code under test).
 std::vector<unsigned char> read_rgb(const fs::path& path, int& w, int& h) {
-  png_image img{};
-  img.version = PNG_IMAGE_VERSION;
-  EXPECT_TRUE(png_image_begin_read_from_file(&img, path.c_str()));
-  img.format = PNG_FORMAT_RGB;
-  std::vector<unsigned char> rgb(PNG_IMAGE_SIZE(img));
-  EXPECT_TRUE(png_image_finish_read(&img, nullptr, rgb.data(), 0, nullptr));
-  w = int(img.width);
-  h = int(img.height);
-  return rgb;
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
+  return test::decode_png_rgb(bytes, w, h);
 }
 
+// The preview is in Turbo: nearest its dark red end, farthest its dark blue
+// end (the published table's last and first entries, 8-bit), no return black.
 TEST(DepthPng, PreviewColours) {
-  DepthImage image(3, 1);
+  DepthImage image(4, 1);
   image.at(0, 0) = 1.0f;  // nearest: red
   image.at(1, 0) = 0.0f;  // no return: black
   image.at(2, 0) = 3.0f;  // farthest: blue
+  image.at(3, 0) = 2.0f;  // middle: green-yellow
   const fs::path path = test_path("preview.png");
   write_depth_preview_png(path, image);
   int w, h;
   const auto rgb = read_rgb(path, w, h);
-  ASSERT_EQ(w, 3);
+  ASSERT_EQ(w, 4);
   ASSERT_EQ(h, 1);
-  EXPECT_GT(rgb[0], 100);
-  EXPECT_EQ(rgb[2], 0);
+  EXPECT_EQ(std::vector<int>(rgb.begin(), rgb.begin() + 3), (std::vector<int>{122, 4, 3}));
   EXPECT_EQ(rgb[3] + rgb[4] + rgb[5], 0);
-  EXPECT_EQ(rgb[6], 0);
-  EXPECT_GT(rgb[8], 100);
+  EXPECT_EQ(std::vector<int>(rgb.begin() + 6, rgb.begin() + 9), (std::vector<int>{48, 18, 59}));
+  EXPECT_GT(rgb[10], 200);  // the middle of Turbo is bright green
+  EXPECT_GT(rgb[10], rgb[11]);
+}
+
+TEST(DepthPng, RgbImageEncodesInMemoryAndDecodes) {
+  std::vector<std::uint8_t> rgb(7 * 5 * 3);
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = std::uint8_t(i * 37);
+  int w = 0, h = 0;
+  EXPECT_EQ(test::decode_png_rgb(encode_png_rgb(7, 5, rgb), w, h), rgb);
+  EXPECT_EQ(w, 7);
+  EXPECT_EQ(h, 5);
+  EXPECT_THROW(encode_png_rgb(7, 5, std::span(rgb).first(10)), InputError);
+  EXPECT_THROW(encode_png_rgb(0, 5, {}), InputError);
 }
 
 TEST(DepthPng, ErrorsNameTheFile) {

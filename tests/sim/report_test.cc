@@ -18,6 +18,7 @@
 
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
+#include "png_rgb.h"
 
 namespace arttrack::sim {
 namespace {
@@ -68,6 +69,8 @@ ScenarioResult synthetic_result() {
     truth.angle_rad = Eigen::Vector3d(0.1, 0.2, 0.3);
     truth.bias_rad = Eigen::Vector3d(0.15, -0.05, 0.0);
     truth.T_camera_ee = {Eigen::Isometry3d::Identity()};
+    truth.T_base_camera = Eigen::Isometry3d::Identity();
+    truth.camera_offset << 0.01, -0.01, 0.015, 0.0, 0.0, 0.01;
     run.truth.push_back(truth);
     for (MethodRun& mr : run.methods) {
       EstimateSample s;
@@ -194,7 +197,8 @@ TEST(Report, EveryChartIsThere) {
   const std::string html = report_html(r);
   std::vector<std::string> ids = {"box-translation-all", "box-translation-converged",
                                   "box-rotation-all",    "box-rotation-converged",
-                                  "error-time",          "colours-0"};
+                                  "error-time",          "colours-0",
+                                  "bias-legend",         "camera-legend"};
   for (const std::string& j : kJoints) ids.push_back("bias-" + j);
   for (const char* k : {"x", "y", "z", "roll", "pitch", "yaw"})
     ids.push_back(std::string("camera-") + k);
@@ -205,15 +209,48 @@ TEST(Report, EveryChartIsThere) {
   for (const char* id : {"box-translation-all", "box-rotation-converged"})
     EXPECT_EQ(count(chart(html, id), "<rect"), 3u) << id;
   EXPECT_EQ(count(chart(html, "error-time"), "stroke-width=\"1.6\""), 3u);
-  // Bias: estimate and truth lines and the band; camera: the two estimating methods.
+  // Bias: estimate and truth lines and the band; camera: the two estimating
+  // methods and the truth.
   EXPECT_EQ(count(chart(html, "bias-elbow"), "<path"), 3u);
-  EXPECT_EQ(count(chart(html, "camera-yaw"), "<path"), 2u);
+  EXPECT_EQ(count(chart(html, "camera-yaw"), "<path"), 3u);
   // 42 mm against 0.2 mm: the translation axis is logarithmic and says so.
   EXPECT_NE(chart(html, "box-translation-all").find("(log scale)"), std::string::npos);
   EXPECT_NE(chart(html, "error-time").find("(log scale)"), std::string::npos);
   EXPECT_EQ(chart(html, "bias-shoulder").find("(log scale)"), std::string::npos);
   // vision_only's lost estimates show as such.
   EXPECT_NE(chart(html, "box-translation-all").find(">lost<"), std::string::npos);
+}
+
+// The stroke-dasharray of the first element drawn in black (the truth's
+// colour) in `svg`: "" if solid, "none" if there is none.
+std::string truth_dash(const std::string& svg) {
+  const std::size_t at = svg.find("stroke=\"#000\"");
+  if (at == std::string::npos) return "none";
+  const std::string attrs = svg.substr(at, svg.find("/>", at) - at);
+  const std::string key = "stroke-dasharray=\"";
+  const std::size_t d = attrs.find(key);
+  if (d == std::string::npos) return "";
+  return attrs.substr(d + key.size(), attrs.find('"', d + key.size()) - d - key.size());
+}
+
+// The simulator's truths (encoder bias, camera offset) are drawn on their
+// charts, and the legends draw them as the charts do: dashed.
+TEST(Report, TruthsAreDrawnAsTheirLegendsSay) {
+  const std::string html = report_html(synthetic_result());
+  EXPECT_NE(chart(html, "bias-legend").find(">true bias</text>"), std::string::npos);
+  EXPECT_NE(chart(html, "camera-legend").find(">true offset</text>"), std::string::npos);
+  EXPECT_NE(truth_dash(chart(html, "bias-elbow")), "");
+  EXPECT_NE(truth_dash(chart(html, "bias-elbow")), "none");
+  EXPECT_EQ(truth_dash(chart(html, "bias-legend")), truth_dash(chart(html, "bias-elbow")));
+  EXPECT_NE(truth_dash(chart(html, "camera-yaw")), "none");
+  EXPECT_EQ(truth_dash(chart(html, "camera-legend")), truth_dash(chart(html, "camera-yaw")));
+  // Without camera truth (a dataset), no true offset is drawn and the page says so.
+  ScenarioResult r = synthetic_result();
+  for (TruthSample& t : r.runs[0].truth) t.T_base_camera.reset();
+  const std::string without = report_html(r);
+  EXPECT_EQ(truth_dash(chart(without, "camera-yaw")), "none");
+  EXPECT_EQ(chart(without, "camera-legend").find("true offset"), std::string::npos);
+  EXPECT_NE(without.find("the true camera is not known here"), std::string::npos);
 }
 
 TEST(Report, SelfContainedAndWellFormed) {
@@ -431,60 +468,17 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
   EXPECT_EQ(tag_problem(html), "");
 }
 
-TEST(Report, Base64KnownVectorsAndRoundTrip) {
-  // RFC 4648, section 10.
-  const std::pair<std::string, std::string> vectors[] = {{"", ""},
-                                                         {"f", "Zg=="},
-                                                         {"fo", "Zm8="},
-                                                         {"foo", "Zm9v"},
-                                                         {"foob", "Zm9vYg=="},
-                                                         {"fooba", "Zm9vYmE="},
-                                                         {"foobar", "Zm9vYmFy"}};
-  for (const auto& [in, out] : vectors)
-    EXPECT_EQ(base64_encode({reinterpret_cast<const std::uint8_t*>(in.data()), in.size()}), out);
-  std::mt19937 rng(3);
-  for (int n = 0; n < 70; ++n) {
-    std::vector<std::uint8_t> bytes(n);
-    for (auto& b : bytes) b = std::uint8_t(rng());
-    const std::string text = base64_encode(bytes);
-    EXPECT_EQ(text.size(), std::size_t((n + 2) / 3 * 4));
-    EXPECT_EQ(base64_decode(text), bytes) << n;
-  }
-}
-
-TEST(Report, PngInMemoryDecodes) {
-  std::vector<std::uint8_t> rgb(7 * 5 * 3);
-  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = std::uint8_t(i * 37);
-  const std::vector<std::uint8_t> png = encode_png_rgb(7, 5, rgb);
-  png_image img{};
-  img.version = PNG_IMAGE_VERSION;
-  ASSERT_TRUE(png_image_begin_read_from_memory(&img, png.data(), png.size()));
-  ASSERT_EQ(img.width, 7u);
-  ASSERT_EQ(img.height, 5u);
-  img.format = PNG_FORMAT_RGB;
-  std::vector<std::uint8_t> back(PNG_IMAGE_SIZE(img));
-  ASSERT_TRUE(png_image_finish_read(&img, nullptr, back.data(), 0, nullptr));
-  EXPECT_EQ(back, rgb);
-  EXPECT_THROW(encode_png_rgb(7, 5, std::span(rgb).first(10)), InputError);
-  EXPECT_THROW(encode_png_rgb(0, 5, {}), InputError);
-}
-
 TEST(Report, EmbeddedFrameShowsDepthAndSilhouette) {
   const std::string html = report_html(synthetic_result());
   const std::string key = "src=\"data:image/png;base64,";
   const std::size_t at = html.find(key);
   ASSERT_NE(at, std::string::npos);
   const std::size_t begin = at + key.size();
-  const std::vector<std::uint8_t> png =
-      base64_decode(html.substr(begin, html.find('"', begin) - begin));
-  png_image img{};
-  img.version = PNG_IMAGE_VERSION;
-  ASSERT_TRUE(png_image_begin_read_from_memory(&img, png.data(), png.size()));
-  ASSERT_EQ(img.width, 40u);
-  ASSERT_EQ(img.height, 30u);
-  img.format = PNG_FORMAT_RGB;
-  std::vector<std::uint8_t> rgb(PNG_IMAGE_SIZE(img));
-  ASSERT_TRUE(png_image_finish_read(&img, nullptr, rgb.data(), 0, nullptr));
+  int w = 0, h = 0;
+  const std::vector<std::uint8_t> rgb =
+      test::decode_png_rgb(base64_decode(html.substr(begin, html.find('"', begin) - begin)), w, h);
+  ASSERT_EQ(w, 40);
+  ASSERT_EQ(h, 30);
   auto pixel = [&](int u, int v) {
     const std::uint8_t* p = &rgb[(std::size_t(v) * 40 + u) * 3];
     return std::array<int, 3>{p[0], p[1], p[2]};
@@ -500,37 +494,6 @@ TEST(Report, EmbeddedFrameShowsDepthAndSilhouette) {
   // Near is red, far is blue.
   EXPECT_GT(pixel(3, 25)[0], pixel(3, 25)[2]);
   EXPECT_LT(pixel(39, 25)[0], pixel(39, 25)[2]);
-}
-
-TEST(Report, RoundTicks) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> exponent(-4, 4), unit(-1, 1);
-  for (int trial = 0; trial < 2000; ++trial) {
-    const double scale = std::pow(10.0, exponent(rng));
-    double lo = unit(rng) * scale, hi = unit(rng) * scale;
-    if (lo > hi) std::swap(lo, hi);
-    const int max_ticks = 3 + trial % 6;
-    const std::vector<double> t = round_ticks(lo, hi, max_ticks);
-    ASSERT_GE(t.size(), 2u);
-    ASSERT_LE(t.size(), std::size_t(max_ticks + 1)) << lo << " " << hi;
-    EXPECT_LE(t.front(), lo);
-    EXPECT_GE(t.back(), hi);
-    const double step = t[1] - t[0];
-    const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
-    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-6 || std::abs(mantissa - 2) < 1e-6 ||
-                std::abs(mantissa - 5) < 1e-6)
-        << step;
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      EXPECT_NEAR(t[i] / step, std::round(t[i] / step), 1e-6);  // multiples of the step
-      if (i > 0) {
-        EXPECT_NEAR(t[i] - t[i - 1], step, 1e-9 * scale);
-      }
-    }
-  }
-  EXPECT_EQ(round_ticks(0, 10, 6), (std::vector<double>{0, 2, 4, 6, 8, 10}));
-  const std::vector<double> t = round_ticks(0.13, 0.87, 5);  // 0.1 steps would be 9 ticks
-  ASSERT_EQ(t.size(), 6u);
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(t[i], 0.2 * i, 1e-12);
 }
 
 TEST(Report, WritesTheFileOrNamesIt) {

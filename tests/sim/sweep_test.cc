@@ -291,5 +291,96 @@ TEST(Sweep, GnuParallelShardsMergeIntoTheUnshardedOutputs) {
   EXPECT_EQ(all, read_file(dir.path() / "merged" / "sweep.csv"));
 }
 
+// The <svg> element of `html` whose data-chart is `id` ("" if none).
+std::string svg_of(const std::string& html, const std::string& id) {
+  const std::size_t at = html.find("data-chart=\"" + id + "\"");
+  if (at == std::string::npos) return "";
+  const std::size_t begin = html.rfind("<svg", at);
+  return html.substr(begin, html.find("</svg>", at) + 6 - begin);
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// A 3 x 2 sweep's results made by hand (no simulation): 4 mm everywhere,
+// except encoders_only's 20 mm per degree of encoders[0].offset_deg (fails
+// above 50 mm from 5 degrees); cell 4 failed to run, cell 5 is in another
+// shard.
+std::vector<CellResult> hand_made_cells(const SweepSpec& spec) {
+  const std::size_t n = sweep_statistics().size();
+  std::vector<CellResult> cells;
+  for (std::size_t c = 0; c < 5; ++c) {
+    CellResult r;
+    r.cell = c;
+    r.stats.assign(spec.methods.size(), std::vector<double>(n, 0.004));
+    const double offset_deg = std::stod(spec.axes[0].values[spec.cell_coordinates(c)[0]]);
+    if (offset_deg > 0) std::fill(r.stats[0].begin(), r.stats[0].end(), 0.02 * offset_deg);
+    if (c == 4) {
+      r.failed = true;
+      r.message = "value <rejected>";
+      for (auto& m : r.stats) std::fill(m.begin(), m.end(), std::nan(""));
+    }
+    cells.push_back(r);
+  }
+  return cells;
+}
+
+TEST(SweepPage, HeatMapsNameTheirAxesAndMarkWhereAMethodFails) {
+  SweepSpec spec;
+  spec.scenario = "s.yaml";
+  spec.scenario_name = "s";
+  spec.axes = {parse_grid_axis("encoders[0].offset_deg=0,5,10"),
+               parse_grid_axis("camera.latency_s=0,0.05")};
+  spec.methods = {"encoders_only", "full_fusion"};
+  spec.runs = 1;
+  const std::string html = sweep_html(spec, hand_made_cells(spec));
+  EXPECT_NE(html.find("fails at encoders[0].offset_deg = 5</td>"), std::string::npos);
+  EXPECT_NE(html.find(">holds where known</td>"), std::string::npos);
+  EXPECT_NE(html.find("value &lt;rejected&gt;"), std::string::npos);
+  EXPECT_EQ(html.find("<rejected>"), std::string::npos);
+  EXPECT_EQ(html.find("No cell has a value"), std::string::npos);
+
+  const std::string map = svg_of(html, "converged_p50_translation_m-encoders_only-0");
+  ASSERT_NE(map, "");
+  // Both axes named by their keys, every value a tick; cell values in the
+  // 12 px class; the two failing cells outlined and the boundary drawn.
+  EXPECT_NE(map.find(">encoders[0].offset_deg</text>"), std::string::npos);
+  EXPECT_NE(map.find(">camera.latency_s</text>"), std::string::npos);
+  for (const char* v : {">0</text>", ">5</text>", ">10</text>", ">0.05</text>"})
+    EXPECT_NE(map.find(v), std::string::npos) << v;
+  EXPECT_EQ(count(map, "class=\"hv\""), 4u);  // 4 cells with values: 4, 4, 100, 100 mm
+  EXPECT_EQ(count(map, ">100</text>"), 2u);
+  EXPECT_EQ(count(map, "stroke=\"#ff00ff\""), 2u);
+  EXPECT_EQ(count(map, "stroke=\"#000\" stroke-width=\"3\""), 2u);
+  EXPECT_NE(map.find("FAILED: value &lt;rejected&gt;"), std::string::npos);
+  EXPECT_NE(map.find("not run in this part"), std::string::npos);
+  EXPECT_EQ(map.find("nan"), std::string::npos);
+  // One colour scale per statistic, with its unit; the key to the cells.
+  const std::string bar = svg_of(html, "colours-converged_p50_translation_m");
+  EXPECT_NE(bar.find("converged_p50_translation_m, mm (log scale)"), std::string::npos);
+  EXPECT_NE(svg_of(html, "cell-key").find(">method fails</text>"), std::string::npos);
+}
+
+TEST(SweepPage, NoValueAnywhereIsUnknownNotHolding) {
+  SweepSpec spec;
+  spec.scenario = "s.yaml";
+  spec.axes = {parse_grid_axis("duration_s=1,2")};
+  spec.methods = {"full_fusion"};
+  std::vector<CellResult> cells(2);
+  for (std::size_t c = 0; c < 2; ++c) {
+    cells[c].cell = c;
+    cells[c].stats.assign(1, std::vector<double>(sweep_statistics().size(), std::nan("")));
+  }
+  const std::string html = sweep_html(spec, cells);
+  EXPECT_NE(html.find(">unknown (no value)</td>"), std::string::npos);
+  EXPECT_EQ(html.find(">holds where known</td>"), std::string::npos);
+  EXPECT_EQ(html.find(">holds</td>"), std::string::npos);
+  EXPECT_NE(html.find("No cell has a value of <code>converged_p50_translation_m</code>"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace arttrack::sim

@@ -4,6 +4,7 @@
 //   - csv_number round-trips doubles and spells non-finite values;
 //   - format_g is printf "%.*g";
 //   - html_escape escapes & < > " and nothing else;
+//   - base64 is RFC 4648's;
 //   - trim, parse_number, one_line, write_text, median_convergence_s.
 #include "../../sim/src/text_format.h"
 
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "arttrack/tracker/error.h"
 
@@ -72,6 +74,28 @@ TEST(TextFormat, HtmlEscapeEscapesAmpersandAnglesAndDoubleQuotesOnly) {
   EXPECT_EQ(text::html_escape("it's"), "it's");
   EXPECT_EQ(text::html_escape("&amp;"), "&amp;amp;");
   EXPECT_EQ(text::html_escape("\xc2\xb0 deg\n"), "\xc2\xb0 deg\n");
+}
+
+TEST(TextFormat, Base64KnownVectorsAndAlphabet) {
+  // RFC 4648, section 10: every padding case.
+  const std::pair<std::string, std::string> vectors[] = {{"", ""},
+                                                         {"f", "Zg=="},
+                                                         {"fo", "Zm8="},
+                                                         {"foo", "Zm9v"},
+                                                         {"foob", "Zm9vYg=="},
+                                                         {"fooba", "Zm9vYmE="},
+                                                         {"foobar", "Zm9vYmFy"}};
+  for (const auto& [in, out] : vectors)
+    EXPECT_EQ(text::base64({reinterpret_cast<const std::uint8_t*>(in.data()), in.size()}), out);
+  // The 48 bytes whose 6-bit groups count 0 to 63 encode as the alphabet.
+  std::vector<std::uint8_t> bytes(48, 0);
+  for (int i = 0; i < 64; ++i)
+    for (int bit = 0; bit < 6; ++bit)
+      if (i >> (5 - bit) & 1) bytes[(i * 6 + bit) / 8] |= std::uint8_t(0x80 >> ((i * 6 + bit) % 8));
+  EXPECT_EQ(text::base64(bytes),
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/");
+  for (std::size_t n = 0; n < 10; ++n)
+    EXPECT_EQ(text::base64(std::vector<std::uint8_t>(n, 0xff)).size(), (n + 2) / 3 * 4);
 }
 
 TEST(TextFormat, TrimAndParseNumber) {

@@ -252,5 +252,70 @@ TEST(Tuning, TinySearchIsNoWorseThanTheDefault) {
   EXPECT_TRUE(fs::exists(o.out_dir / "candidates" / "eval_0001.yaml"));
 }
 
+// A search made by hand (no simulation): four evaluations of one scenario,
+// the third failed; the best is the second.
+TEST(TuningPage, SearchChartHasTicksUnitAndLegendAndWallTimesAreNotJudged) {
+  TuningOptions o;
+  o.scenarios = {"a.yaml"};
+  o.base_config = "base.yaml";
+  o.objective = parse_objective("mean_converged_p75_translation_m");
+  o.budget = 4;
+  TuningResult r;
+  TuningParameter p;
+  p.key = "depth_model.occlusion_prior";
+  p.lo = 0.1;
+  p.hi = 0.5;
+  r.params = {p};
+  r.default_values = {0.25};
+  const auto outcome = [](double statistic_m, double ms) {
+    ScenarioOutcome s;
+    s.scenario = "a.yaml";
+    s.name = "a";
+    s.seed = 7;
+    s.stats.assign(outcome_statistics().size(), statistic_m);
+    s.stats.back() = ms;  // p50_image_update_ms
+    s.objective_statistic = statistic_m;
+    s.image_update_p50_ms = ms;
+    return s;
+  };
+  const double objectives[] = {0.006, 0.004, kFailedStatistic, 0.005};
+  for (int i = 0; i < 4; ++i) {
+    Evaluation e;
+    e.index = i + 1;
+    e.values = {0.1 + 0.1 * i};
+    e.outcomes = {outcome(objectives[i], 10 + i)};
+    e.outcomes[0].failed = objectives[i] == kFailedStatistic;
+    e.objective = objectives[i];
+    r.history.push_back(e);
+  }
+  r.best = 1;
+  r.optimizer.stop = "budget spent";
+  r.compare_default = {outcome(0.006, 10)};
+  r.compare_tuned = {outcome(0.004, 12)};
+  r.compare_is_validation = {false};
+  const std::string html = tuning_html(o, r);
+
+  const std::size_t at = html.find("data-chart=\"search\"");
+  ASSERT_NE(at, std::string::npos);
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  for (const char* t : {">1</text>", ">2</text>", ">3</text>", ">4</text>", ">evaluation</text>",
+                        ">objective, mm</text>", ">best so far</text>",
+                        ">best (evaluation 2)</text>", "failed or no value"})
+    EXPECT_NE(svg.find(t), std::string::npos) << t;
+  // The y axis spans the evaluations that gave a value (4 to 6 mm), not the
+  // failed one's 1000 m.
+  EXPECT_NE(svg.find(">6.0</text>"), std::string::npos);
+  EXPECT_EQ(svg.find("000000"), std::string::npos);
+  // The wall time's change is shown and not judged; the errors' are.
+  const std::size_t row = html.find("image update p50 (ms)");
+  ASSERT_NE(row, std::string::npos);
+  const std::string timing = html.substr(row, html.find("</tr>", row) - row);
+  EXPECT_NE(timing.find("+20% (wall time)"), std::string::npos) << timing;
+  EXPECT_EQ(timing.find("better"), std::string::npos);
+  EXPECT_EQ(timing.find("worse"), std::string::npos);
+  const std::size_t p50 = html.find("translation p50 (mm)");
+  EXPECT_NE(html.substr(p50, html.find("</tr>", p50) - p50).find("better"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace arttrack::sim

@@ -1,9 +1,13 @@
 // Depth images as PNG files: 16-bit greyscale in millimetres (0 = no
 // return; the usual format of depth datasets), and an 8-bit false-colour
-// preview for looking at.
+// preview for looking at; and any 8-bit RGB image as a PNG in memory (the
+// run report's embedded frames).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
+#include <vector>
 
 #include "arttrack/tracker/camera.h"
 
@@ -23,9 +27,15 @@ inline constexpr int kMaxDepthPngSide = 8192;
 // kMaxDepthPngSide pixels wide or high: InputError naming the file.
 DepthImage read_depth_png_mm(const std::filesystem::path& path);
 
-// Writes a jet-coloured RGB preview: near red ... far blue between min_m and
-// max_m (both 0: the image's own valid range), black where there is no return.
+// Writes an RGB preview in the simulator's colour map (Turbo): near red ...
+// far blue between min_m and max_m (both 0: the image's own valid range),
+// black where there is no return.
 void write_depth_preview_png(const std::filesystem::path& path, const DepthImage& depth,
                              double min_m = 0, double max_m = 0);
+
+// An 8-bit RGB image (row-major, 3 bytes per pixel, width * height * 3
+// bytes) encoded as a PNG file in memory. Throws InputError on a size
+// mismatch or an empty image.
+std::vector<std::uint8_t> encode_png_rgb(int width, int height, std::span<const std::uint8_t> rgb);
 
 }  // namespace arttrack::sim

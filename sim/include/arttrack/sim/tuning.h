@@ -127,6 +127,10 @@ ScenarioOutcome evaluate_scenario(const std::filesystem::path& scenario,
 // The objective over scenario outcomes.
 double objective_value(const Objective& objective, const std::vector<ScenarioOutcome>& outcomes);
 
+// The scenario seed of each outcome, "-" for a failed one: "default 1,
+// noisy_camera 1".
+std::string seeds_text(const std::vector<ScenarioOutcome>& outcomes);
+
 // The base document with each parameter set to its value (checked: the
 // result loads as a tracker configuration, else InputError).
 YamlDocument candidate_document(const YamlDocument& base,
@@ -190,8 +194,10 @@ TuningResult tune(const TuningOptions& options);
 void write_search_csv(std::ostream& out, const TuningOptions& options, const TuningResult& result);
 
 // tuning.html: self-contained; the parameters (interval, default, tuned),
-// the search (objective per evaluation), and per scenario a table of the
-// statistics and a bar chart, default against tuned.
+// the search (objective per evaluation and the best so far, in the
+// statistic's unit), and per scenario a table of the statistics and a bar
+// chart, default against tuned. Wall times (image update) are shown, never
+// marked better or worse: they vary from run to run.
 std::string tuning_html(const TuningOptions& options, const TuningResult& result);
 
 }  // namespace arttrack::sim
