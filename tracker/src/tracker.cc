@@ -462,10 +462,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   const CameraIntrinsics camera =
       subsampled_intrinsics(image.camera, likelihood.width(), likelihood.height());
   likelihood.set_observation(image.image);
-  if (!check_renderer || check_camera.width != camera.width ||
-      check_camera.height != camera.height || check_camera.fx != camera.fx ||
-      check_camera.fy != camera.fy || check_camera.cx != camera.cx ||
-      check_camera.cy != camera.cy) {
+  if (!check_renderer || check_camera != camera) {
     check_camera = camera;
     check_renderer = std::make_unique<DepthRenderer>(*render_model, camera);
   }
