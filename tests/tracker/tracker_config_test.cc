@@ -231,6 +231,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"health.lost_contradicted_fraction", "1", "1.1"},
     {"health.lost_abandoned_fraction", "0", "-0.1"},
     {"health.lost_abandoned_fraction", "1", "1.1"},
+    {"health.unconfirmed_explained_fraction", "0", "-0.1"},
+    {"health.unconfirmed_explained_fraction", "1", "1.1"},
     {"health.lost_after_images", "1", "0"},
     {"health.lost_after_images", "1000000", "1000001"},
     {"health.min_pixels", "1", "0"},

@@ -136,6 +136,13 @@ struct Tracker::Impl {
   int poor_images = 0;
   int failed_reacquisitions = 0;  // in a row, without a good image between
   std::vector<char> chain_poor;   // per chain: poor (ChainHealth thresholds) at the last image
+  // Per chain: its parts (the subtree after each joint but the first, with
+  // that joint) and how many images in a row it has been unconfirmed.
+  std::vector<std::vector<std::pair<int, LinkSet>>> chain_parts;
+  std::vector<int> unconfirmed_images;
+  int failed_confirmations = 0;    // searches of unconfirmed chains, in a row
+  bool confirming_search = false;  // the current reacquire() is for unconfirmed chains
+  std::vector<char> part_open;     // per DOF: searched by the current confirming search
   // Per chain: the observed depth where its render was explained at its last
   // good image (0 elsewhere), at the likelihood's resolution (ChainHealth).
   std::vector<std::vector<float>> explained_depth_m;
@@ -147,7 +154,7 @@ struct Tracker::Impl {
   CameraIntrinsics check_camera;
   KinematicsState check_kinematics;
   Eigen::VectorXd check_q;
-  DepthImage check_image;
+  DepthImage check_image, check_full_image;
 
   // The reported uncertainty (posterior_covariance.h): the image thread's,
   // and the copy estimate() reads (guarded by mutex).
@@ -320,11 +327,17 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
         if (chain_root[k] == j) members.push_back(k);
       chains.push_back(std::move(members));
       chain_links.push_back(model->links_moved_by(j));
+      std::vector<std::pair<int, LinkSet>> parts;
+      for (int k : chains.back())
+        if (k != j) parts.emplace_back(k, model->links_moved_by(k));
+      chain_parts.push_back(std::move(parts));
+      unconfirmed_images.push_back(0);
       health.chains.push_back({model->joint_name(j)});
       chain_poor.push_back(0);
       explained_depth_m.emplace_back();
     }
     health.whole.name = "all";
+    part_open.assign(n, 0);
     check_kinematics = KinematicsState(*render_model);
     check_q = Eigen::VectorXd::Zero(n);
 
@@ -490,8 +503,16 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     // tracker that stays lost (a wrong model, images that do not match the
     // joints) must not spend every image on searches.
     const int due = config.health.lost_after_images << std::min(failed_reacquisitions, 4);
-    if (periodic || poor_images >= due) {
-      periodic_search = periodic && poor_images < due;
+    // Unconfirmed chains (ChainHealth::unconfirmed) are searched with a
+    // back-off of their own: an occluded hand stays unconfirmed, and the
+    // search must not run at every image while it is hidden.
+    const int due_unconfirmed = config.health.lost_after_images
+                                << std::min(failed_confirmations, 5);
+    bool confirm = false;
+    for (int u : unconfirmed_images) confirm = confirm || u >= due_unconfirmed;
+    if (periodic || poor_images >= due || confirm) {
+      periodic_search = periodic && poor_images < due && !confirm;
+      confirming_search = confirm && poor_images < due;
       reacquire(prior, reading_at_t, camera, image.image, t);
     }
   }
@@ -603,6 +624,37 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     open_mean[j] = open ? reading[j] : belief.mean_a[j];
     open_std[j] = std::sqrt(open ? var_b + var_q[j] : std::max(0.0, belief.var_a[j]));
   }
+  if (confirming_search) {
+    // Only each unconfirmed chain's weakest part is searched; the rest of
+    // the estimate, which the image confirms, is held (a zero proposal std).
+    // A search of the whole arm from the encoders finds the same wrong wrist
+    // the first one did; with the arm held, the hand's few DOFs are searched
+    // with every particle.
+    std::fill(part_open.begin(), part_open.end(), 0);
+    for (std::size_t c = 0; c < chains.size(); ++c) {
+      if (unconfirmed_images[c] == 0) continue;
+      for (const auto& [dof, links] : chain_parts[c]) {
+        if (dof != health.chains[c].weakest_part_joint) continue;
+        for (int k : chains[c])
+          if (links[std::size_t(model->joint_child_link(k))]) part_open[k] = 1;
+        // And the joint above it: the wrong hand measured came with the two
+        // wrist joints off in opposite senses (15 and 17 degrees).
+        for (int l = model->link(model->joint_child_link(dof)).parent; l >= 0;
+             l = model->link(l).parent) {
+          const int up = model->link(l).dof;
+          if (up < 0 || model->is_virtual_joint(up)) continue;
+          if (std::find(chains[c].begin(), chains[c].end(), up) != chains[c].end())
+            part_open[up] = 1;
+          break;
+        }
+      }
+    }
+    for (int j = 0; j < n; ++j) {
+      if (part_open[j]) continue;
+      open_mean[j] = belief.mean_a[j];
+      open_std[j] = 0;
+    }
+  }
   auto log_prior = [&](int j, double a) {
     return gaussian_log_kernel(a, open_mean[j], open_std[j]);
   };
@@ -615,11 +667,12 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     // Triggered by the health check, only the chains it found poor may
     // change: a chain out of view (no verdict) keeps what the encoders say,
     // rather than a search placing it over some other surface.
-    if (!periodic_search && !chain_poor[c]) continue;
+    const bool unconfirmed = unconfirmed_images[c] > 0;
+    if (!periodic_search && !chain_poor[c] && !unconfirmed) continue;
     double gain = 0;
     bool differs = false;
     for (int j : chains[c]) {
-      if (!bias_estimated[j]) continue;
+      if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
       gain += log_prior(j, found[j]) - log_prior(j, belief.mean_a[j]);
       candidate[j] = found[j];
       differs = true;
@@ -630,7 +683,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     if (gain > config.acquisition.accept_margin_nats) {
       current_score = candidate_score;  // the next chain is compared with this one taken
       for (int j : chains[c]) {
-        if (!bias_estimated[j]) continue;
+        if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
         const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};
         belief.set_joint(j, fold_angle_marginal(reopened, found[j], found_var[j]));
         this->reopened[j] = 1;
@@ -643,6 +696,12 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
   ++health.acquisitions;
   health.last_acquisition_ms = ms_since(start);
   last_acquisition_s = time_s;
+  if (confirming_search) {
+    ++failed_confirmations;  // until no chain is unconfirmed
+    std::fill(unconfirmed_images.begin(), unconfirmed_images.end(), 0);
+    confirming_search = false;
+    return;
+  }
   poor_images = 0;
   ++failed_reacquisitions;  // until the health check finds a good image
 }
@@ -793,6 +852,30 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
   };
   check_renderer->render(check_kinematics, check_image);
   assess(health.whole);
+  check_full_image.depth_m.assign(check_image.depth_m.begin(), check_image.depth_m.end());
+  // ChainHealth::weakest_part_explained_fraction of chain c.
+  auto assess_parts = [&](std::size_t c, ChainHealth& out) {
+    out.weakest_part_joint = -1;
+    out.weakest_part_explained_fraction = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& [dof, links] : chain_parts[c]) {
+      check_renderer->render_links(check_kinematics, links, check_image);
+      int visible = 0, explained = 0;
+      for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
+        const float r = check_image.depth_m[i], z = observed.depth_m[i];
+        if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
+        if (check_full_image.depth_m[i] < r - 1e-4f) continue;  // behind another link
+        ++visible;
+        if (explains(r, z)) ++explained;
+      }
+      if (visible < h.min_pixels) continue;
+      const double fraction = double(explained) / visible;
+      if (out.weakest_part_joint < 0 || fraction < out.weakest_part_explained_fraction) {
+        out.weakest_part_joint = dof;
+        out.weakest_part_explained_fraction = fraction;
+      }
+    }
+    out.unconfirmed = out.weakest_part_explained_fraction < h.unconfirmed_explained_fraction;
+  };
   bool poor = health.whole.contradicted_fraction > h.lost_contradicted_fraction;
   int kept_pixels = 0, abandoned_pixels = 0;
   for (std::size_t c = 0; c < chains.size(); ++c) {
@@ -821,12 +904,18 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
     chain_poor[c] = chain.contradicted_fraction > h.lost_contradicted_fraction ||
                     chain.abandoned_fraction > h.lost_abandoned_fraction;
     poor = poor || chain_poor[c];
-    if (chain_poor[c]) continue;  // keep the evidence of its last good image
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      const float r = check_image.depth_m[i], z = observed.depth_m[i];
-      kept[i] = z <= max_range && explains(r, z) ? z : 0.0f;
+    if (!chain_poor[c]) {  // else keep the evidence of its last good image
+      for (std::size_t i = 0; i < kept.size(); ++i) {
+        const float r = check_image.depth_m[i], z = observed.depth_m[i];
+        kept[i] = z <= max_range && explains(r, z) ? z : 0.0f;
+      }
     }
+    assess_parts(c, chain);
+    unconfirmed_images[c] = chain.unconfirmed ? unconfirmed_images[c] + 1 : 0;
   }
+  if (std::none_of(unconfirmed_images.begin(), unconfirmed_images.end(),
+                   [](int u) { return u > 0; }))
+    failed_confirmations = 0;
   health.whole.abandoned_fraction = kept_pixels > 0 ? double(abandoned_pixels) / kept_pixels
                                                     : std::numeric_limits<double>::quiet_NaN();
   poor_images = poor ? poor_images + 1 : 0;
@@ -1098,6 +1187,19 @@ TrackerEstimate Tracker::estimate() const {
   for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
   e.health = s.published_health;
   return e;
+}
+
+double TrackingHealth::weakest_part_explained_fraction() const {
+  double weakest = std::numeric_limits<double>::quiet_NaN();
+  for (const ChainHealth& c : chains)
+    if (c.weakest_part_explained_fraction < weakest || std::isnan(weakest))
+      weakest = c.weakest_part_explained_fraction;
+  return weakest;
+}
+
+int TrackingHealth::unconfirmed_chains() const {
+  return int(std::count_if(chains.begin(), chains.end(),
+                           [](const ChainHealth& c) { return c.unconfirmed; }));
 }
 
 const char* health_state_name(TrackingHealth::State state) {

@@ -144,6 +144,7 @@ void TrackerConfig::validate(const std::string& source) const {
   check("health.contradicted_m", h.contradicted_m, R::closed(1e-4, 1));
   check("health.lost_contradicted_fraction", h.lost_contradicted_fraction, R::closed(0, 1));
   check("health.lost_abandoned_fraction", h.lost_abandoned_fraction, R::closed(0, 1));
+  check("health.unconfirmed_explained_fraction", h.unconfirmed_explained_fraction, R::closed(0, 1));
   check("health.lost_after_images", h.lost_after_images, R::closed(1, 1e6));
   check("health.min_pixels", h.min_pixels, R::closed(1, 1e7));
 
@@ -229,12 +230,14 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                                            {"accept_margin_nats", &a.accept_margin_nats},
                                            {"searches", &a.searches}});
   TrackerConfig::Health& h = c.health;
-  read_numbers(root.child("health"), {{"explained_m", &h.explained_m},
-                                      {"contradicted_m", &h.contradicted_m},
-                                      {"lost_contradicted_fraction", &h.lost_contradicted_fraction},
-                                      {"lost_abandoned_fraction", &h.lost_abandoned_fraction},
-                                      {"lost_after_images", &h.lost_after_images},
-                                      {"min_pixels", &h.min_pixels}});
+  read_numbers(root.child("health"),
+               {{"explained_m", &h.explained_m},
+                {"contradicted_m", &h.contradicted_m},
+                {"lost_contradicted_fraction", &h.lost_contradicted_fraction},
+                {"lost_abandoned_fraction", &h.lost_abandoned_fraction},
+                {"unconfirmed_explained_fraction", &h.unconfirmed_explained_fraction},
+                {"lost_after_images", &h.lost_after_images},
+                {"min_pixels", &h.min_pixels}});
 
   const ConfigNode timing = root.child("timing");
   read_numbers(timing, {{"camera_delay_s", &c.camera_delay_s},

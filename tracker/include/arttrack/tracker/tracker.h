@@ -97,6 +97,21 @@ struct ChainHealth {
   double explained_fraction = std::numeric_limits<double>::quiet_NaN();
   double contradicted_fraction = std::numeric_limits<double>::quiet_NaN();
   double abandoned_fraction = std::numeric_limits<double>::quiet_NaN();
+  // The chain's least confirmed part: of the subtrees its joints move (the
+  // links after each joint but the first), the one whose visible pixels
+  // (rendered alone, not behind another rendered link, with a valid
+  // observed depth) the image explains least, if it has min_pixels of them.
+  // A hand that the first search put in a wrong mode hides behind the real
+  // arm (the image is in front of it everywhere): nothing contradicts it and
+  // the chain as a whole is still 95% explained, but its hand is explained
+  // nowhere. Below Health::unconfirmed_explained_fraction the chain is
+  // unconfirmed: it is searched again (not "lost": an occluded hand is
+  // unconfirmed too, and the search only takes what the image prefers).
+  // weakest_part_joint: the model's DOF index of the part's first joint,
+  // -1 with a NaN fraction when no part has enough visible pixels.
+  int weakest_part_joint = -1;
+  double weakest_part_explained_fraction = std::numeric_limits<double>::quiet_NaN();
+  bool unconfirmed = false;
 };
 struct TrackingHealth {
   enum class State { kNoImage, kTracking, kLost };
@@ -108,6 +123,12 @@ struct TrackingHealth {
   int chains_reacquired = 0;        // chains that took a search's result
   int refinements_accepted = 0;     // Gauss-Newton steps taken (tracker.h)
   double last_acquisition_ms = 0;   // wall time of the newest search
+
+  // The lowest ChainHealth::weakest_part_explained_fraction over the chains
+  // (NaN when no chain has a part with a verdict), and how many chains are
+  // unconfirmed.
+  double weakest_part_explained_fraction() const;
+  int unconfirmed_chains() const;
 };
 const char* health_state_name(TrackingHealth::State state);
 

@@ -133,6 +133,10 @@ struct TrackerConfig {
     double contradicted_m = 0.02;
     double lost_contradicted_fraction = 0.25;
     double lost_abandoned_fraction = 0.25;  // ChainHealth::abandoned_fraction
+    // A chain part whose visible pixels are explained below this share is
+    // unconfirmed, and its chain searched again after lost_after_images
+    // such images (ChainHealth::weakest_part_explained_fraction). 0: off.
+    double unconfirmed_explained_fraction = 0.2;
     int lost_after_images = 3;
     int min_pixels = 20;  // fewer rendered pixels with a valid depth: no verdict
   };
