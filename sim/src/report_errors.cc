@@ -158,13 +158,16 @@ void health_section(std::ostream& o, const ScenarioResult& r) {
   for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
     const MethodRun* m = method_run(run, r.methods[mi]);
     if (!m) continue;
-    chart::Series contradicted, explained, abandoned;
+    chart::Series contradicted, explained, abandoned, weakest;
     contradicted.name = r.methods[mi] + ": contradicted";
     explained.name = r.methods[mi] + ": explained";
     abandoned.name = r.methods[mi] + ": abandoned";
-    contradicted.colour = explained.colour = abandoned.colour = method_colour(r.methods[mi], mi);
+    weakest.name = r.methods[mi] + ": weakest part explained";
+    contradicted.colour = explained.colour = abandoned.colour = weakest.colour =
+        method_colour(r.methods[mi], mi);
     explained.stroke = chart::Stroke::kDashed;
     abandoned.stroke = chart::Stroke::kDotted;
+    weakest.mark = chart::Mark::kDots;
     double lost_s = 0, previous_t = 0;
     bool any = false;
     for (std::size_t i = 0; i < run.truth.size() && i < m->samples.size(); ++i) {
@@ -180,12 +183,15 @@ void health_section(std::ostream& o, const ScenarioResult& r) {
       explained.y.push_back(100 * h.whole.explained_fraction);
       abandoned.x.push_back(t);
       abandoned.y.push_back(100 * h.whole.abandoned_fraction);
+      weakest.x.push_back(t);
+      weakest.y.push_back(100 * h.weakest_part_explained_fraction());
     }
     if (!any) continue;
     lost.push_back(text::html_escape(r.methods[mi]) + ": lost for " + fixed(lost_s, 1) + " s");
     c.series.push_back(std::move(contradicted));
     c.series.push_back(std::move(explained));
     c.series.push_back(std::move(abandoned));
+    c.series.push_back(std::move(weakest));
   }
   if (c.series.empty()) return;
   c.title = "Health over time, run 0: the estimate's render against the image";
@@ -193,7 +199,9 @@ void health_section(std::ostream& o, const ScenarioResult& r) {
        "the camera sees through (contradicted); dashed: share within the explained depth; "
        "dotted: share of the pixels the estimate explained at its last good image that still "
        "show the same depth but are no longer explained (abandoned: an estimate that left a "
-       "robot that did not move). "
+       "robot that did not move); dots: the share of its least explained part (the links after one "
+       "joint) that the image explains (below health.unconfirmed_explained_fraction the chain is "
+       "unconfirmed and searched again). "
     << "Lost (the tracker's own state): ";
   for (std::size_t i = 0; i < lost.size(); ++i) o << (i ? "; " : "") << lost[i];
   o << ".</p>\n";

@@ -189,7 +189,8 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
       << ",camera_translation_m,camera_rotation_rad"
       << ",cam_true_x_m,cam_true_y_m,cam_true_z_m,cam_true_roll_rad,cam_true_pitch_rad,"
          "cam_true_yaw_rad,health_state,health_explained_fraction,"
-         "health_contradicted_fraction,health_abandoned_fraction\n";
+         "health_contradicted_fraction,health_abandoned_fraction,"
+         "health_weakest_part_explained_fraction,health_unconfirmed_chains\n";
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const RunResult& run : r.runs) {
     for (std::size_t i = 0; i < run.truth.size(); ++i) {
@@ -215,7 +216,9 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
         out << ',' << health_state_name(s.health.state) << ','
             << text::csv_number(s.health.whole.explained_fraction) << ','
             << text::csv_number(s.health.whole.contradicted_fraction) << ','
-            << text::csv_number(s.health.whole.abandoned_fraction);
+            << text::csv_number(s.health.whole.abandoned_fraction) << ','
+            << text::csv_number(s.health.weakest_part_explained_fraction()) << ','
+            << s.health.unconfirmed_chains();
         out << '\n';
       }
     }
