@@ -471,18 +471,34 @@ fs::path read_robot_urdf(const ConfigNode& root, const std::string& key, const f
 // for a rerun, `resolved` (the configuration a run recorded) as it is.
 void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocument* resolved,
                   Scenario& s) {
+  fs::path file;
+  YamlDocument document;
   if (resolved) {
     s.tracker_file = root.get<std::string>("tracker", "");  // named only
-    s.tracker_document = *resolved;
   } else if (root.has("tracker")) {
-    s.tracker_file = resolve_path(root, "tracker", "", dir);
-    s.tracker_document = load_yaml_file(s.tracker_file.string());
+    file = resolve_path(root, "tracker", "", dir);
+    document = load_yaml_file(file.string());
   } else {
-    s.tracker_document = default_tracker_document();
+    document = default_tracker_document();
   }
+  const ConfigNode over = root.child("tracker_overrides");
+  for (const std::string& key : over.keys())
+    s.tracker_overrides.emplace_back(key, over.flow_text(key));
+  if (!resolved) return set_tracker_document(s, document, file);
+  // A rerun's configuration has every override in it already.
+  s.tracker_document = *resolved;
+  s.tracker = tracker_config_from_yaml(s.tracker_document);
+  s.tracker.camera_frame = s.scene.camera_link;
+  s.tracker.end_effectors = s.scoring.end_effectors;
+}
+
+}  // namespace
+
+void set_tracker_document(Scenario& s, const YamlDocument& document, const fs::path& file) {
+  s.tracker_file = file;
+  s.tracker_document = {YAML::Clone(document.root), document.file};
   YamlDocument& doc = s.tracker_document;
   for (const auto& [key, value] : s.scene.tracker_overrides) {
-    if (resolved) break;  // already in it
     try {
       apply_override(doc, key + "=" + value);
     } catch (const InputError& e) {
@@ -490,28 +506,25 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocumen
                        "' cannot be applied: " + e.what());
     }
   }
-  const ConfigNode over = root.child("tracker_overrides");
-  for (const std::string& key : over.keys()) {
-    const std::string value = over.flow_text(key);
-    if (resolved) continue;  // already in it
+  for (const auto& [key, value] : s.tracker_overrides) {
     try {
       apply_override(doc, key + "=" + value);
     } catch (const InputError& e) {
-      over.fail(key, std::string("cannot be applied: ") + e.what());
+      throw ConfigKeyError(s.source, "tracker_overrides." + key,
+                           std::string("cannot be applied: ") + e.what());
     }
   }
   try {
     s.tracker = tracker_config_from_yaml(doc);
   } catch (const ConfigKeyError& e) {
-    if (resolved) throw;
     // Name where the bad key was set: the scenario's tracker_overrides win
     // over the scene's, which win over the tracker file (which the error
     // names already).
     const auto sets = [&](const std::string& key) {
       return e.key() == key || e.key().starts_with(key + ".") || e.key().starts_with(key + "[");
     };
-    for (const std::string& key : over.keys())
-      if (sets(key)) root.fail("tracker_overrides." + e.key(), e.problem());
+    for (const auto& [key, value] : s.tracker_overrides)
+      if (sets(key)) throw ConfigKeyError(s.source, "tracker_overrides." + e.key(), e.problem());
     for (const auto& [key, value] : s.scene.tracker_overrides)
       if (sets(key))
         throw ConfigKeyError(s.scene.source, "robot.tracker_overrides." + e.key(), e.problem());
@@ -519,9 +532,8 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocumen
   }
   // The tracker's nominal camera is the simulated camera's link.
   s.tracker.camera_frame = s.scene.camera_link;
+  s.tracker.end_effectors = s.scoring.end_effectors;
 }
-
-}  // namespace
 
 std::vector<std::string> expand_joint_group(
     const std::string& name, const std::vector<std::string>& joints,
@@ -619,7 +631,6 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir,
   read_occluders(root, s);
   read_scoring(root.child("scoring"), s);
   read_tracker(root, dir, tracker, s);
-  s.tracker.end_effectors = s.scoring.end_effectors;
 
   // The motion as a whole.
   std::mt19937_64 rng(s.seed);
