@@ -44,14 +44,6 @@ struct SweepArgs {
   std::string out_dir;
 };
 
-std::vector<std::string> split_commas(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 std::string duration_text(double s) {
   char buf[64];
   if (!std::isfinite(s)) return "?";

@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -39,9 +38,7 @@ void run_track(const TrackArgs& args) {
   const sim::Dataset dataset = sim::load_dataset(args.dataset, urdf);
 
   sim::TrackOptions options;
-  std::stringstream methods(args.methods);
-  for (std::string m; std::getline(methods, m, ',');)
-    if (!m.empty()) options.methods.push_back(m);
+  options.methods = split_commas(args.methods);
   if (!args.config.empty()) options.tracker_config = args.config;
   options.estimate_every_n_joints = args.every;
   options.warn = [](const std::string& w) {

@@ -27,6 +27,7 @@
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack {
 namespace {
@@ -98,7 +99,7 @@ BENCHMARK(BM_ForwardKinematics);
 void render_benchmark(benchmark::State& bench, const RobotModel& model) {
   const int width = int(bench.range(0)), height = int(bench.range(1));
   const CameraIntrinsics camera =
-      CameraIntrinsics::from_vertical_fov(width, height, 45 * std::numbers::pi / 180);
+      CameraIntrinsics::from_vertical_fov(width, height, 45 * kRadPerDeg);
   DepthRenderer renderer(model, camera);
   KinematicsState state(model);
   forward_kinematics(model, home_pose(model), state);
@@ -131,8 +132,7 @@ BENCHMARK(BM_RenderCoarse)->Args({80, 60})->Unit(benchmark::kMicrosecond);
 // a cached image of the rest (the coordinate particle filter's inner loop).
 void BM_RenderCachedWrist(benchmark::State& bench) {
   const RobotModel& model = robot();
-  const CameraIntrinsics camera =
-      CameraIntrinsics::from_vertical_fov(80, 60, 45 * std::numbers::pi / 180);
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kRadPerDeg);
   DepthRenderer renderer(model, camera);
   KinematicsState state(model);
   const Eigen::VectorXd q = home_pose(model);
@@ -162,8 +162,8 @@ struct ImageUpdateFixture {
   std::vector<double> prior_mean, prior_std;
 
   ImageUpdateFixture(int width, int height)
-      : camera(CameraIntrinsics::from_vertical_fov(width, height, 45 * std::numbers::pi / 180)) {
-    constexpr double deg = std::numbers::pi / 180;
+      : camera(CameraIntrinsics::from_vertical_fov(width, height, 45 * kRadPerDeg)) {
+    constexpr double deg = kRadPerDeg;
     const Eigen::VectorXd home = home_pose(model);
     Eigen::VectorXd truth = home;
     for (int j = 0; j < model.num_joints(); ++j)

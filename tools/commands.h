@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <initializer_list>
 #include <string>
@@ -62,6 +63,18 @@ inline void add_seed_option(CLI::App* cmd, long long& seed, const std::string& h
 // A --seed below -1 is a usage error.
 inline void check_seed(long long seed) {
   if (seed < -1) throw UsageError("--seed must be >= 0");
+}
+
+// The items of a comma-separated option value (--methods a,b), in order;
+// empty items (",a,,b,") are skipped and nothing is trimmed.
+inline std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> out;
+  for (std::size_t begin = 0; begin <= text.size();) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    if (comma > begin) out.push_back(text.substr(begin, comma - begin));
+    begin = comma + 1;
+  }
+  return out;
 }
 
 // Tessellation of the tracker's robot for the commands that render it

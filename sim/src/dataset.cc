@@ -3,7 +3,6 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -32,75 +31,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// ---- numbers as text ----
-
-// A whole field as a double ("nan", "inf" accepted); nullopt otherwise.
-std::optional<double> parse_number(const std::string& field) {
-  double v = 0;
-  const char* end = field.data() + field.size();
-  const auto r = std::from_chars(field.data(), end, v);
-  if (r.ec != std::errc() || r.ptr != end) return std::nullopt;
-  return v;
-}
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const auto b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
-
-// ---- CSV files, read row by row with their line numbers ----
-
-class CsvFile {
- public:
-  explicit CsvFile(const fs::path& path) : path_(path), in_(path) {
-    if (!in_) throw InputError(path.string() + ": cannot open for reading");
-  }
-  // The next non-empty line split at commas (fields trimmed); false at the end.
-  bool next(std::vector<std::string>& fields) {
-    std::string text;
-    while (std::getline(in_, text)) {
-      ++line_;
-      if (trim(text).empty()) continue;
-      fields.clear();
-      std::stringstream s(text);
-      std::string f;
-      while (std::getline(s, f, ',')) fields.push_back(trim(f));
-      if (!text.empty() && text.back() == ',') fields.push_back("");
-      return true;
-    }
-    return false;
-  }
-  // "file:line" of the current row.
-  std::string where() const { return path_.string() + ":" + std::to_string(line_); }
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw InputError(where() + ": " + problem);
-  }
-  double number(const std::vector<std::string>& fields, std::size_t i,
-                const std::vector<std::string>& header) const {
-    const auto v = parse_number(fields[i]);
-    if (!v) fail("column '" + header[i] + "': '" + fields[i] + "' is not a number");
-    return *v;
-  }
-  double finite(const std::vector<std::string>& fields, std::size_t i,
-                const std::vector<std::string>& header) const {
-    const double v = number(fields, i, header);
-    if (!std::isfinite(v)) fail("column '" + header[i] + "' is not finite");
-    return v;
-  }
-  void expect_width(const std::vector<std::string>& fields, std::size_t n) const {
-    if (fields.size() != n)
-      fail("has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(n));
-  }
-
- private:
-  fs::path path_;
-  std::ifstream in_;
-  int line_ = 0;
-};
-
-[[noreturn]] void fail_time_order(const CsvFile& csv, double t, double previous) {
+[[noreturn]] void fail_time_order(const text::CsvReader& csv, double t, double previous) {
   csv.fail("time stamp " + shortest_number(t) + " s is " +
            (t == previous ? "repeated" : "out of order") + " (the previous row's is " +
            shortest_number(previous) + " s)");
@@ -157,7 +88,7 @@ void read_robot(const fs::path& dir, const std::optional<fs::path>& urdf_overrid
 
 void read_joints(const fs::path& path, Dataset& d) {
   if (!fs::is_regular_file(path)) throw InputError(path.string() + ": joint readings not found");
-  CsvFile csv(path);
+  text::CsvReader csv(path, text::CsvSpace::kTrim);
   std::vector<std::string> header, row;
   if (!csv.next(header)) csv.fail("is empty (expected a header time_s,<joint names...>)");
   if (header[0] != "time_s") csv.fail("the first column must be time_s, not '" + header[0] + "'");
@@ -199,7 +130,7 @@ void read_frames(const fs::path& depth_dir, Dataset& d) {
   if (!fs::is_directory(depth_dir)) return;
   const fs::path index = depth_dir / "index.csv";
   if (fs::is_regular_file(index)) {
-    CsvFile csv(index);
+    text::CsvReader csv(index, text::CsvSpace::kTrim);
     std::vector<std::string> header, row;
     if (!csv.next(header) || header != std::vector<std::string>{"stamp_s", "arrival_s", "file"})
       csv.fail("the header must be stamp_s,arrival_s,file");
@@ -225,12 +156,12 @@ void read_frames(const fs::path& depth_dir, Dataset& d) {
   // No index: every PNG named by its stamp, arriving when captured.
   for (const auto& entry : fs::directory_iterator(depth_dir)) {
     if (entry.path().extension() != ".png") continue;
-    const auto stamp = parse_number(entry.path().stem().string());
-    if (!stamp || !std::isfinite(*stamp))
+    double stamp = 0;
+    if (!text::parse_number(entry.path().stem().string(), stamp))
       throw InputError(entry.path().string() +
                        ": a depth file name must be its time stamp in seconds (e.g. "
                        "000012.345678.png), or depth/index.csv must list the files");
-    d.frames.push_back({*stamp, *stamp, entry.path(), entry.path().string()});
+    d.frames.push_back({stamp, stamp, entry.path(), entry.path().string()});
   }
   std::sort(d.frames.begin(), d.frames.end(),
             [](const DatasetFrame& a, const DatasetFrame& b) { return a.stamp_s < b.stamp_s; });
@@ -242,7 +173,7 @@ void read_frames(const fs::path& depth_dir, Dataset& d) {
 
 void read_truth(const fs::path& path, Dataset& d) {
   if (!fs::is_regular_file(path)) return;
-  CsvFile csv(path);
+  text::CsvReader csv(path, text::CsvSpace::kTrim);
   std::vector<std::string> header, row;
   if (!csv.next(header)) csv.fail("is empty (expected a header starting with time_s)");
   // What each column holds.

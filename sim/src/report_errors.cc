@@ -5,6 +5,7 @@
 #include <limits>
 #include <ostream>
 
+#include "arttrack/tracker/units.h"
 #include "report_sections.h"
 #include "svg_chart.h"
 #include "text_format.h"
@@ -60,10 +61,10 @@ void box_section(std::ostream& o, const ScenarioResult& r) {
     double scale;
     Percentiles ErrorStats::*field;
   };
-  const Quantity quantities[] = {
-      {"translation", "Translation error", "translation error, mm", kMm,
-       &ErrorStats::translation_m},
-      {"rotation", "Angular error", "angular error, degrees", kDeg, &ErrorStats::rotation_rad}};
+  const Quantity quantities[] = {{"translation", "Translation error", "translation error, mm", kMm,
+                                  &ErrorStats::translation_m},
+                                 {"rotation", "Angular error", "angular error, degrees", kDegPerRad,
+                                  &ErrorStats::rotation_rad}};
   const std::string after = "from " + fixed(r.scoring.converged_after_s, 1) + " s on";
   for (const Quantity& q : quantities) {
     std::vector<chart::Box> all, conv;

@@ -3,6 +3,7 @@
 #include <limits>
 #include <ostream>
 
+#include "arttrack/tracker/units.h"
 #include "report_sections.h"
 #include "svg_chart.h"
 #include "text_format.h"
@@ -69,12 +70,12 @@ void bias_section(std::ostream& o, const ScenarioResult& r) {
       const EstimateSample& s = m->samples[i];
       if (Eigen::Index(j) >= t.bias_rad.size() || Eigen::Index(j) >= s.bias_rad.size()) continue;
       truth.x.push_back(t.time_s);
-      truth.y.push_back(t.bias_rad[j] * kDeg);
+      truth.y.push_back(t.bias_rad[j] * kDegPerRad);
       est.x.push_back(t.time_s);
-      est.y.push_back(s.bias_rad[j] * kDeg);
+      est.y.push_back(s.bias_rad[j] * kDegPerRad);
       const double sd = Eigen::Index(j) < s.bias_std_rad.size() ? s.bias_std_rad[j] : 0.0;
-      est.band_lo.push_back((s.bias_rad[j] - sd) * kDeg);
-      est.band_hi.push_back((s.bias_rad[j] + sd) * kDeg);
+      est.band_lo.push_back((s.bias_rad[j] - sd) * kDegPerRad);
+      est.band_hi.push_back((s.bias_rad[j] + sd) * kDegPerRad);
     }
     c.series = {std::move(est), std::move(truth)};
     chart::line_chart(o, c);
@@ -112,7 +113,7 @@ void camera_section(std::ostream& o, const ScenarioResult& r) {
   o << "<div class=\"three\">\n";
   for (int k = 0; k < 6; ++k) {
     const bool translation = k < 3;
-    const double scale = translation ? kMm : kDeg;
+    const double scale = translation ? kMm : kDegPerRad;
     chart::LineChart c =
         small_time_chart(r, std::string("camera-") + names[k], std::string("camera ") + names[k],
                          385, 200, translation ? "offset, mm" : "offset, deg");

@@ -13,7 +13,6 @@
 namespace arttrack::sim::report {
 
 constexpr double kMm = 1e3;
-constexpr double kDeg = 180.0 / M_PI;
 
 // ---- shared by the sections (report.cc) ----
 

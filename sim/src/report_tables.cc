@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "arttrack/sim/run_outputs.h"
+#include "arttrack/tracker/units.h"
 #include "report_sections.h"
 #include "svg_chart.h"
 #include "text_format.h"
@@ -104,8 +105,8 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
       << "</td><td>" << coverage_cell(s.camera_offset_coverage) << "</td><td>"
       << fixed(s.camera_translation_m.p50 * kMm, 2) << "</td><td>"
       << fixed(s.camera_translation_m.p99 * kMm, 2) << "</td><td>"
-      << fixed(s.camera_rotation_rad.p50 * kDeg, 3) << "</td><td>"
-      << fixed(s.camera_rotation_rad.p99 * kDeg, 3) << "</td></tr>\n";
+      << fixed(s.camera_rotation_rad.p50 * kDegPerRad, 3) << "</td><td>"
+      << fixed(s.camera_rotation_rad.p99 * kDegPerRad, 3) << "</td></tr>\n";
   }
   o << "</table>\n";
   std::ostringstream list;
@@ -155,7 +156,7 @@ void table_section(std::ostream& o, const ScenarioResult& r) {
         o << "<td>" << fixed(v * kMm, 2) << "</td>";
       const Percentiles& a = s.rotation_rad;
       for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99})
-        o << "<td>" << fixed(v * kDeg, 3) << "</td>";
+        o << "<td>" << fixed(v * kDegPerRad, 3) << "</td>";
       o << "<td>" << t.count << "</td>";
       if (part)
         o << "<td>" << (std::isfinite(conv) ? fixed(conv, 1) : std::string("never")) << "</td><td>"

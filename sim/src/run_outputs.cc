@@ -14,6 +14,7 @@
 #include "arttrack/sim/report.h"
 #include "arttrack/sim/scenario.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
 #include "text_format.h"
 
@@ -226,7 +227,7 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
 }
 
 void print_summary_table(std::ostream& out, const ScenarioResult& r) {
-  const double mm = 1e3, deg = 180.0 / M_PI;
+  const double mm = 1e3, deg = kDegPerRad;
   const std::ios::fmtflags flags = out.flags();
   const std::streamsize precision = out.precision();
   auto text = [&](const std::string& s, int width) { out << std::setw(width) << s; };

@@ -10,6 +10,7 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
+#include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::sim {
@@ -17,7 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Runs `f`; an InputError from a struct's own validation is re-thrown naming
@@ -86,7 +86,7 @@ Eigen::Matrix3d rpy_matrix(const Eigen::Vector3d& rpy_rad) {
 Eigen::Isometry3d pose(const ConfigNode& n, const std::string& xyz_key) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = vec<3>(n, xyz_key, Eigen::Vector3d::Zero());
-  T.linear() = rpy_matrix(kDeg * vec<3>(n, "rpy_deg", Eigen::Vector3d::Zero()));
+  T.linear() = rpy_matrix(kRadPerDeg * vec<3>(n, "rpy_deg", Eigen::Vector3d::Zero()));
   return T;
 }
 
@@ -177,10 +177,11 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   for (const ConfigNode& n : m.list("sinusoids")) {
     SinusoidMotion p;
     p.joints = joint_list(n, s, true);
-    p.amplitude_rad = kDeg * n.number("amplitude_deg", p.amplitude_rad / kDeg, -360, 360);
+    p.amplitude_rad =
+        kRadPerDeg * n.number("amplitude_deg", p.amplitude_rad / kRadPerDeg, -360, 360);
     p.frequency_hz = n.number("frequency_hz", p.frequency_hz, 1e-6, 100);
-    p.phase_rad = kDeg * n.number("phase_deg", 0, -1e4, 1e4);
-    p.centre_rad = numbers(n, "centre_deg", kDeg);
+    p.phase_rad = kRadPerDeg * n.number("phase_deg", 0, -1e4, 1e4);
+    p.centre_rad = numbers(n, "centre_deg", kRadPerDeg);
     p.fade_in_s = n.number("fade_in_s", p.fade_in_s, 0, 1e6);
     check(n, p);
     s.sinusoids.push_back(p);
@@ -197,18 +198,19 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
       n.fail("positions_deg", "must be a list of lists of numbers (one list per time)");
     }
     for (auto& row : p.positions_rad)
-      for (double& x : row) x *= kDeg;
+      for (double& x : row) x *= kRadPerDeg;
     check(n, p);
     s.waypoints.push_back(p);
   }
   for (const ConfigNode& n : m.list("random")) {
     RandomMotion p;
     p.joints = joint_list(n, s, true);
-    p.amplitude_rad = kDeg * n.number("amplitude_deg", p.amplitude_rad / kDeg, 1e-6, 360);
+    p.amplitude_rad =
+        kRadPerDeg * n.number("amplitude_deg", p.amplitude_rad / kRadPerDeg, 1e-6, 360);
     p.speed_scale = n.number("speed_scale", p.speed_scale, 1e-6, 1e3);
-    p.base_speed_rad_per_s =
-        kDeg * n.number("base_speed_deg_per_s", p.base_speed_rad_per_s / kDeg, 1e-6, 1e5);
-    p.margin_rad = kDeg * n.number("margin_deg", p.margin_rad / kDeg, 0, 360);
+    p.base_speed_rad_per_s = kRadPerDeg * n.number("base_speed_deg_per_s",
+                                                   p.base_speed_rad_per_s / kRadPerDeg, 1e-6, 1e5);
+    p.margin_rad = kRadPerDeg * n.number("margin_deg", p.margin_rad / kRadPerDeg, 0, 360);
     p.num_components = int(integer(n, "components", p.num_components, 1, 1000));
     p.fade_in_s = n.number("fade_in_s", p.fade_in_s, 0, 1e6);
     check(n, p);
@@ -218,7 +220,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
     OutOfViewMotion p;
     p.joints = joint_list(n, s, true);
     if (!n.has("out_of_view_deg")) n.fail("out_of_view_deg", "is required but missing");
-    p.out_of_view_rad = numbers(n, "out_of_view_deg", kDeg);
+    p.out_of_view_rad = numbers(n, "out_of_view_deg", kRadPerDeg);
     p.leave_s = n.number("leave_s", p.leave_s, 0, 1e6);
     p.return_s = n.number("return_s", p.return_s, 0, 1e6);
     p.move_duration_s = n.number("move_duration_s", p.move_duration_s, 1e-6, 1e6);
@@ -247,15 +249,15 @@ void read_encoders(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s)
   for (const ConfigNode& n : root.list("encoders")) {
     EncoderGroupCorruption g;
     g.joints = joint_list(n, s, false);
-    g.offset_rad = kDeg * n.number("offset_deg", 0, -360, 360);
-    g.step_amplitude_rad = kDeg * n.number("step_amplitude_deg", 0, -360, 360);
+    g.offset_rad = kRadPerDeg * n.number("offset_deg", 0, -360, 360);
+    g.step_amplitude_rad = kRadPerDeg * n.number("step_amplitude_deg", 0, -360, 360);
     g.step_period_s = n.number("step_period_s", g.step_period_s, 1e-6, 1e6);
     g.step_ramp_time_s = n.number("step_ramp_time_s", g.step_ramp_time_s, 0, 1e6);
-    g.compliance_rad_per_Nm = kDeg * n.number("compliance_deg_per_Nm", 0, 0, 1e3);
+    g.compliance_rad_per_Nm = kRadPerDeg * n.number("compliance_deg_per_Nm", 0, 0, 1e3);
     g.stretch_time_constant_s =
         n.number("stretch_time_constant_s", g.stretch_time_constant_s, 0, 1e6);
-    g.noise_sigma_rad = kDeg * n.number("noise_deg", 0, 0, 360);
-    g.resolution_rad = kDeg * n.number("resolution_deg", 0, 0, 360);
+    g.noise_sigma_rad = kRadPerDeg * n.number("noise_deg", 0, 0, 360);
+    g.resolution_rad = kRadPerDeg * n.number("resolution_deg", 0, 0, 360);
     checked(n, [&] { g.validate(); });
     s.encoders.groups.push_back(g);
   }
@@ -271,7 +273,7 @@ void read_camera(const ConfigNode& n, Scenario& s) {
   SceneDescription& sc = s.scene;
   sc.width = int(integer(n, "width", sc.width, 8, 8192));
   sc.height = int(integer(n, "height", sc.height, 8, 8192));
-  sc.fovy_rad = kDeg * n.number("fovy_deg", sc.fovy_rad / kDeg, 1, 170);
+  sc.fovy_rad = kRadPerDeg * n.number("fovy_deg", sc.fovy_rad / kRadPerDeg, 1, 170);
   sc.near_m = n.number("near_m", sc.near_m, 1e-3, 100);
   sc.far_m = n.number("far_m", sc.far_m, 1e-2, 1000);
   if (sc.far_m <= sc.near_m) n.fail("far_m", "must be larger than near_m");
@@ -320,7 +322,7 @@ void read_miscalibration(const ConfigNode& root, const UrdfSummary& urdf, Scenar
     JointOriginChange c;
     c.joint = joint;
     c.T_old_new = pose(j, "xyz_m");
-    c.R_axis = rpy_matrix(kDeg * vec<3>(j, "axis_tilt_deg", Eigen::Vector3d::Zero()));
+    c.R_axis = rpy_matrix(kRadPerDeg * vec<3>(j, "axis_tilt_deg", Eigen::Vector3d::Zero()));
     p.joint_changes.push_back(c);
   }
 
@@ -471,18 +473,34 @@ fs::path read_robot_urdf(const ConfigNode& root, const std::string& key, const f
 // for a rerun, `resolved` (the configuration a run recorded) as it is.
 void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocument* resolved,
                   Scenario& s) {
+  fs::path file;
+  YamlDocument document;
   if (resolved) {
     s.tracker_file = root.get<std::string>("tracker", "");  // named only
-    s.tracker_document = *resolved;
   } else if (root.has("tracker")) {
-    s.tracker_file = resolve_path(root, "tracker", "", dir);
-    s.tracker_document = load_yaml_file(s.tracker_file.string());
+    file = resolve_path(root, "tracker", "", dir);
+    document = load_yaml_file(file.string());
   } else {
-    s.tracker_document = default_tracker_document();
+    document = default_tracker_document();
   }
+  const ConfigNode over = root.child("tracker_overrides");
+  for (const std::string& key : over.keys())
+    s.tracker_overrides.emplace_back(key, over.flow_text(key));
+  if (!resolved) return set_tracker_document(s, document, file);
+  // A rerun's configuration has every override in it already.
+  s.tracker_document = *resolved;
+  s.tracker = tracker_config_from_yaml(s.tracker_document);
+  s.tracker.camera_frame = s.scene.camera_link;
+  s.tracker.end_effectors = s.scoring.end_effectors;
+}
+
+}  // namespace
+
+void set_tracker_document(Scenario& s, const YamlDocument& document, const fs::path& file) {
+  s.tracker_file = file;
+  s.tracker_document = {YAML::Clone(document.root), document.file};
   YamlDocument& doc = s.tracker_document;
   for (const auto& [key, value] : s.scene.tracker_overrides) {
-    if (resolved) break;  // already in it
     try {
       apply_override(doc, key + "=" + value);
     } catch (const InputError& e) {
@@ -490,28 +508,25 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocumen
                        "' cannot be applied: " + e.what());
     }
   }
-  const ConfigNode over = root.child("tracker_overrides");
-  for (const std::string& key : over.keys()) {
-    const std::string value = over.flow_text(key);
-    if (resolved) continue;  // already in it
+  for (const auto& [key, value] : s.tracker_overrides) {
     try {
       apply_override(doc, key + "=" + value);
     } catch (const InputError& e) {
-      over.fail(key, std::string("cannot be applied: ") + e.what());
+      throw ConfigKeyError(s.source, "tracker_overrides." + key,
+                           std::string("cannot be applied: ") + e.what());
     }
   }
   try {
     s.tracker = tracker_config_from_yaml(doc);
   } catch (const ConfigKeyError& e) {
-    if (resolved) throw;
     // Name where the bad key was set: the scenario's tracker_overrides win
     // over the scene's, which win over the tracker file (which the error
     // names already).
     const auto sets = [&](const std::string& key) {
       return e.key() == key || e.key().starts_with(key + ".") || e.key().starts_with(key + "[");
     };
-    for (const std::string& key : over.keys())
-      if (sets(key)) root.fail("tracker_overrides." + e.key(), e.problem());
+    for (const auto& [key, value] : s.tracker_overrides)
+      if (sets(key)) throw ConfigKeyError(s.source, "tracker_overrides." + e.key(), e.problem());
     for (const auto& [key, value] : s.scene.tracker_overrides)
       if (sets(key))
         throw ConfigKeyError(s.scene.source, "robot.tracker_overrides." + e.key(), e.problem());
@@ -519,9 +534,8 @@ void read_tracker(const ConfigNode& root, const fs::path& dir, const YamlDocumen
   }
   // The tracker's nominal camera is the simulated camera's link.
   s.tracker.camera_frame = s.scene.camera_link;
+  s.tracker.end_effectors = s.scoring.end_effectors;
 }
-
-}  // namespace
 
 std::vector<std::string> expand_joint_group(
     const std::string& name, const std::vector<std::string>& joints,
@@ -619,7 +633,6 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir,
   read_occluders(root, s);
   read_scoring(root.child("scoring"), s);
   read_tracker(root, dir, tracker, s);
-  s.tracker.end_effectors = s.scoring.end_effectors;
 
   // The motion as a whole.
   std::mt19937_64 rng(s.seed);

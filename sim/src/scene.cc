@@ -3,14 +3,13 @@
 #include <cmath>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // A fixed-size vector of numbers, e.g. `position_m: [0.5, 0, 0.8]`.
 template <int N>
@@ -44,7 +43,7 @@ Eigen::Matrix3d rpy_to_matrix(const Eigen::Vector3d& rpy_rad) {
 Eigen::Isometry3d pose(const ConfigNode& n) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = vec<3>(n, "position_m", Eigen::Vector3d::Zero());
-  T.linear() = rpy_to_matrix(kDeg * vec<3>(n, "rpy_deg", Eigen::Vector3d::Zero()));
+  T.linear() = rpy_to_matrix(kRadPerDeg * vec<3>(n, "rpy_deg", Eigen::Vector3d::Zero()));
   return T;
 }
 
@@ -85,8 +84,8 @@ void read_robot(const ConfigNode& n, const fs::path& dir, SceneDescription& s) {
   }
   if (n.has("initial_joints_deg") && n.has("initial_joints_rad"))
     n.fail("initial_joints_rad", "cannot be given together with initial_joints_deg");
-  for (const auto& [key, scale] :
-       {std::pair<std::string, double>{"initial_joints_deg", kDeg}, {"initial_joints_rad", 1.0}}) {
+  for (const auto& [key, scale] : {std::pair<std::string, double>{"initial_joints_deg", kRadPerDeg},
+                                   {"initial_joints_rad", 1.0}}) {
     const ConfigNode joints = n.child(key);
     for (const std::string& name : joints.keys())
       s.initial_joints_rad[name] = scale * joints.required_number(name, -1e4, 1e4);
@@ -152,7 +151,7 @@ void read_camera(const ConfigNode& n, SceneDescription& s) {
   if (n.has("mount")) read_camera_mount(n.child("mount"), s);
   s.width = int(n.number("width", s.width, 8, 8192));
   s.height = int(n.number("height", s.height, 8, 8192));
-  s.fovy_rad = kDeg * n.number("fovy_deg", s.fovy_rad / kDeg, 1, 170);
+  s.fovy_rad = kRadPerDeg * n.number("fovy_deg", s.fovy_rad / kRadPerDeg, 1, 170);
   s.near_m = n.number("near_m", s.near_m, 1e-3, 100);
   s.far_m = n.number("far_m", s.far_m, 1e-2, 1000);
   if (s.far_m <= s.near_m) n.fail("far_m", "must be larger than near_m");
@@ -186,7 +185,7 @@ void read_physics(const ConfigNode& n, SceneDescription& s) {
 // (x, y), on four legs inset from the corners.
 void read_table(const ConfigNode& n, SceneDescription& s) {
   const Eigen::Vector2d xy = vec<2>(n, "position_m", Eigen::Vector2d::Zero());
-  const double yaw = kDeg * n.number("yaw_deg", 0, -360, 360);
+  const double yaw = kRadPerDeg * n.number("yaw_deg", 0, -360, 360);
   const double height = n.number("height_m", 0.75, 0.05, 3);
   const Eigen::Vector3d top = vec<3>(n, "top_size_m", Eigen::Vector3d(0.8, 1.2, 0.04));
   for (int i = 0; i < 3; ++i)

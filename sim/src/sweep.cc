@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
 #include "text_format.h"
 
@@ -93,7 +94,7 @@ void check_statistic_name(const std::string& name, const std::string& context) {
 
 StatisticUnit statistic_unit(const std::string& statistic) {
   if (statistic.find("translation") != std::string::npos) return {"m", "mm", 1e3};
-  if (statistic.find("rotation") != std::string::npos) return {"rad", "deg", 180.0 / M_PI};
+  if (statistic.find("rotation") != std::string::npos) return {"rad", "deg", kDegPerRad};
   if (statistic.ends_with("_ms")) return {"ms", "ms", 1};
   return {"s", "s", 1};
 }

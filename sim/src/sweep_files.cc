@@ -19,53 +19,18 @@ namespace arttrack::sim {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Splits one CSV line (RFC 4180 quoting, no embedded newlines).
-bool split_csv(const std::string& line, std::vector<std::string>& fields) {
-  fields.clear();
-  std::string cur;
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cur += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cur += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  fields.push_back(cur);
-  return !quoted;
-}
-
-}  // namespace
-
 // ---- CSV ----
 
 namespace {
 
-std::string csv_header(const SweepSpec& spec) {
-  std::string h = "cell";
-  for (const GridAxis& a : spec.axes) {
-    h += ',';
-    h += text::csv_field(a.key);
-  }
-  return h + ",method,statistic,value,seed,runs,status,message";
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<std::string> csv_header(const SweepSpec& spec) {
+  std::vector<std::string> h = {"cell"};
+  for (const GridAxis& a : spec.axes) h.push_back(a.key);
+  for (const char* c : {"method", "statistic", "value", "seed", "runs", "status", "message"})
+    h.push_back(c);
+  return h;
 }
 
 }  // namespace
@@ -73,7 +38,10 @@ std::string csv_header(const SweepSpec& spec) {
 void write_sweep_csv(std::ostream& out, const SweepSpec& spec,
                      const std::vector<CellResult>& cells) {
   const auto& stats = sweep_statistics();
-  out << csv_header(spec) << '\n';
+  const std::vector<std::string> header = csv_header(spec);
+  for (std::size_t i = 0; i < header.size(); ++i)
+    out << (i ? "," : "") << text::csv_field(header[i]);
+  out << '\n';
   for (const CellResult& c : cells) {
     const std::vector<std::size_t> coord = spec.cell_coordinates(c.cell);
     std::string prefix = std::to_string(c.cell);
@@ -95,23 +63,20 @@ void write_sweep_csv(std::ostream& out, const SweepSpec& spec,
 }
 
 std::vector<CellResult> read_sweep_csv(const fs::path& path, const SweepSpec& spec) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot read file");
+  // Written by write_sweep_csv: every field as it was written.
+  text::CsvReader csv(path, text::CsvSpace::kVerbatim);
   const auto& stats = sweep_statistics();
-  std::string line;
-  if (!std::getline(in, line) || line != csv_header(spec))
-    throw InputError(path.string() + ":1: header does not match the sweep of sweep.json");
+  std::vector<std::string> f;
+  if (!csv.next(f) || f != csv_header(spec))
+    csv.fail("header does not match the sweep of sweep.json");
   const std::size_t na = spec.axes.size();
   std::map<std::size_t, CellResult> cells;
   std::map<std::size_t, std::size_t> rows_of;
-  std::vector<std::string> f;
-  for (int line_no = 2; std::getline(in, line); ++line_no) {
+  while (csv.next(f)) {
     auto fail = [&](const std::string& why) -> InputError {
-      return InputError(path.string() + ":" + std::to_string(line_no) + ": " + why);
+      return InputError(csv.where() + ": " + why);
     };
-    if (line.empty()) continue;
-    if (!split_csv(line, f) || f.size() != na + 8)
-      throw fail("expected " + std::to_string(na + 8) + " fields");
+    if (f.size() != na + 8) throw fail("expected " + std::to_string(na + 8) + " fields");
     double cell_d = 0;
     if (!text::parse_number(f[0], cell_d) || cell_d < 0 || cell_d != std::floor(cell_d) ||
         cell_d >= double(spec.cell_count()))
@@ -128,14 +93,7 @@ std::vector<CellResult> read_sweep_csv(const fs::path& path, const SweepSpec& sp
     if (si == stats.end()) throw fail("unknown statistic '" + f[na + 2] + "'");
     const std::string& v = f[na + 3];
     double value = 0;
-    if (v == "nan")
-      value = kNaN;
-    else if (v == "inf")
-      value = kInf;
-    else if (v == "-inf")
-      value = -kInf;
-    else if (!text::parse_number(v, value))
-      throw fail("bad value '" + v + "'");
+    if (!text::parse_number_or_non_finite(v, value)) throw fail("bad value '" + v + "'");
     const std::string& status = f[na + 6];
     if (status != "ok" && status != "failed") throw fail("status must be ok or failed");
     auto [it, fresh] = cells.try_emplace(cell);

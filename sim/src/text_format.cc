@@ -1,6 +1,7 @@
 #include "text_format.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -14,19 +15,33 @@
 namespace arttrack::sim {
 namespace text {
 
+namespace {
+
+constexpr const char* kBlank = " \t\r";
+
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+}  // namespace
+
 std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
+  const auto b = s.find_first_not_of(kBlank);
   if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t");
+  const auto e = s.find_last_not_of(kBlank);
   return s.substr(b, e - b + 1);
 }
 
-bool parse_number(const std::string& text, double& out) {
+bool parse_number_or_non_finite(const std::string& text, double& out) {
   const std::string t = trim(text);
   if (t.empty()) return false;
   char* end = nullptr;
+  errno = 0;
   out = std::strtod(t.c_str(), &end);
-  return end == t.c_str() + t.size() && std::isfinite(out);
+  const bool overflow = errno == ERANGE && std::isinf(out);
+  return end == t.c_str() + t.size() && !overflow;
+}
+
+bool parse_number(const std::string& text, double& out) {
+  return parse_number_or_non_finite(text, out) && std::isfinite(out);
 }
 
 std::string format_g(double v, int digits) {
@@ -72,6 +87,96 @@ std::string csv_field(const std::string& s) {
     out += c;
   }
   return out + "\"";
+}
+
+std::optional<std::vector<std::string>> split_csv(const std::string& line, CsvSpace space) {
+  const bool trim_space = space == CsvSpace::kTrim;
+  std::vector<std::string> fields;
+  std::string cur;
+  // With kTrim: cur's length up to its last byte that is not blank space
+  // outside quotes, and whether the field has begun (blank space before it
+  // is dropped).
+  std::size_t kept = 0;
+  bool begun = false, quoted = false;
+  auto end_field = [&] {
+    if (trim_space) cur.resize(kept);
+    fields.push_back(std::move(cur));
+    cur.clear();
+    kept = 0;
+    begun = false;
+  };
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cur += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        cur += c;
+      }
+      kept = cur.size();
+    } else if (c == '"') {
+      quoted = begun = true;
+    } else if (c == ',') {
+      end_field();
+    } else if (trim_space && is_blank(c)) {
+      if (begun) cur += c;
+    } else {
+      cur += c;
+      kept = cur.size();
+      begun = true;
+    }
+  }
+  if (quoted) return std::nullopt;
+  end_field();
+  return fields;
+}
+
+CsvReader::CsvReader(const std::filesystem::path& path, CsvSpace space)
+    : path_(path), in_(path, std::ios::binary), space_(space) {
+  if (!in_) throw InputError(path.string() + ": cannot read file");
+}
+
+bool CsvReader::next(std::vector<std::string>& fields) {
+  std::string text;
+  while (std::getline(in_, text)) {
+    ++line_;
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    if (trim(text).empty()) continue;
+    auto split = split_csv(text, space_);
+    if (!split) fail("a quote is not closed");
+    fields = std::move(*split);
+    return true;
+  }
+  return false;
+}
+
+std::string CsvReader::where() const { return path_.string() + ":" + std::to_string(line_); }
+
+void CsvReader::fail(const std::string& problem) const {
+  throw InputError(where() + ": " + problem);
+}
+
+void CsvReader::expect_width(const std::vector<std::string>& fields, std::size_t n) const {
+  if (fields.size() != n)
+    fail("has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(n));
+}
+
+double CsvReader::number(const std::vector<std::string>& fields, std::size_t i,
+                         const std::vector<std::string>& header) const {
+  double v = 0;
+  if (!parse_number_or_non_finite(fields[i], v))
+    fail("column '" + header[i] + "': '" + fields[i] + "' is not a number");
+  return v;
+}
+
+double CsvReader::finite(const std::vector<std::string>& fields, std::size_t i,
+                         const std::vector<std::string>& header) const {
+  const double v = number(fields, i, header);
+  if (!std::isfinite(v)) fail("column '" + header[i] + "' is not finite");
+  return v;
 }
 
 std::string html_escape(const std::string& s) {

@@ -1,13 +1,17 @@
-// Text helpers shared by the simulator's output writers (run outputs,
-// report, sweep, tuning, datasets): number formatting, CSV fields, HTML escaping, base64,
-// whole-file writes. Internal to arttrack_sim; outputs depend on these
-// byte for byte, so change a behaviour only together with its callers.
+// Text helpers shared by the simulator's readers and output writers (run
+// outputs, report, sweep, tuning, datasets): trimming and number parsing,
+// number formatting, CSV fields and rows, HTML escaping, base64, whole-file
+// writes. Internal to arttrack_sim; outputs depend on these byte for byte,
+// so change a behaviour only together with its callers.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -18,8 +22,9 @@ namespace text {
 
 // ---- parsing ----
 
-// `s` without leading and trailing spaces and tabs (only ' ' and '\t'; a
-// '\r' or '\n' stays). All blank: "".
+// `s` without leading and trailing spaces, tabs and carriage returns (' ',
+// '\t', '\r': the '\r' of a CRLF line ending goes too; a '\n' stays). All
+// blank: "".
 std::string trim(const std::string& s);
 
 // Reads the whole of `text`, trimmed as by trim(), as one finite number
@@ -28,6 +33,13 @@ std::string trim(const std::string& s);
 // "nan" and overflowing values are false). `out` is written whenever the
 // trimmed text is non-empty, also when the result is false.
 bool parse_number(const std::string& text, double& out);
+
+// As parse_number, but a non-finite value is true too: "nan", "inf",
+// "infinity" in any case and with an optional sign (strtod's spellings; those
+// csv_number and shortest_number write among them). A finite literal too
+// large for a double ("1e999") is still false. For files that record
+// missing or unbounded values; check finiteness where a value must be one.
+bool parse_number_or_non_finite(const std::string& text, double& out);
 
 // ---- numbers ----
 
@@ -63,6 +75,50 @@ std::string one_line(std::string s);
 // ',', '"' or '\n'; then enclosed in double quotes with each '"' doubled.
 // Nothing else ('\r', leading or trailing spaces) makes it quoted.
 std::string csv_field(const std::string& s);
+
+// How split_csv and CsvReader treat the space around a field.
+enum class CsvSpace {
+  kTrim,      // drop ' ', '\t' and '\r' before and after a field's text
+              // (outside its quotes): for files people write
+  kVerbatim,  // keep every byte (RFC 4180): for files written by csv_field
+};
+
+// One CSV line split into its fields, the inverse of joining csv_field's
+// with ',': a field in double quotes may hold ',' and '""' for one '"'; no
+// field holds a line break. n commas outside quotes make n + 1 fields ("" is
+// one empty field). nullopt if a quote is left open.
+std::optional<std::vector<std::string>> split_csv(const std::string& line, CsvSpace space);
+
+// A CSV file read row by row with its line numbers, for errors that name
+// the file, the line and the field. Lines may end in "\n" or "\r\n"; lines
+// that are blank (only spaces, tabs, '\r') are skipped.
+class CsvReader {
+ public:
+  // Opens `path`; failure: InputError "<path>: cannot read file".
+  CsvReader(const std::filesystem::path& path, CsvSpace space);
+  // The next non-blank line's fields (split_csv); false at the end of the
+  // file. A quote left open is an error naming the line.
+  bool next(std::vector<std::string>& fields);
+  // "<file>:<line>" of the row last read (":0" before the first).
+  std::string where() const;
+  // Throws InputError "<file>:<line>: <problem>".
+  [[noreturn]] void fail(const std::string& problem) const;
+  // Unless the row has `n` fields: fail "has <k> fields, the header has <n>".
+  void expect_width(const std::vector<std::string>& fields, std::size_t n) const;
+  // Field i as a number, non-finite ones included (parse_number_or_non_finite);
+  // else fail "column '<header[i]>': '<field>' is not a number".
+  double number(const std::vector<std::string>& fields, std::size_t i,
+                const std::vector<std::string>& header) const;
+  // As number(), and a non-finite value fails "column '<header[i]>' is not finite".
+  double finite(const std::vector<std::string>& fields, std::size_t i,
+                const std::vector<std::string>& header) const;
+
+ private:
+  std::filesystem::path path_;
+  std::ifstream in_;
+  CsvSpace space_;
+  int line_ = 0;
+};
 
 // ---- HTML ----
 

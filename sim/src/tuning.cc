@@ -176,19 +176,17 @@ const std::vector<std::string>& outcome_statistics() {
   return names;
 }
 
-ScenarioOutcome evaluate_scenario(const fs::path& scenario,
-                                  const std::vector<std::string>& overrides,
-                                  const fs::path& tracker_file, const Objective& objective,
-                                  int runs, long long seed) {
+ScenarioOutcome evaluate_scenario(const Scenario& scenario, const fs::path& path,
+                                  const YamlDocument* tracker, const Objective& objective, int runs,
+                                  long long seed) {
   ScenarioOutcome o;
-  o.scenario = scenario;
-  o.name = scenario.stem().string();
+  o.scenario = path;
+  o.name = path.stem().string();
   const auto& names = outcome_statistics();
   o.stats.assign(names.size(), kNaN);
   try {
-    std::vector<std::string> all = overrides;
-    all.push_back("tracker=" + yaml_quoted(fs::absolute(tracker_file).string()));
-    const Scenario sc = load_scenario(scenario, all);
+    Scenario sc = scenario;
+    if (tracker) set_tracker_document(sc, *tracker, tracker->file);
     o.name = sc.name;
     o.duration_s = sc.duration_s;
     RunOptions options;
@@ -289,14 +287,16 @@ TuningResult tune(const TuningOptions& options) {
   result.params = parse_tuning_parameters(options.parameter_specs, base);
   const std::vector<TuningParameter>& params = result.params;
 
-  // Every scenario must load with the base configuration; a key a scenario
-  // overrides itself cannot be tuned on it.
+  // Every scenario is loaded once, with the base configuration (candidates
+  // replace it: evaluate_scenario); a key a scenario overrides itself cannot
+  // be tuned on it.
   std::vector<fs::path> all = options.scenarios;
   all.insert(all.end(), options.validation.begin(), options.validation.end());
+  std::vector<Scenario> loaded;
   for (const fs::path& s : all) {
     std::vector<std::string> ov = options.scenario_overrides;
     ov.push_back("tracker=" + yaml_quoted(fs::absolute(options.base_config).string()));
-    load_scenario(s, ov);
+    loaded.push_back(load_scenario(s, ov));
     const YamlDocument doc = load_yaml_file(s.string());
     const YAML::Node over = doc.root["tracker_overrides"];
     if (over && over.IsMap())
@@ -331,12 +331,14 @@ TuningResult tune(const TuningOptions& options) {
       ev.objective = result.history[it->second].objective;
       ev.cached = true;
     } else {
-      const fs::path file = options.out_dir / "candidates" / eval_file_name(ev.index);
-      const YamlDocument doc = candidate_document(base, params, ev.values);
-      text::write_text(file, tracker_yaml_text(doc, "arttrack tune candidate " +
-                                                        std::to_string(ev.index) + ": " + key));
-      for (const fs::path& s : options.scenarios)
-        ev.outcomes.push_back(evaluate_scenario(s, options.scenario_overrides, file,
+      // The candidate, named in messages by the file that records it (not
+      // read back).
+      YamlDocument doc = candidate_document(base, params, ev.values);
+      doc.file = fs::absolute(options.out_dir / "candidates" / eval_file_name(ev.index)).string();
+      text::write_text(doc.file, tracker_yaml_text(doc, "arttrack tune candidate " +
+                                                            std::to_string(ev.index) + ": " + key));
+      for (std::size_t i = 0; i < options.scenarios.size(); ++i)
+        ev.outcomes.push_back(evaluate_scenario(loaded[i], options.scenarios[i], &doc,
                                                 options.objective, options.runs, options.seed));
       ev.objective = objective_value(options.objective, ev.outcomes);
       seen[key] = result.history.size();
@@ -377,16 +379,16 @@ TuningResult tune(const TuningOptions& options) {
               seeds_text(best.outcomes) + "\n" + "tuned: " + values_text(params, best.values)));
 
   // Default against tuned on every scenario.
+  const YamlDocument tuned{result.tuned.root, fs::absolute(tuned_file).string()};
   for (std::size_t i = 0; i < all.size(); ++i) {
     const bool validation = i >= options.scenarios.size();
     result.compare_is_validation.push_back(validation);
-    result.compare_default.push_back(evaluate_scenario(all[i], options.scenario_overrides,
-                                                       options.base_config, options.objective,
-                                                       options.runs, options.seed));
-    result.compare_tuned.push_back(
-        validation ? evaluate_scenario(all[i], options.scenario_overrides, tuned_file,
-                                       options.objective, options.runs, options.seed)
-                   : best.outcomes[i]);
+    result.compare_default.push_back(evaluate_scenario(
+        loaded[i], all[i], nullptr, options.objective, options.runs, options.seed));
+    result.compare_tuned.push_back(validation ? evaluate_scenario(loaded[i], all[i], &tuned,
+                                                                  options.objective, options.runs,
+                                                                  options.seed)
+                                              : best.outcomes[i]);
     log(std::string(validation ? "validation " : "tuning ") + result.compare_default.back().name +
         ": " + options.objective.statistic + " default " +
         text::format_g(result.compare_default.back().objective_statistic, 6) + ", tuned " +

@@ -6,6 +6,7 @@
 
 #include "arttrack/sim/sweep.h"
 #include "arttrack/sim/tuning.h"
+#include "arttrack/tracker/units.h"
 #include "svg_chart.h"
 #include "text_format.h"
 
@@ -32,7 +33,7 @@ const std::vector<Shown>& shown_stats() {
       {"converged_p50_translation_m", "converged translation p50", 1e3, "mm"},
       {"converged_p75_translation_m", "converged translation p75", 1e3, "mm"},
       {"converged_p99_translation_m", "converged translation p99", 1e3, "mm"},
-      {"converged_p50_rotation_rad", "converged rotation p50", 180 / M_PI, "deg"},
+      {"converged_p50_rotation_rad", "converged rotation p50", kDegPerRad, "deg"},
       {"convergence_time_s", "convergence time", 1, "s"},
       {"p50_image_update_ms", "image update p50", 1, "ms"},
   };

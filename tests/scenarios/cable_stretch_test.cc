@@ -55,12 +55,13 @@ TEST(CableStretch, TableContactStretchesTheCablesFullFusionFollows) {
   const double free = mean_true_bias(r, shoulder, 1.5, 3);
   const double pressing = mean_true_bias(r, shoulder, 5.5, 8.5);
   const double fusion_error = mean_bias_error(r, "full_fusion", shoulder, 5.5, 8.5);
-  std::cout << shoulder << " true bias free " << free / kDeg << " deg, pressing " << pressing / kDeg
-            << " deg; full fusion's bias error pressing " << fusion_error / kDeg << " deg\n";
+  std::cout << shoulder << " true bias free " << free / kRadPerDeg << " deg, pressing "
+            << pressing / kRadPerDeg << " deg; full fusion's bias error pressing "
+            << fusion_error / kRadPerDeg << " deg\n";
   // Measured: shoulder bias -2.6 deg free, +2.8 deg on average while
   // pressing (+5.1 deg at first); full fusion's bias error 0.18 deg.
-  EXPECT_GT(pressing - free, 3 * kDeg);
-  EXPECT_LT(fusion_error, 1 * kDeg);
+  EXPECT_GT(pressing - free, 3 * kRadPerDeg);
+  EXPECT_LT(fusion_error, 1 * kRadPerDeg);
   EXPECT_LT(fusion_error, (pressing - free) / 4);
 
   const Percentiles encoders = window(r, "encoders_only", 5.5, 8.5);
@@ -87,9 +88,9 @@ TEST(CableStretch, LoadStretchesTheCables) {
   for (const std::string joint : {"left_arm_joint_1", "left_arm_joint_2"}) {
     const double change =
         mean_true_bias(loaded, joint, 33, 37) - mean_true_bias(empty, joint, 33, 37);
-    std::cout << joint << ": the load changes the bias by " << change / kDeg << " deg\n";
+    std::cout << joint << ": the load changes the bias by " << change / kRadPerDeg << " deg\n";
     // Measured: -1.25 deg on joint 1, -1.23 deg on joint 2.
-    EXPECT_GT(std::abs(change), 0.8 * kDeg) << joint;
+    EXPECT_GT(std::abs(change), 0.8 * kRadPerDeg) << joint;
   }
 }
 
@@ -105,8 +106,9 @@ TEST(CableStretch, EveryLoadStretchesTheCables) {
   for (const std::string joint : {"left_arm_joint_1", "left_arm_joint_2"}) {
     const double change =
         mean_true_bias(loaded, joint, 8, 12) - mean_true_bias(empty, joint, 8, 12);
-    std::cout << joint << ": the first load changes the bias by " << change / kDeg << " deg\n";
-    EXPECT_GT(std::abs(change), 0.8 * kDeg) << joint;
+    std::cout << joint << ": the first load changes the bias by " << change / kRadPerDeg
+              << " deg\n";
+    EXPECT_GT(std::abs(change), 0.8 * kRadPerDeg) << joint;
   }
 }
 

@@ -131,12 +131,13 @@ TEST(PaperFindings, FastMotionVisionOnlyLosesTrackFullFusionDoesNot) {
   // over tracker versions [142.6]: the hand turned the wrong way.
   const MethodSummary& fusion = method(r, "full_fusion").summary;
   const MethodSummary& vision = method(r, "vision_only").summary;
-  std::cout << "rotation after 6 s, p50: full fusion " << fusion.converged.rotation_rad.p50 / kDeg
-            << " deg, vision only " << vision.converged.rotation_rad.p50 / kDeg << " deg\n";
+  std::cout << "rotation after 6 s, p50: full fusion "
+            << fusion.converged.rotation_rad.p50 / kRadPerDeg << " deg, vision only "
+            << vision.converged.rotation_rad.p50 / kRadPerDeg << " deg\n";
   EXPECT_LT(fusion.converged.translation_m.p50, 10 * kMm);
   EXPECT_GT(vision.converged.translation_m.p50, 15 * kMm);
   EXPECT_GT(vision.converged.translation_m.p50, 3 * fusion.converged.translation_m.p50);
-  EXPECT_GT(vision.converged.rotation_rad.p50, 5 * kDeg);
+  EXPECT_GT(vision.converged.rotation_rad.p50, 5 * kRadPerDeg);
   EXPECT_GT(vision.converged.rotation_rad.p50, 5 * fusion.converged.rotation_rad.p50);
 }
 

@@ -24,11 +24,11 @@
 #include "arttrack/sim/scenario.h"
 #include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/scoring.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack::sim::test {
 
 constexpr double kMm = 1e-3;
-constexpr double kDeg = M_PI / 180.0;
 
 // A shipped scenario: scenarios/<relative>.yaml in the source tree.
 inline std::filesystem::path scenario_file(const std::string& relative) {

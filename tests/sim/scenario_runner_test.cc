@@ -23,13 +23,13 @@
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/units.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = M_PI / 180.0;
 
 constexpr char kBiasScenario[] = R"(
 scene: scene.yaml
@@ -81,7 +81,7 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
     EXPECT_NEAR(s.ee_error[0].translation_m, expected.translation_m, 1e-9) << "t " << t.time_s;
     EXPECT_NEAR(s.ee_error[0].rotation_rad, expected.rotation_rad, 1e-9) << "t " << t.time_s;
     // The true bias is the injected offset on the arms, none on the head.
-    EXPECT_NEAR(t.bias_rad[index_of(r.joint_names, "left_arm_joint_1")], 8.6 * kDeg, 1e-15);
+    EXPECT_NEAR(t.bias_rad[index_of(r.joint_names, "left_arm_joint_1")], 8.6 * kRadPerDeg, 1e-15);
     EXPECT_EQ(t.bias_rad[index_of(r.joint_names, "head_pan_joint")], 0.0);
     EXPECT_TRUE(std::isnan(t.occluded_fraction));  // no occluders: not rendered
   }
@@ -90,9 +90,9 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
   // the TRUE camera in the nominal one (URDF convention, R = Rz Ry Rx).
   Eigen::Isometry3d T_nominal_true = Eigen::Isometry3d::Identity();
   T_nominal_true.translation() << 0.01, -0.01, 0.02;
-  T_nominal_true.linear() = (Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(-1 * kDeg, Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(1 * kDeg, Eigen::Vector3d::UnitX()))
+  T_nominal_true.linear() = (Eigen::AngleAxisd(0.5 * kRadPerDeg, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(-1 * kRadPerDeg, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(1 * kRadPerDeg, Eigen::Vector3d::UnitX()))
                                 .toRotationMatrix();
   const PoseError offset_error = pose_error(Eigen::Isometry3d::Identity(), T_nominal_true);
   EXPECT_NEAR(offset_error.translation_m, std::sqrt(0.0006), 1e-15);
@@ -181,7 +181,7 @@ encoders: [{joints: [left_arm_joint_1], compliance_deg_per_Nm: 0.5, stretch_time
       if (s.time_s >= t_s) return s.bias_rad[j];
     return std::numeric_limits<double>::quiet_NaN();
   };
-  const double expected = 0.5 * kDeg * 2 * 9.81 * 0.55;
+  const double expected = 0.5 * kRadPerDeg * 2 * 9.81 * 0.55;
   EXPECT_NEAR(std::abs(bias_at(2.0) - bias_at(0.4)), expected, 0.03 * expected);
 }
 

@@ -13,13 +13,13 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = M_PI / 180.0;
 
 // Expects load_scenario to throw an InputError whose message holds every
 // one of `parts`.
@@ -147,16 +147,16 @@ TEST(Scenario, EveryKeyIsRead) {
   ASSERT_EQ(s.sinusoids.size(), 1u);
   EXPECT_EQ(s.sinusoids[0].joints,
             (std::vector<std::string>{"left_arm_joint_1", "left_arm_joint_2"}));
-  EXPECT_DOUBLE_EQ(s.sinusoids[0].amplitude_rad, 10 * kDeg);
-  EXPECT_DOUBLE_EQ(s.sinusoids[0].phase_rad, 90 * kDeg);
+  EXPECT_DOUBLE_EQ(s.sinusoids[0].amplitude_rad, 10 * kRadPerDeg);
+  EXPECT_DOUBLE_EQ(s.sinusoids[0].phase_rad, 90 * kRadPerDeg);
   ASSERT_EQ(s.waypoints.size(), 1u);
-  EXPECT_DOUBLE_EQ(s.waypoints[0].positions_rad[1][0], 30 * kDeg);
+  EXPECT_DOUBLE_EQ(s.waypoints[0].positions_rad[1][0], 30 * kRadPerDeg);
   ASSERT_EQ(s.random.size(), 1u);
   EXPECT_EQ(s.random[0].num_components, 5);
-  EXPECT_DOUBLE_EQ(s.random[0].base_speed_rad_per_s, 10 * kDeg);
-  EXPECT_DOUBLE_EQ(s.random[0].margin_rad, 2 * kDeg);
+  EXPECT_DOUBLE_EQ(s.random[0].base_speed_rad_per_s, 10 * kRadPerDeg);
+  EXPECT_DOUBLE_EQ(s.random[0].margin_rad, 2 * kRadPerDeg);
   ASSERT_EQ(s.out_of_view.size(), 1u);
-  EXPECT_DOUBLE_EQ(s.out_of_view[0].out_of_view_rad[0], 80 * kDeg);
+  EXPECT_DOUBLE_EQ(s.out_of_view[0].out_of_view_rad[0], 80 * kRadPerDeg);
   EXPECT_EQ(s.out_of_view[0].return_s, 8.0);
 
   ASSERT_EQ(s.loads.size(), 1u);
@@ -165,17 +165,17 @@ TEST(Scenario, EveryKeyIsRead) {
 
   ASSERT_EQ(s.encoders.groups.size(), 2u);
   EXPECT_EQ(s.encoders.groups[0].joints.size(), 4u);
-  EXPECT_DOUBLE_EQ(s.encoders.groups[0].offset_rad, 8.6 * kDeg);
-  EXPECT_DOUBLE_EQ(s.encoders.groups[0].noise_sigma_rad, 0.01 * kDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[0].offset_rad, 8.6 * kRadPerDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[0].noise_sigma_rad, 0.01 * kRadPerDeg);
   EXPECT_EQ(s.encoders.groups[1].joints,
             (std::vector<std::string>{"head_pan_joint", "head_tilt_joint"}));
-  EXPECT_DOUBLE_EQ(s.encoders.groups[1].step_amplitude_rad, 5 * kDeg);
-  EXPECT_DOUBLE_EQ(s.encoders.groups[1].compliance_rad_per_Nm, 0.2 * kDeg);
-  EXPECT_DOUBLE_EQ(s.encoders.groups[1].resolution_rad, 0.02 * kDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[1].step_amplitude_rad, 5 * kRadPerDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[1].compliance_rad_per_Nm, 0.2 * kRadPerDeg);
+  EXPECT_DOUBLE_EQ(s.encoders.groups[1].resolution_rad, 0.02 * kRadPerDeg);
 
   EXPECT_EQ(s.scene.width, 320);
   EXPECT_EQ(s.scene.height, 240);
-  EXPECT_DOUBLE_EQ(s.scene.fovy_rad, 60 * kDeg);
+  EXPECT_DOUBLE_EQ(s.scene.fovy_rad, 60 * kRadPerDeg);
   EXPECT_EQ(s.camera_timing.rate_hz, 15.0);
   EXPECT_EQ(s.camera_timing.jitter, CameraTiming::Jitter::kUniform);
   EXPECT_EQ(s.camera_timing.drop_probability, 0.1);
@@ -184,9 +184,9 @@ TEST(Scenario, EveryKeyIsRead) {
 
   const Eigen::Isometry3d& T = s.perturbation.T_nominal_true_camera;
   EXPECT_LT((T.translation() - Eigen::Vector3d(0.01, -0.02, 0.03)).norm(), 1e-15);
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(3 * kDeg, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(2 * kDeg, Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(1 * kDeg, Eigen::Vector3d::UnitX()))
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(3 * kRadPerDeg, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(2 * kRadPerDeg, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(1 * kRadPerDeg, Eigen::Vector3d::UnitX()))
                                 .toRotationMatrix();
   EXPECT_LT((T.linear() - R).norm(), 1e-15);
   ASSERT_EQ(s.perturbation.joint_changes.size(), 1u);
@@ -251,7 +251,7 @@ camera: {latency_s: 0.02}
   EXPECT_EQ(o.methods, (std::vector<std::string>{"encoders_only"}));
   ASSERT_EQ(o.encoders.groups.size(), 1u);
   EXPECT_EQ(o.encoders.groups[0].joints.size(), 2u);
-  EXPECT_DOUBLE_EQ(o.encoders.groups[0].offset_rad, kDeg);
+  EXPECT_DOUBLE_EQ(o.encoders.groups[0].offset_rad, kRadPerDeg);
 
   expect_error(child, {"override", "novalue"}, {"novalue"});
 }

@@ -23,6 +23,7 @@
 
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
@@ -31,7 +32,6 @@ namespace {
 using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
-constexpr double kDeg = M_PI / 180.0;
 
 constexpr char kScenario[] = R"(
 scene: scene.yaml
@@ -133,15 +133,15 @@ TEST(SweepGrid, ListElementsCanBeSwept) {
   const Scenario s = load_scenario(
       scenario, {"encoders[0].offset_deg=2.5", "occluders=[]", "camera.latency_s=0.01"});
   ASSERT_EQ(s.encoders.groups.size(), 1u);
-  EXPECT_NEAR(s.encoders.groups[0].offset_rad, 2.5 * kDeg, 1e-12);
+  EXPECT_NEAR(s.encoders.groups[0].offset_rad, 2.5 * kRadPerDeg, 1e-12);
   EXPECT_EQ(s.encoders.groups[0].joints.size(), 4u);  // the rest of the group stays
   EXPECT_DOUBLE_EQ(s.camera_timing.latency_s, 0.01);
   // A new key inside an element reaches it too, and overrides of one list add up.
   const Scenario t = load_scenario(
       scenario, {"encoders[0].noise_deg=0.5", "duration_s=2", "encoders[0].step_amplitude_deg=1"});
-  EXPECT_NEAR(t.encoders.groups[0].noise_sigma_rad, 0.5 * kDeg, 1e-12);
-  EXPECT_NEAR(t.encoders.groups[0].step_amplitude_rad, 1 * kDeg, 1e-12);
-  EXPECT_NEAR(t.encoders.groups[0].offset_rad, 5 * kDeg, 1e-12);
+  EXPECT_NEAR(t.encoders.groups[0].noise_sigma_rad, 0.5 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(t.encoders.groups[0].step_amplitude_rad, 1 * kRadPerDeg, 1e-12);
+  EXPECT_NEAR(t.encoders.groups[0].offset_rad, 5 * kRadPerDeg, 1e-12);
   EXPECT_EQ(t.duration_s, 2);
 }
 

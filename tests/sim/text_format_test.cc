@@ -5,6 +5,8 @@
 //   - format_g is printf "%.*g";
 //   - html_escape escapes & < > " and nothing else;
 //   - base64 is RFC 4648's;
+//   - split_csv and CsvReader read back what csv_field writes, and trim
+//     people's files;
 //   - trim, parse_number, one_line, write_text, median_convergence_s.
 #include "../../sim/src/text_format.h"
 
@@ -18,12 +20,14 @@
 #include <sstream>
 #include <vector>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::error_of;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -102,6 +106,7 @@ TEST(TextFormat, TrimAndParseNumber) {
   EXPECT_EQ(text::trim("  a b\t"), "a b");
   EXPECT_EQ(text::trim(" \t "), "");
   EXPECT_EQ(text::trim("x\r\n"), "x\r\n");
+  EXPECT_EQ(text::trim("\r x \r"), "x");
   double v = 0;
   EXPECT_TRUE(text::parse_number(" 2.5\t", v));
   EXPECT_EQ(v, 2.5);
@@ -115,6 +120,103 @@ TEST(TextFormat, TrimAndParseNumber) {
   EXPECT_FALSE(text::parse_number("inf", v));
   EXPECT_FALSE(text::parse_number("nan", v));
   EXPECT_FALSE(text::parse_number("1e999", v));
+  EXPECT_TRUE(text::parse_number("3\r", v));
+  EXPECT_EQ(v, 3);
+}
+
+TEST(TextFormat, ParseNumberOrNonFiniteAcceptsNanAndInfinities) {
+  double v = 0;
+  EXPECT_TRUE(text::parse_number_or_non_finite(" 2.5 ", v));
+  EXPECT_EQ(v, 2.5);
+  EXPECT_TRUE(text::parse_number_or_non_finite("nan", v));
+  EXPECT_TRUE(std::isnan(v));
+  EXPECT_TRUE(text::parse_number_or_non_finite("NaN", v));
+  EXPECT_TRUE(std::isnan(v));
+  EXPECT_TRUE(text::parse_number_or_non_finite("inf", v));
+  EXPECT_EQ(v, kInf);
+  EXPECT_TRUE(text::parse_number_or_non_finite("-inf", v));
+  EXPECT_EQ(v, -kInf);
+  EXPECT_TRUE(text::parse_number_or_non_finite("Infinity", v));
+  EXPECT_EQ(v, kInf);
+  // What csv_number writes reads back.
+  for (double x : {kInf, -kInf, 0.1, -1e300}) {
+    EXPECT_TRUE(text::parse_number_or_non_finite(text::csv_number(x), v));
+    EXPECT_EQ(v, x);
+  }
+  EXPECT_FALSE(text::parse_number_or_non_finite("1e999", v));
+  EXPECT_FALSE(text::parse_number_or_non_finite("-1e999", v));
+  EXPECT_FALSE(text::parse_number_or_non_finite("", v));
+  EXPECT_FALSE(text::parse_number_or_non_finite("nan x", v));
+}
+
+std::vector<std::string> split(const std::string& line, text::CsvSpace space) {
+  const auto f = text::split_csv(line, space);
+  EXPECT_TRUE(f.has_value()) << line;
+  return f.value_or(std::vector<std::string>{});
+}
+
+using Fields = std::vector<std::string>;
+
+TEST(TextFormat, SplitCsvKeepsEmptyFieldsAndUnquotes) {
+  for (auto space : {text::CsvSpace::kTrim, text::CsvSpace::kVerbatim}) {
+    EXPECT_EQ(split("", space), Fields{""});
+    EXPECT_EQ(split("a,b", space), (Fields{"a", "b"}));
+    EXPECT_EQ(split(",a,,", space), (Fields{"", "a", "", ""}));
+    EXPECT_EQ(split("\"a,b\",\"say \"\"hi\"\"\",\"\"", space), (Fields{"a,b", "say \"hi\"", ""}));
+    EXPECT_FALSE(text::split_csv("a,\"b", space).has_value());
+    EXPECT_FALSE(text::split_csv("\"a\"\"", space).has_value());
+  }
+  // Whatever csv_field writes reads back, byte for byte, verbatim.
+  const Fields fields = {" padded ", "a,b", "say \"hi\"", "", "tab\there", "cr\r"};
+  std::string line;
+  for (const std::string& f : fields) line += text::csv_field(f) + ',';
+  line.pop_back();
+  EXPECT_EQ(split(line, text::CsvSpace::kVerbatim), fields);
+}
+
+TEST(TextFormat, SplitCsvTrimsOutsideQuotesOnly) {
+  EXPECT_EQ(split(" a , b\t,\tc d \r", text::CsvSpace::kTrim), (Fields{"a", "b", "c d"}));
+  EXPECT_EQ(split(" \" a \" , ", text::CsvSpace::kTrim), (Fields{" a ", ""}));
+  EXPECT_EQ(split(" a , b", text::CsvSpace::kVerbatim), (Fields{" a ", " b"}));
+}
+
+TEST(TextFormat, CsvReaderReadsRowsWithLineNumbersAndCrlfEndings) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("text_format_csv_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "in.csv";
+  text::write_text(file,
+                   "time_s, x ,name\r\n\r\n  \r\n0.5,nan,\"a,b\"\r\n1,inf,\r\n2,abc,c\n3,4\n");
+  text::CsvReader csv(file, text::CsvSpace::kTrim);
+  Fields header, row;
+  ASSERT_TRUE(csv.next(header));
+  EXPECT_EQ(header, (Fields{"time_s", "x", "name"}));
+  EXPECT_EQ(csv.where(), file.string() + ":1");
+  ASSERT_TRUE(csv.next(row));  // blank lines 2 and 3 skipped
+  EXPECT_EQ(csv.where(), file.string() + ":4");
+  EXPECT_EQ(row, (Fields{"0.5", "nan", "a,b"}));
+  EXPECT_EQ(csv.finite(row, 0, header), 0.5);
+  EXPECT_TRUE(std::isnan(csv.number(row, 1, header)));
+  EXPECT_EQ(error_of([&] { csv.finite(row, 1, header); }),
+            file.string() + ":4: column 'x' is not finite");
+  ASSERT_TRUE(csv.next(row));
+  EXPECT_EQ(row, (Fields{"1", "inf", ""}));  // the '\r' is not part of the last field
+  EXPECT_EQ(csv.number(row, 1, header), kInf);
+  ASSERT_TRUE(csv.next(row));
+  EXPECT_EQ(error_of([&] { csv.number(row, 1, header); }),
+            file.string() + ":6: column 'x': 'abc' is not a number");
+  ASSERT_TRUE(csv.next(row));
+  EXPECT_EQ(error_of([&] { csv.expect_width(row, header.size()); }),
+            file.string() + ":7: has 2 fields, the header has 3");
+  EXPECT_FALSE(csv.next(row));
+
+  text::write_text(file, "a\n\"open,b\n");
+  text::CsvReader open_quote(file, text::CsvSpace::kVerbatim);
+  ASSERT_TRUE(open_quote.next(row));
+  EXPECT_EQ(error_of([&] { open_quote.next(row); }), file.string() + ":2: a quote is not closed");
+  EXPECT_EQ(error_of([&] { text::CsvReader(dir / "missing.csv", text::CsvSpace::kTrim); }),
+            (dir / "missing.csv").string() + ": cannot read file");
+  fs::remove_all(dir);
 }
 
 TEST(TextFormat, OneLineReplacesLineBreaksAndTabsBySpaces) {

@@ -16,13 +16,13 @@
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/units.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = M_PI / 180.0;
 
 Eigen::Matrix3d rpy(double r, double p, double y) {
   return (Eigen::AngleAxisd(y, Eigen::Vector3d::UnitZ()) *
@@ -73,7 +73,8 @@ std::vector<std::map<std::string, double>> configurations(int n) {
 
 TEST(UrdfPerturbation, CameraOffsetMovesTheCameraByExactlyTheOffset) {
   UrdfPerturbation p;
-  p.T_nominal_true_camera = pose({0.01, -0.02, 0.03}, rpy(1 * kDeg, -2 * kDeg, 3 * kDeg));
+  p.T_nominal_true_camera =
+      pose({0.01, -0.02, 0.03}, rpy(1 * kRadPerDeg, -2 * kRadPerDeg, 3 * kRadPerDeg));
   const RobotModel nominal = model_of(test::kRobotUrdf), perturbed = model_of(perturb(p));
   for (const auto& q : configurations(5)) {
     const Eigen::Isometry3d expected =
@@ -90,8 +91,8 @@ TEST(UrdfPerturbation, HeadErrorDependsOnTheHeadPose) {
   UrdfPerturbation p;
   JointOriginChange c;
   c.joint = "head_tilt_joint";
-  c.T_old_new = pose({0, 0.01, 0.005}, rpy(0, 0, 2 * kDeg));
-  c.R_axis = rpy(3 * kDeg, 0, 0);
+  c.T_old_new = pose({0, 0.01, 0.005}, rpy(0, 0, 2 * kRadPerDeg));
+  c.R_axis = rpy(3 * kRadPerDeg, 0, 0);
   p.joint_changes.push_back(c);
   const RobotModel nominal = model_of(test::kRobotUrdf), perturbed = model_of(perturb(p));
 
@@ -195,7 +196,8 @@ TEST(UrdfPerturbation, PerturbedCopyBuildsInMuJoCoWithTheOffsetCamera) {
   const fs::path file = dir.write("robot_mesh.urdf", urdf);
 
   UrdfPerturbation p;
-  p.T_nominal_true_camera = pose({0.02, 0.01, -0.03}, rpy(-2 * kDeg, 1 * kDeg, 4 * kDeg));
+  p.T_nominal_true_camera =
+      pose({0.02, 0.01, -0.03}, rpy(-2 * kRadPerDeg, 1 * kRadPerDeg, 4 * kRadPerDeg));
   fs::path copy_dir;
   {
     const PerturbedUrdf copy(file, {}, p);

@@ -16,13 +16,13 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/tracker.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack {
 namespace {
 
 using arttrack::test_support::error_of;
 
-constexpr double kDeg = std::numbers::pi / 180;
 const std::string kUrdf = std::string(ARTTRACK_SOURCE_DIR) + "/tests/tracker/data/single_arm.urdf";
 
 std::string read_text(const std::string& path) {
@@ -45,7 +45,7 @@ TEST(DefaultConfigTest, EveryMethodRunsOnAnotherRobot) {
   const auto model = std::make_shared<const RobotModel>(RobotModel::from_urdf_file(kUrdf));
   const std::vector<std::string> joints{"yaw", "pitch_1", "pitch_2"};
   // The true configuration's depth image, at a small camera.
-  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 60 * kDeg);
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 60 * kRadPerDeg);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model->num_joints());
   q[model->joint_index("pitch_1")] = 0.3;
   q[model->joint_index("pitch_2")] = -0.5;
@@ -63,7 +63,7 @@ TEST(DefaultConfigTest, EveryMethodRunsOnAnotherRobot) {
     c.threads = 1;
     Tracker tracker(model, c,
                     c.method == TrackingMethod::kVisionOnly ? std::vector<std::string>{} : joints);
-    const std::vector<double> reading{0.0, 0.3 + 2 * kDeg, -0.5};
+    const std::vector<double> reading{0.0, 0.3 + 2 * kRadPerDeg, -0.5};
     for (int k = 0; k <= 100; ++k) {
       if (c.method != TrackingMethod::kVisionOnly)
         tracker.add_joint_measurement(0.001 * k, reading);

@@ -2,6 +2,7 @@
 // real particle-filter runs on the project robot is also rendered from
 // scratch and scored with the exact likelihood.
 #include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/units.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +14,6 @@
 
 namespace arttrack {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 const RobotModel& robot() {
   static const RobotModel model =
@@ -31,11 +30,11 @@ Eigen::VectorXd home_pose(const RobotModel& model) {
       {"right_arm_joint_3", -65}, {"right_arm_joint_4", 90}, {"right_arm_joint_5", 45},
       {"right_arm_joint_6", -35}};
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
-  for (const auto& [name, deg] : home_deg) q[model.joint_index(name)] = deg * kDeg;
+  for (const auto& [name, deg] : home_deg) q[model.joint_index(name)] = deg * kRadPerDeg;
   return q;
 }
 
-const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kDeg);
+const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kRadPerDeg);
 
 // What a camera sees: the robot a little away from the home pose and the
 // camera a little off, a wall behind it, a box occluding part of one arm,
@@ -43,9 +42,9 @@ const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 
 DepthImage observation(const RobotModel& model) {
   Eigen::VectorXd q = home_pose(model);
   for (int j = 0; j < model.num_joints(); ++j)
-    if (!model.is_virtual_joint(j)) q[j] += (j % 3 - 1) * 2 * kDeg;
+    if (!model.is_virtual_joint(j)) q[j] += (j % 3 - 1) * 2 * kRadPerDeg;
   q[model.joint_index("camera_offset_x")] = 0.005;
-  q[model.joint_index("camera_offset_pitch")] = 0.3 * kDeg;
+  q[model.joint_index("camera_offset_pitch")] = 0.3 * kRadPerDeg;
   KinematicsState state(model);
   forward_kinematics(model, q, state);
   DepthRenderer renderer(model, kCamera);
@@ -127,8 +126,8 @@ Prior prior_around_home(const RobotModel& model, double arm_std) {
     const std::string& name = model.joint_name(j);
     const bool translation =
         name == "camera_offset_x" || name == "camera_offset_y" || name == "camera_offset_z";
-    p.std.push_back(model.is_virtual_joint(j)    ? (translation ? 0.01 : 0.5 * kDeg)
-                    : name.rfind("head", 0) == 0 ? 1 * kDeg
+    p.std.push_back(model.is_virtual_joint(j)    ? (translation ? 0.01 : 0.5 * kRadPerDeg)
+                    : name.rfind("head", 0) == 0 ? 1 * kRadPerDeg
                                                  : arm_std);
   }
   return p;
@@ -152,7 +151,7 @@ void check_against_reference(const std::vector<SamplingBlock>& blocks, int parti
   CoordinateParticleFilter cpf(model.num_joints(), blocks, cpf_params);
   WorkerPool pool(workers);
   std::mt19937_64 rng(11);
-  Prior prior = prior_around_home(model, 3 * kDeg);
+  Prior prior = prior_around_home(model, 3 * kRadPerDeg);
   for (int run = 0; run < runs; ++run) {
     fast.begin_run(kCamera, likelihood, prior.mean);
     reference.begin_run(kCamera, likelihood, prior.mean);
@@ -216,7 +215,7 @@ TEST(HypothesisEvaluator, ResultsDoNotDependOnTheWorkers) {
   const std::vector<SamplingBlock> blocks = default_blocks(model);
   DepthLikelihood likelihood{DepthModelParams{}};
   likelihood.set_observation(observation(model));
-  const Prior prior = prior_around_home(model, 3 * kDeg);
+  const Prior prior = prior_around_home(model, 3 * kRadPerDeg);
   std::vector<std::vector<double>> means;
   for (int workers : {1, 2, 3}) {
     HypothesisEvaluator fast(model, blocks);

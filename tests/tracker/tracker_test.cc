@@ -13,13 +13,12 @@
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack {
 namespace {
 
 using arttrack::test_support::error_of;
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 // A two-joint planar arm of boxes in front of a camera that looks at it
 // along the base's x axis, with an end-effector frame at the tip.
@@ -57,7 +56,7 @@ TrackerConfig small_config(TrackingMethod method) {
   return c;
 }
 
-const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(64, 48, 60 * kDeg);
+const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(64, 48, 60 * kRadPerDeg);
 
 // The depth a perfect camera sees of the arm at angles q.
 DepthImage render_truth(const RobotModel& model, double q0, double q1) {
@@ -87,7 +86,7 @@ TEST(TrackerTest, EncodersOnlyReportsTheRawReadings) {
 TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
   auto model = arm_model();
   Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
-  const double true_q0 = 0.4, true_q1 = -0.6, bias = 6 * kDeg;
+  const double true_q0 = 0.4, true_q1 = -0.6, bias = 6 * kRadPerDeg;
   const DepthImage truth = render_truth(*model, true_q0, true_q1);
   for (int k = 0; k <= 3000; ++k) {
     const double t = 0.001 * k;
@@ -96,9 +95,9 @@ TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
     if (k % 33 == 0) tracker.add_depth_image(t, truth, kCamera);
   }
   const TrackerEstimate e = tracker.estimate();
-  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], true_q0, 1 * kDeg);
-  EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], true_q1, 1 * kDeg);
-  EXPECT_NEAR(e.bias_rad[model->joint_index("shoulder")], bias, 1 * kDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], true_q0, 1 * kRadPerDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], true_q1, 1 * kRadPerDeg);
+  EXPECT_NEAR(e.bias_rad[model->joint_index("shoulder")], bias, 1 * kRadPerDeg);
   EXPECT_GT(tracker.stats().images_applied, 80);
 }
 
@@ -255,7 +254,7 @@ TEST(TrackerTest, BrokenReadingsAreDroppedAndCounted) {
 TEST(TrackerTest, InputChecksDoNotChangeValidInput) {
   auto model = arm_model();
   TrackerConfig loose = small_config(TrackingMethod::kFullFusion);
-  loose.joint_limit_margin_rad = 3600 * kDeg;  // the largest margin: ten turns
+  loose.joint_limit_margin_rad = 3600 * kRadPerDeg;  // the largest margin: ten turns
   loose.max_image_clock_offset_s = 1e6;
   Tracker checked(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
   Tracker unchecked(model, loose, {"shoulder", "elbow"});
@@ -313,8 +312,8 @@ TEST(TrackerTest, VisionOnlyFollowsImagesFromTheInitialConfiguration) {
   const DepthImage truth = render_truth(*model, 0.33, -0.33);
   for (int k = 0; k < 30; ++k) tracker.add_depth_image(k / 30.0, truth, kCamera);
   const TrackerEstimate e = tracker.estimate();
-  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.33, 1.5 * kDeg);
-  EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], -0.33, 1.5 * kDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.33, 1.5 * kRadPerDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], -0.33, 1.5 * kRadPerDeg);
 }
 
 TEST(TrackerTest, AsynchronousModeAppliesImagesOnAWorkerThread) {
@@ -323,7 +322,7 @@ TEST(TrackerTest, AsynchronousModeAppliesImagesOnAWorkerThread) {
   config.asynchronous = true;
   Tracker tracker(model, config, {"shoulder", "elbow"});
   const DepthImage truth = render_truth(*model, 0.4, -0.6);
-  const double bias = 6 * kDeg;
+  const double bias = 6 * kRadPerDeg;
   for (int k = 0; k <= 3000; ++k) {
     tracker.add_joint_measurement(0.001 * k, std::vector<double>{0.4 + bias, -0.6 + bias});
     if (k % 33 == 0) {
@@ -334,7 +333,7 @@ TEST(TrackerTest, AsynchronousModeAppliesImagesOnAWorkerThread) {
   tracker.wait_until_idle();
   const TrackerEstimate e = tracker.estimate();
   EXPECT_GT(tracker.stats().images_applied, 80);
-  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.4, 1 * kDeg);
+  EXPECT_NEAR(e.angle_rad[model->joint_index("shoulder")], 0.4, 1 * kRadPerDeg);
 }
 
 // A part of the arm that the image shows nowhere (here the forearm, behind
@@ -400,7 +399,7 @@ TEST(TrackerTest, HealthFlagsAnEstimateThatLeavesTheArmItFound) {
   TrackerEstimate flagged;
   for (int k = 0; k <= 2000 && flagged_s < 0; ++k) {
     const double t = 0.001 * k;
-    const double slip = t >= 1.0 ? 60 * kDeg : 0.0;
+    const double slip = t >= 1.0 ? 60 * kRadPerDeg : 0.0;
     if (slip > 0 && slipped_s < 0) slipped_s = t;
     tracker.add_joint_measurement(t, std::vector<double>{0.2 + slip, -0.4});
     if (k % 33 != 0) continue;

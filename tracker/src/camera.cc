@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack {
 
@@ -22,9 +23,8 @@ CameraIntrinsics CameraIntrinsics::from_vertical_fov(int width, int height, doub
 std::string CameraIntrinsics::problem() const {
   if (width <= 0 || height <= 0) return "width, height: must be positive";
   const auto focal = [](const char* name, double f, int size) -> std::string {
-    constexpr double kDeg = 3.14159265358979323846 / 180;
-    const double lo = 0.5 * size / std::tan(0.5 * kMaxFovDeg * kDeg);
-    const double hi = 0.5 * size / std::tan(0.5 * kMinFovDeg * kDeg);
+    const double lo = 0.5 * size / std::tan(0.5 * kMaxFovDeg * kRadPerDeg);
+    const double hi = 0.5 * size / std::tan(0.5 * kMinFovDeg * kRadPerDeg);
     if (f >= lo && f <= hi) return "";
     std::ostringstream out;
     out << name << ": " << f << " px must be in [" << lo << ", " << hi << "] for " << size

@@ -8,10 +8,9 @@
 #include <string>
 #include <string_view>
 
-namespace arttrack {
+#include "arttrack/tracker/units.h"
 
-// One degree in radians: the unit of a `_deg` key whose field holds radians.
-inline constexpr double kDegree = 0.017453292519943295;
+namespace arttrack {
 
 // The values a field may take, in the user's units (degrees for a `_deg`
 // key): an interval, each end closed (the bound allowed) or open.
@@ -39,7 +38,7 @@ struct ConfigRange {
 
 // Throws ConfigKeyError(source, key, "= V is out of range R") unless the
 // field's `value` lies in `range`. `unit` is one user unit in the field's
-// units (kDegree for a `_deg` key whose field holds radians): the bounds are
+// units (kRadPerDeg for a `_deg` key whose field holds radians): the bounds are
 // scaled by it, so that a value read at a bound (and scaled by the same
 // factor) is inside, and the message shows the value in the user's units.
 void check_range(std::string_view source, const std::string& key, double value,

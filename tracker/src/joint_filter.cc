@@ -6,6 +6,7 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/units.h"
 #include "config_range.h"
 
 namespace arttrack {
@@ -119,16 +120,16 @@ std::vector<VirtualJointParams> per_joint_params(
 
 void JointFilterParams::validate(std::string_view source, const std::string& prefix) const {
   check_range(source, prefix + "encoder_noise_deg", encoder_noise_rad,
-              ConfigRange::open_closed(0, 90), kDegree);
+              ConfigRange::open_closed(0, 90), kRadPerDeg);
   check_range(source, prefix + "angle_diffusion_deg_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
-              ConfigRange::closed(0, 1e5), kDegree);
+              ConfigRange::closed(0, 1e5), kRadPerDeg);
   // sigma_b and c matter only while the bias is estimated; c is held to
   // (0, 1) either way, so that a per-joint override that switches the
   // estimate on never inherits an impossible decay.
   ConfigRange sigma_b = ConfigRange::closed(0, 1e5);
   sigma_b.lo_open = estimate_bias;
   check_range(source, prefix + "bias_diffusion_deg_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
-              sigma_b, kDegree);
+              sigma_b, kRadPerDeg);
   check_range(source, prefix + "bias_decay_per_s", bias_decay_per_s, ConfigRange::open(0, 1));
 }
 

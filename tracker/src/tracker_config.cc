@@ -6,15 +6,14 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
+#include "arttrack/tracker/units.h"
 #include "config_range.h"
 
 namespace arttrack {
 namespace {
 
-constexpr double kDeg = kDegree;
-
 // A number of a section by its key: a whole number for an int field; `unit`:
-// one unit of the key in the field's units (kDeg for a _deg key held in rad).
+// one unit of the key in the field's units (kRadPerDeg for a _deg key held in rad).
 struct NumberKey {
   const char* key;
   std::variant<double*, int*> field;
@@ -35,10 +34,11 @@ void read_numbers(const ConfigNode& node, std::initializer_list<NumberKey> keys)
 // Joint filter keys; `base` supplies the values of keys not given.
 JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base) {
   JointFilterParams p = base;
-  read_numbers(node, {{"encoder_noise_deg", &p.encoder_noise_rad, kDeg},
-                      {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kDeg},
-                      {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kDeg},
-                      {"bias_decay_per_s", &p.bias_decay_per_s}});
+  read_numbers(node,
+               {{"encoder_noise_deg", &p.encoder_noise_rad, kRadPerDeg},
+                {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kRadPerDeg},
+                {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kRadPerDeg},
+                {"bias_decay_per_s", &p.bias_decay_per_s}});
   p.estimate_bias = node.get<bool>("estimate_bias", base.estimate_bias);
   return p;
 }
@@ -91,12 +91,12 @@ void TrackerConfig::validate(const std::string& source) const {
   check("camera_offset.translation_initial_std_m", camera_translation.initial_std,
         R::open_closed(0, 10));
   check("camera_offset.rotation_diffusion_deg_per_sqrt_s", camera_rotation.diffusion_per_sqrt_s,
-        R::closed(0, 1e4), kDeg);
+        R::closed(0, 1e4), kRadPerDeg);
   check("camera_offset.rotation_initial_std_deg", camera_rotation.initial_std,
-        R::open_closed(0, 180), kDeg);
+        R::open_closed(0, 180), kRadPerDeg);
   check("vision_only.angle_diffusion_deg_per_sqrt_s", vision_only_angle_diffusion_rad_per_sqrt_s,
-        R::closed(0, 1e5), kDeg);
-  check("vision_only.initial_std_deg", vision_only_initial_std_rad, R::closed(0, 180), kDeg);
+        R::closed(0, 1e5), kRadPerDeg);
+  check("vision_only.initial_std_deg", vision_only_initial_std_rad, R::closed(0, 180), kRadPerDeg);
 
   depth_model.validate(source, "depth_model.");
   check("render.cylinder_segments", render_cylinder_segments, R::closed(3, 1024).or_zero());
@@ -135,7 +135,7 @@ void TrackerConfig::validate(const std::string& source) const {
   }
   check("acquisition.proposal_shrink", a.proposal_shrink, R::closed(0.05, 1));
   check("acquisition.period_s", a.period_s, R::closed(0, 1e6));
-  check("acquisition.bias_std_deg", a.bias_std_rad, R::closed(0.1, 180), kDeg);
+  check("acquisition.bias_std_deg", a.bias_std_rad, R::closed(0.1, 180), kRadPerDeg);
   check("acquisition.accept_margin_nats", a.accept_margin_nats, R::closed(0, 1e6));
   check("acquisition.searches", a.searches, R::closed(1, 100));
 
@@ -152,7 +152,8 @@ void TrackerConfig::validate(const std::string& source) const {
   check("timing.buffer_capacity", buffer_capacity, R::closed(2, 1e7));
   check("timing.max_pending_images", max_pending_images, R::closed(1, 1000));
 
-  check("input_checks.joint_limit_margin_deg", joint_limit_margin_rad, R::closed(0, 3600), kDeg);
+  check("input_checks.joint_limit_margin_deg", joint_limit_margin_rad, R::closed(0, 3600),
+        kRadPerDeg);
   check("input_checks.max_image_clock_offset_s", max_image_clock_offset_s, R::closed(1e-3, 1e6));
 }
 
@@ -174,12 +175,12 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
       root.child("camera_offset"),
       {{"translation_diffusion_m_per_sqrt_s", &c.camera_translation.diffusion_per_sqrt_s},
        {"translation_initial_std_m", &c.camera_translation.initial_std},
-       {"rotation_diffusion_deg_per_sqrt_s", &c.camera_rotation.diffusion_per_sqrt_s, kDeg},
-       {"rotation_initial_std_deg", &c.camera_rotation.initial_std, kDeg}});
-  read_numbers(
-      root.child("vision_only"),
-      {{"angle_diffusion_deg_per_sqrt_s", &c.vision_only_angle_diffusion_rad_per_sqrt_s, kDeg},
-       {"initial_std_deg", &c.vision_only_initial_std_rad, kDeg}});
+       {"rotation_diffusion_deg_per_sqrt_s", &c.camera_rotation.diffusion_per_sqrt_s, kRadPerDeg},
+       {"rotation_initial_std_deg", &c.camera_rotation.initial_std, kRadPerDeg}});
+  read_numbers(root.child("vision_only"),
+               {{"angle_diffusion_deg_per_sqrt_s", &c.vision_only_angle_diffusion_rad_per_sqrt_s,
+                 kRadPerDeg},
+                {"initial_std_deg", &c.vision_only_initial_std_rad, kRadPerDeg}});
 
   const ConfigNode dm = root.child("depth_model");
   DepthModelParams& d = c.depth_model;
@@ -226,7 +227,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                                            {"coarse_noise_std_m", &a.coarse_noise_std_m},
                                            {"proposal_shrink", &a.proposal_shrink},
                                            {"period_s", &a.period_s},
-                                           {"bias_std_deg", &a.bias_std_rad, kDeg},
+                                           {"bias_std_deg", &a.bias_std_rad, kRadPerDeg},
                                            {"accept_margin_nats", &a.accept_margin_nats},
                                            {"searches", &a.searches}});
   TrackerConfig::Health& h = c.health;
@@ -246,7 +247,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   c.asynchronous = timing.get<bool>("asynchronous", c.asynchronous);
 
   read_numbers(root.child("input_checks"),
-               {{"joint_limit_margin_deg", &c.joint_limit_margin_rad, kDeg},
+               {{"joint_limit_margin_deg", &c.joint_limit_margin_rad, kRadPerDeg},
                 {"max_image_clock_offset_s", &c.max_image_clock_offset_s}});
 
   root.finish();

@@ -108,6 +108,9 @@ struct Scenario {
   std::filesystem::path tracker_file;
   YamlDocument tracker_document;
   TrackerConfig tracker;
+  // The scenario's own tracker_overrides (the key as --set writes it, the
+  // value as one line of YAML), in file order: applied over the scene's.
+  std::vector<std::pair<std::string, std::string>> tracker_overrides;
   // Methods to run, as named by all_method_names().
   std::vector<std::string> methods;
 
@@ -147,6 +150,17 @@ Scenario load_scenario(const std::filesystem::path& path,
 // the `tracker` file and tracker_overrides when given.
 Scenario scenario_from_yaml(const YamlDocument& doc, const std::filesystem::path& dir,
                             const YamlDocument* tracker = nullptr);
+
+// Gives `scenario` another tracker configuration, as if its `tracker` key
+// named `file` holding `document` (e.g. a tuning candidate, built in
+// memory): the scene's robot.tracker_overrides and the scenario's own
+// tracker_overrides are applied over a copy of `document`, which is then read
+// and validated (TrackerConfig::validate); the camera frame and the end
+// effectors are the scenario's. Sets tracker_file, tracker_document and
+// tracker. InputError as load_scenario's, naming the override that set a
+// bad key.
+void set_tracker_document(Scenario& scenario, const YamlDocument& document,
+                          const std::filesystem::path& file);
 
 // The joints a name stands for on a robot: `all` (every one of `joints`), a
 // group of the scene (`groups`: SceneDescription::joint_groups), else the

@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "arttrack/tracker/units.h"
+
 namespace arttrack::sim {
 
 // A rigid primitive of the scene: part of the table, or an object on it.
@@ -102,8 +104,8 @@ struct SceneDescription {
   std::optional<CameraMount> camera_mount;
   int width = 640;
   int height = 480;
-  double fovy_rad = 45.0 * M_PI / 180.0;  // vertical field of view
-  double near_m = 0.1;                    // clipping planes; no return outside
+  double fovy_rad = 45.0 * kRadPerDeg;  // vertical field of view
+  double near_m = 0.1;                  // clipping planes; no return outside
   double far_m = 6.0;
   // Slices of the polygons MuJoCo draws cylinders and spheres with (spheres
   // get half as many stacks). 48 keeps a 10 cm sphere within 2 mm of the

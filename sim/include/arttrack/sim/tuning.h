@@ -4,11 +4,13 @@
 // to [0, 1] per parameter.
 //
 // A candidate is the base tracker configuration (a YAML file) with one
-// `key=value` override per parameter, written to DIR/candidates/ and given
-// to each scenario as its `tracker` file (the scenario's own
-// `tracker_overrides` still apply on top). Every candidate runs every
-// scenario with the same seeds (the scenario's own, or TuningOptions::seed),
-// so candidates meet the same simulated data (common random numbers).
+// `key=value` override per parameter, built in memory and recorded in
+// DIR/candidates/. Each scenario is loaded once, with the base configuration;
+// a candidate becomes its tracker configuration (set_tracker_document: the
+// scenario's own `tracker_overrides` still apply on top). Every candidate
+// runs every scenario with the same seeds (the scenario's own, or
+// TuningOptions::seed), so candidates meet the same simulated data (common
+// random numbers).
 #pragma once
 
 #include <cstddef>
@@ -19,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "arttrack/sim/scenario.h"
 #include "arttrack/tracker/yaml_config.h"
 
 namespace arttrack::sim {
@@ -116,13 +119,15 @@ struct ScenarioOutcome {
 // Statistic names of ScenarioOutcome::stats.
 const std::vector<std::string>& outcome_statistics();
 
-// Runs `scenario` (with `overrides`, then `tracker=<tracker_file>`) with
+// Runs `scenario` (loaded from the file `path`) with the tracker
+// configuration `tracker` (a document named by its file, as
+// set_tracker_document takes it; null: the scenario's own configuration),
 // only the objective's method, `runs` runs (0: the scenario's), from scenario
-// seed `seed` (-1: the scenario's). Failures are recorded, not thrown.
-ScenarioOutcome evaluate_scenario(const std::filesystem::path& scenario,
-                                  const std::vector<std::string>& overrides,
-                                  const std::filesystem::path& tracker_file,
-                                  const Objective& objective, int runs, long long seed = -1);
+// seed `seed` (-1: the scenario's). Failures, a candidate the tracker
+// refuses among them, are recorded, not thrown.
+ScenarioOutcome evaluate_scenario(const Scenario& scenario, const std::filesystem::path& path,
+                                  const YamlDocument* tracker, const Objective& objective, int runs,
+                                  long long seed = -1);
 
 // The objective over scenario outcomes.
 double objective_value(const Objective& objective, const std::vector<ScenarioOutcome>& outcomes);

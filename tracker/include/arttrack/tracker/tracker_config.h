@@ -17,6 +17,7 @@
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack {
 
@@ -114,7 +115,7 @@ struct TrackerConfig {
     double period_s = 0.0;
     // Bias standard deviation of the re-opened prior a search starts from
     // (the encoders' reading, bias 0), rad.
-    double bias_std_rad = 20 * 0.017453292519943295;  // 20 degrees
+    double bias_std_rad = 20 * kRadPerDeg;
     // A chain takes the search's result when it scores this many nats better
     // (log-likelihood ratio of the image plus log prior of the encoders).
     double accept_margin_nats = 5.0;
@@ -164,7 +165,7 @@ struct TrackerConfig {
   // outside its joint's limits (or not finite), and a depth image stamped
   // further than max_image_clock_offset_s from the newest joint measurement
   // (or not finite). Either would poison the filter for the rest of the run.
-  double joint_limit_margin_rad = 30 * 0.017453292519943295;  // 30 degrees
+  double joint_limit_margin_rad = 30 * kRadPerDeg;
   double max_image_clock_offset_s = 10.0;
 
   // Like Ceres' Solver::Options::IsValid: checks every field against its
