@@ -73,8 +73,9 @@ TEST(DefaultConfigTest, EveryMethodRunsOnAnotherRobot) {
     EXPECT_EQ(e.joint_names, joints);
     ASSERT_EQ(e.T_camera_ee.size(), 1u);
     EXPECT_TRUE(e.T_camera_ee[0].matrix().allFinite());
-    if (c.method == TrackingMethod::kFullFusion || c.method == TrackingMethod::kCameraOffsetOnly)
+    if (c.method == TrackingMethod::kFullFusion || c.method == TrackingMethod::kCameraOffsetOnly) {
       EXPECT_EQ(tracker.stats().images_applied, 1);
+    }
   }
   // No end effector is fine: none is reported.
   Tracker plain(model, default_tracker_config(), joints);

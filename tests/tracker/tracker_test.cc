@@ -383,7 +383,7 @@ TEST(TrackerTest, HealthMarksAPartTheImageDoesNotShowAsUnconfirmed) {
       EXPECT_LT(arm.weakest_part_explained_fraction, 0.05);
     else
       EXPECT_GT(arm.weakest_part_explained_fraction, 0.8);
-    EXPECT_NEAR(e.angle_rad[elbow], -0.4, 1 * kDeg);
+    EXPECT_NEAR(e.angle_rad[elbow], -0.4, kRadPerDeg);
   }
 }
 
