@@ -12,6 +12,7 @@
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
+#include "config_geometry.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -39,25 +40,6 @@ long long integer(const ConfigNode& n, const std::string& key, long long fallbac
   return (long long)v;
 }
 
-template <int N>
-Eigen::Matrix<double, N, 1> vec(const ConfigNode& n, const std::string& key,
-                                const Eigen::Matrix<double, N, 1>& fallback) {
-  if (!n.has(key)) return fallback;
-  std::vector<double> v;
-  try {
-    v = n.required<std::vector<double>>(key);
-  } catch (const InputError&) {
-    n.fail(key, "must be a list of " + std::to_string(N) + " numbers");
-  }
-  if (int(v.size()) != N) n.fail(key, "must be a list of " + std::to_string(N) + " numbers");
-  Eigen::Matrix<double, N, 1> out;
-  for (int i = 0; i < N; ++i) {
-    if (!std::isfinite(v[i])) n.fail(key, "must hold finite numbers");
-    out[i] = v[i];
-  }
-  return out;
-}
-
 // A list of finite numbers scaled by `scale` (e.g. degrees to radians).
 std::vector<double> numbers(const ConfigNode& n, const std::string& key, double scale) {
   if (!n.has(key)) return {};
@@ -72,14 +54,6 @@ std::vector<double> numbers(const ConfigNode& n, const std::string& key, double 
     x *= scale;
   }
   return v;
-}
-
-// URDF convention: R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Matrix3d rpy_matrix(const Eigen::Vector3d& rpy_rad) {
-  return (Eigen::AngleAxisd(rpy_rad.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy_rad.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy_rad.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
 }
 
 // A pose from `<xyz_key>: [x, y, z]` (m) and `rpy_deg: [r, p, y]`.

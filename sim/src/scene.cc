@@ -5,45 +5,18 @@
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
+#include "config_geometry.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
 
 namespace {
 
-// A fixed-size vector of numbers, e.g. `position_m: [0.5, 0, 0.8]`.
-template <int N>
-Eigen::Matrix<double, N, 1> vec(const ConfigNode& n, const std::string& key,
-                                const Eigen::Matrix<double, N, 1>& fallback) {
-  if (!n.has(key)) return fallback;
-  std::vector<double> v;
-  try {
-    v = n.required<std::vector<double>>(key);
-  } catch (const InputError&) {
-    n.fail(key, "must be a list of " + std::to_string(N) + " numbers");
-  }
-  if (int(v.size()) != N) n.fail(key, "must be a list of " + std::to_string(N) + " numbers");
-  Eigen::Matrix<double, N, 1> out;
-  for (int i = 0; i < N; ++i) {
-    if (!std::isfinite(v[i])) n.fail(key, "must hold finite numbers");
-    out[i] = v[i];
-  }
-  return out;
-}
-
-// URDF convention: R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Matrix3d rpy_to_matrix(const Eigen::Vector3d& rpy_rad) {
-  return (Eigen::AngleAxisd(rpy_rad.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy_rad.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy_rad.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 // `position_m: [x, y, z]` and `rpy_deg: [roll, pitch, yaw]` (optional).
 Eigen::Isometry3d pose(const ConfigNode& n) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = vec<3>(n, "position_m", Eigen::Vector3d::Zero());
-  T.linear() = rpy_to_matrix(kRadPerDeg * vec<3>(n, "rpy_deg", Eigen::Vector3d::Zero()));
+  T.linear() = rpy_matrix(kRadPerDeg * vec<3>(n, "rpy_deg", Eigen::Vector3d::Zero()));
   return T;
 }
 

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "config_geometry.h"
 #include "urdf_prepare.h"
 
 namespace arttrack::sim {
@@ -19,16 +20,6 @@ using tinyxml2::XMLDocument;
 using tinyxml2::XMLElement;
 
 namespace {
-
-Eigen::Vector3d parse_vec3(const char* text, const Eigen::Vector3d& fallback,
-                           const std::string& context) {
-  if (!text) return fallback;
-  std::istringstream in(text);
-  Eigen::Vector3d v;
-  if (!(in >> v.x() >> v.y() >> v.z()))
-    throw InputError(context + ": expected three numbers, got '" + text + "'");
-  return v;
-}
 
 // Full double precision, so a perturbation is exactly what was asked for.
 std::string vec3_text(const Eigen::Vector3d& v) {
@@ -43,27 +34,10 @@ std::string number_text(double v) {
   return buf;
 }
 
-// URDF: R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Matrix3d rpy_matrix(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 // Inverse of rpy_matrix (any of the equivalent angle triples).
 Eigen::Vector3d matrix_rpy(const Eigen::Matrix3d& R) {
   const Eigen::Vector3d ypr = R.eulerAngles(2, 1, 0);  // R = Rz(a0) Ry(a1) Rx(a2)
   return {ypr[2], ypr[1], ypr[0]};
-}
-
-Eigen::Isometry3d read_origin(const XMLElement* parent, const std::string& context) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const XMLElement* o = parent->FirstChildElement("origin");
-  if (!o) return T;
-  T.translation() = parse_vec3(o->Attribute("xyz"), Eigen::Vector3d::Zero(), context + " origin");
-  T.linear() = rpy_matrix(parse_vec3(o->Attribute("rpy"), Eigen::Vector3d::Zero(), context));
-  return T;
 }
 
 void write_origin(XMLDocument& doc, XMLElement* parent, const Eigen::Isometry3d& T) {
@@ -227,7 +201,7 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
     const std::string what = "link length change of joint '" + name + "'";
     XMLElement* j = joint(name, "link length change");
     if (!std::isfinite(extension_m)) throw InputError(source + ": " + what + " is not finite");
-    Eigen::Isometry3d T = read_origin(j, source + ": joint '" + name + "'");
+    Eigen::Isometry3d T = parse_origin(j, source + ": joint '" + name + "'");
     const double length = T.translation().norm();
     if (length < 1e-9)
       throw InputError(source + ": " + what +
@@ -245,7 +219,7 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
     const std::string context = source + ": joint '" + c.joint + "'";
     if (!is_finite(c.T_old_new) || !c.R_axis.allFinite())
       throw InputError(context + ": the change is not finite");
-    write_origin(doc, j, read_origin(j, context) * c.T_old_new);
+    write_origin(doc, j, parse_origin(j, context) * c.T_old_new);
     XMLElement* axis = j->FirstChildElement("axis");
     if (!axis) {
       axis = doc.NewElement("axis");
@@ -266,7 +240,7 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
     if (!j)
       throw InputError(source + ": camera offset: camera link '" + p.camera_link +
                        "' has no parent joint to move");
-    write_origin(doc, j, read_origin(j, source + ": camera joint") * p.T_nominal_true_camera);
+    write_origin(doc, j, parse_origin(j, source + ": camera joint") * p.T_nominal_true_camera);
   }
 
   // 4. Shapes.

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "config_geometry.h"
 #include "mesh_convert.h"
 
 namespace arttrack::sim {
@@ -16,31 +17,6 @@ namespace fs = std::filesystem;
 using tinyxml2::XMLElement;
 
 namespace {
-
-Eigen::Vector3d parse_vec3(const char* text, const Eigen::Vector3d& fallback,
-                           const std::string& context) {
-  if (!text) return fallback;
-  std::istringstream in(text);
-  Eigen::Vector3d v;
-  if (!(in >> v.x() >> v.y() >> v.z()))
-    throw InputError(context + ": expected three numbers, got '" + text + "'");
-  return v;
-}
-
-// URDF <origin xyz rpy>: R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Isometry3d parse_origin(const XMLElement* parent, const std::string& context) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const XMLElement* o = parent->FirstChildElement("origin");
-  if (!o) return T;
-  T.translation() = parse_vec3(o->Attribute("xyz"), Eigen::Vector3d::Zero(), context + " origin");
-  const Eigen::Vector3d rpy =
-      parse_vec3(o->Attribute("rpy"), Eigen::Vector3d::Zero(), context + " origin");
-  T.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
-  return T;
-}
 
 bool package_xml_names(const fs::path& dir, const std::string& name) {
   std::ifstream in(dir / "package.xml");
@@ -332,6 +308,26 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
   if (doc.SaveFile(info.prepared_urdf.string().c_str()) != tinyxml2::XML_SUCCESS)
     throw InputError(where + ": cannot write prepared copy '" + info.prepared_urdf.string() + "'");
   return info;
+}
+
+Eigen::Vector3d parse_vec3(const char* text, const Eigen::Vector3d& fallback,
+                           const std::string& context) {
+  if (!text) return fallback;
+  std::istringstream in(text);
+  Eigen::Vector3d v;
+  if (!(in >> v.x() >> v.y() >> v.z()))
+    throw InputError(context + ": expected three numbers, got '" + text + "'");
+  return v;
+}
+
+Eigen::Isometry3d parse_origin(const XMLElement* parent, const std::string& context) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const XMLElement* o = parent->FirstChildElement("origin");
+  if (!o) return T;
+  T.translation() = parse_vec3(o->Attribute("xyz"), Eigen::Vector3d::Zero(), context + " origin");
+  T.linear() =
+      rpy_matrix(parse_vec3(o->Attribute("rpy"), Eigen::Vector3d::Zero(), context + " origin"));
+  return T;
 }
 
 }  // namespace arttrack::sim
