@@ -233,6 +233,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"health.lost_abandoned_fraction", "1", "1.1"},
     {"health.unconfirmed_explained_fraction", "0", "-0.1"},
     {"health.unconfirmed_explained_fraction", "1", "1.1"},
+    {"health.occluder_gap_m", "1e-3", "9e-4"},
+    {"health.occluder_gap_m", "10", "10.1"},
     {"health.lost_after_images", "1", "0"},
     {"health.lost_after_images", "1000000", "1000001"},
     {"health.min_pixels", "1", "0"},

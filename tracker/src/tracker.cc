@@ -864,6 +864,7 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
         const float r = check_image.depth_m[i], z = observed.depth_m[i];
         if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
         if (check_full_image.depth_m[i] < r - 1e-4f) continue;  // behind another link
+        if (z < r - h.occluder_gap_m) continue;                 // behind an occluder
         ++visible;
         if (explains(r, z)) ++explained;
       }

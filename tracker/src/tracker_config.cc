@@ -145,6 +145,7 @@ void TrackerConfig::validate(const std::string& source) const {
   check("health.lost_contradicted_fraction", h.lost_contradicted_fraction, R::closed(0, 1));
   check("health.lost_abandoned_fraction", h.lost_abandoned_fraction, R::closed(0, 1));
   check("health.unconfirmed_explained_fraction", h.unconfirmed_explained_fraction, R::closed(0, 1));
+  check("health.occluder_gap_m", h.occluder_gap_m, R::closed(1e-3, 10));
   check("health.lost_after_images", h.lost_after_images, R::closed(1, 1e6));
   check("health.min_pixels", h.min_pixels, R::closed(1, 1e7));
 
@@ -237,6 +238,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                 {"lost_contradicted_fraction", &h.lost_contradicted_fraction},
                 {"lost_abandoned_fraction", &h.lost_abandoned_fraction},
                 {"unconfirmed_explained_fraction", &h.unconfirmed_explained_fraction},
+                {"occluder_gap_m", &h.occluder_gap_m},
                 {"lost_after_images", &h.lost_after_images},
                 {"min_pixels", &h.min_pixels}});
 

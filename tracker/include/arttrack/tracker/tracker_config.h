@@ -138,6 +138,11 @@ struct TrackerConfig {
     // unconfirmed, and its chain searched again after lost_after_images
     // such images (ChainHealth::weakest_part_explained_fraction). 0: off.
     double unconfirmed_explained_fraction = 0.2;
+    // A part's pixel whose observed depth is more than this in front of
+    // its render shows an occluder, not the robot (a panel held before the
+    // arm): it gives the part no verdict. A hand in a wrong mode behind the
+    // real arm has the real robot a few centimetres in front of it.
+    double occluder_gap_m = 0.1;
     int lost_after_images = 3;
     int min_pixels = 20;  // fewer rendered pixels with a valid depth: no verdict
   };
