@@ -852,11 +852,18 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
   };
   check_renderer->render(check_kinematics, check_image);
   assess(health.whole);
-  check_full_image.depth_m.assign(check_image.depth_m.begin(), check_image.depth_m.end());
+  std::swap(check_full_image, check_image);  // render_links() below overwrites check_image
   // ChainHealth::weakest_part_explained_fraction of chain c.
   auto assess_parts = [&](std::size_t c, ChainHealth& out) {
     out.weakest_part_joint = -1;
     out.weakest_part_explained_fraction = std::numeric_limits<double>::quiet_NaN();
+    // A part's visible pixels are a subset of its chain's rendered ones: with
+    // fewer than min_pixels of those (an arm out of view) no part can have a
+    // verdict, and its renders are skipped.
+    if (out.rendered_pixels < h.min_pixels) {
+      out.unconfirmed = false;
+      return;
+    }
     for (const auto& [dof, links] : chain_parts[c]) {
       check_renderer->render_links(check_kinematics, links, check_image);
       int visible = 0, explained = 0;
