@@ -638,14 +638,19 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
         for (int k : chains[c])
           if (links[std::size_t(model->joint_child_link(k))]) part_open[k] = 1;
         // And the joint above it: the wrong hand measured came with the two
-        // wrist joints off in opposite senses (15 and 17 degrees).
-        for (int l = model->link(model->joint_child_link(dof)).parent; l >= 0;
+        // wrist joints off in opposite senses (15 and 17 degrees). Each
+        // search in a row that left the chain unconfirmed opens one joint
+        // more up the chain: after an encoder slip of three wrist joints
+        // the part and the joint above it were searched for 1.5 s with the
+        // third joint held 30 degrees off.
+        int above = 1 + failed_confirmations;
+        for (int l = model->link(model->joint_child_link(dof)).parent; l >= 0 && above > 0;
              l = model->link(l).parent) {
           const int up = model->link(l).dof;
           if (up < 0 || model->is_virtual_joint(up)) continue;
-          if (std::find(chains[c].begin(), chains[c].end(), up) != chains[c].end())
-            part_open[up] = 1;
-          break;
+          if (std::find(chains[c].begin(), chains[c].end(), up) == chains[c].end()) break;
+          part_open[up] = 1;
+          --above;
         }
       }
     }

@@ -137,7 +137,7 @@ struct TrackerConfig {
     // A chain part whose visible pixels are explained below this share is
     // unconfirmed, and its chain searched again after lost_after_images
     // such images (ChainHealth::weakest_part_explained_fraction). 0: off.
-    double unconfirmed_explained_fraction = 0.2;
+    double unconfirmed_explained_fraction = 0.5;
     // A part's pixel whose observed depth is more than this in front of
     // its render shows an occluder, not the robot (a panel held before the
     // arm): it gives the part no verdict. A hand in a wrong mode behind the
