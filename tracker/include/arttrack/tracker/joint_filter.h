@@ -44,12 +44,17 @@ struct JointFilterParams {
   // deviation grows by sigma_a sqrt(dt) over dt (Eq. (4)). Large enough to
   // follow fast motion between encoder readings.
   double angle_diffusion_rad_per_sqrt_s = 1.0;
-  // Bias diffusion sigma_b, rad/sqrt(s) (Eq. (5) in continuous time).
-  double bias_diffusion_rad_per_sqrt_s = 0.056;
+  // Bias diffusion sigma_b, rad/sqrt(s) (Eq. (5) in continuous time): how
+  // far a bias can wander in a second that no image confirms. 1.6 degrees,
+  // half the 3.2 it was: under a partial occlusion or at the image's edge
+  // the wrist's few visible pixels let a faster bias drift 10-15 degrees in
+  // 2 s (docs/accuracy.md, "The bias process"); the paper's ramps (5 degrees
+  // per second) are still followed.
+  double bias_diffusion_rad_per_sqrt_s = 0.028;
   // Bias decay c per second, 0 < c < 1: over dt the bias mean is multiplied
-  // by c^dt. With sigma_b above, the stationary bias std is 10 degrees and
-  // its time constant 1 / ln(1/c) = 19.5 s.
-  double bias_decay_per_s = 0.95;
+  // by c^dt. With sigma_b above, the stationary bias std is 9.9 degrees (the
+  // prior of the first image) and its time constant 1 / ln(1/c) = 76 s.
+  double bias_decay_per_s = 0.987;
   // False: this joint's bias is not estimated (fixed at 0, variance 0); the
   // filter is then a 1-D filter on the angle. The original implementation's
   // "bias factor 0".
