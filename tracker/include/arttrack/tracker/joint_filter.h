@@ -47,9 +47,10 @@ struct JointFilterParams {
   // Bias diffusion sigma_b, rad/sqrt(s) (Eq. (5) in continuous time): how
   // far a bias can wander in a second that no image confirms. 1.6 degrees,
   // half the 3.2 it was: under a partial occlusion or at the image's edge
-  // the wrist's few visible pixels let a faster bias drift 10-15 degrees in
-  // 2 s (docs/accuracy.md, "The bias process"); the paper's ramps (5 degrees
-  // per second) are still followed.
+  // the wrist's few visible pixels let a faster bias drift 5-16 degrees
+  // within seconds (docs/accuracy.md, "The bias process"); the bias ramps of
+  // time_varying_bias.yaml (5 degrees per second) and of the paper files (10
+  // degrees in 1 s) are still followed, the latter a few millimetres later.
   double bias_diffusion_rad_per_sqrt_s = 0.028;
   // Bias decay c per second, 0 < c < 1: over dt the bias mean is multiplied
   // by c^dt. With sigma_b above, the stationary bias std is 9.9 degrees (the
