@@ -71,6 +71,13 @@ DepthRenderer::DepthRenderer(const RobotModel& model, const CameraIntrinsics& ca
     LinkBounds& b = bounds_[l];
     b.centre_m = 0.5f * (lo + hi);
     for (const Eigen::Vector3f& p : v) b.radius_m = std::max(b.radius_m, (p - b.centre_m).norm());
+    // The exact round shapes, which their tessellations need not enclose.
+    for (const RoundShape& shape : model.link(l).round_shapes) {
+      const Eigen::Vector3f c = shape.T_link_shape.translation().cast<float>();
+      const double half = 0.5 * shape.length_m;
+      const float reach = float(std::sqrt(shape.radius_m * shape.radius_m + half * half));
+      b.radius_m = std::max(b.radius_m, (c - b.centre_m).norm() + reach);
+    }
     b.radius_m *= 1.0001f;  // float rounding of the transformed vertices
   }
   hom_.resize(max_vertices);
@@ -136,20 +143,30 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   const Eigen::Vector3f* v = mesh.vertices_m.data();
   Eigen::Vector3f* hom = hom_.data();
   Eigen::Vector3f* screen = screen_.data();
-  if (!may_clip) {
-    for (int i = 0; i < nv; ++i) {
+  // Every vertex but the round shapes' (drawn exactly below).
+  const std::vector<RoundShape>& shapes = model_->link(link).round_shapes;
+  auto transform = [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
       hom[i] = A * v[i] + b;
-      screen[i] = project(hom[i]);
+      if (!may_clip || hom[i].z() >= near) screen[i] = project(hom[i]);
     }
-  } else {
-    for (int i = 0; i < nv; ++i) {
-      hom[i] = A * v[i] + b;
-      if (hom[i].z() >= near) screen[i] = project(hom[i]);
-    }
+  };
+  int next_vertex = 0;
+  for (const RoundShape& shape : shapes) {
+    transform(next_vertex, shape.first_vertex);
+    next_vertex = shape.first_vertex + shape.num_vertices;
   }
+  transform(next_vertex, nv);
 
   PixelRect drawn{camera_.width, camera_.height, 0, 0};
-  for (const Eigen::Vector3i& t : mesh.triangles) {
+  // The round shapes' triangles are skipped.
+  std::size_t next_shape = 0;
+  for (int i = 0; i < int(mesh.triangles.size()); ++i) {
+    if (next_shape < shapes.size() && i == shapes[next_shape].first_triangle) {
+      i += shapes[next_shape++].num_triangles - 1;
+      continue;
+    }
+    const Eigen::Vector3i& t = mesh.triangles[std::size_t(i)];
     if (may_clip) {
       const int in =
           int(hom[t[0]].z() >= near) + int(hom[t[1]].z() >= near) + int(hom[t[2]].z() >= near);
@@ -165,7 +182,108 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
       raster_triangle(a, b, c, depth, drawn);
     }
   }
+  for (const RoundShape& shape : shapes) draw_round_shape(shape, T_camera_link, depth, drawn);
   return drawn.empty() ? PixelRect{} : drawn;
+}
+
+// Ray casting over the pixels the shape's camera-frame bounding box can
+// project to. The ray through pixel (u, v) is p = t d with d = ((u + 0.5 -
+// cx) / fx, (v + 0.5 - cy) / fy, 1), so t is the depth. The entry point is
+// the nearest hit of a surface facing the ray (a cylinder's side or one of
+// its caps).
+void DepthRenderer::draw_round_shape(const RoundShape& shape,
+                                     const Eigen::Isometry3d& T_camera_link, DepthImage& depth,
+                                     PixelRect& drawn) const {
+  const double near = options_.near_m;
+  const Eigen::Isometry3d T = T_camera_link * shape.T_link_shape;
+  const Eigen::Vector3d c = T.translation();
+  const Eigen::Vector3d w = T.linear().col(2);  // a cylinder's axis
+  const double r = shape.radius_m, h = 0.5 * shape.length_m;
+  const bool sphere = shape.kind == RoundShape::Kind::kSphere;
+  Eigen::Vector3d extent;
+  for (int i = 0; i < 3; ++i)
+    extent[i] = sphere ? r : h * std::abs(w[i]) + r * std::sqrt(std::max(0.0, 1 - w[i] * w[i]));
+  const Eigen::Vector3d lo = c - extent, hi = c + extent;
+  if (hi.z() < near) return;
+  // x / z and y / z over the box (z >= near) are extreme at its corners.
+  const double z_lo = std::max(lo.z(), near);
+  double u_lo = INFINITY, u_hi = -INFINITY, v_lo = INFINITY, v_hi = -INFINITY;
+  for (const double z : {z_lo, hi.z()}) {
+    for (const double x : {lo.x(), hi.x()}) {
+      const double u = camera_.fx * x / z + camera_.cx;
+      u_lo = std::min(u_lo, u);
+      u_hi = std::max(u_hi, u);
+    }
+    for (const double y : {lo.y(), hi.y()}) {
+      const double v = camera_.fy * y / z + camera_.cy;
+      v_lo = std::min(v_lo, v);
+      v_hi = std::max(v_hi, v);
+    }
+  }
+  const int W = depth.width, H = depth.height;
+  // Pixels whose centre k + 0.5 lies in [lo, hi].
+  auto first = [](double x, int n) { return int(std::clamp(std::ceil(x - 0.5), 0.0, double(n))); };
+  auto last = [](double x, int n) {
+    return int(std::clamp(std::floor(x - 0.5), -1.0, double(n) - 1)) + 1;
+  };
+  const int u0 = first(u_lo, W), u1 = last(u_hi, W), v0 = first(v_lo, H), v1 = last(v_hi, H);
+  // Per pixel, with d = (x, y, 1): a sphere's entry solves a t^2 - 2 b t + k = 0
+  // with a = |d|^2, b = d . c, k = |c|^2 - r^2; a cylinder's side the same
+  // with d and c projected off its axis w (c_off = c - (c . w) w, so that
+  // d_off . c_off = d . c_off).
+  const double cw = c.dot(w), h2 = h * h, r2 = r * r;
+  const Eigen::Vector3d c_off = c - cw * w;
+  const Eigen::Vector3d centre = sphere ? c : c_off;
+  const double k = centre.squaredNorm() - r2;
+  const double dx = 1 / camera_.fx;
+  const double x0 = (u0 + 0.5 - camera_.cx) / camera_.fx;
+  int du0 = W, du1 = 0, dv0 = H, dv1 = 0;
+  for (int v = v0; v < v1; ++v) {
+    float* row = depth.depth_m.data() + std::size_t(v) * W;
+    const double y = (v + 0.5 - camera_.cy) / camera_.fy;
+    const double yy1 = y * y + 1;
+    const double b_row = y * centre.y() + centre.z(), dw_row = y * w.y() + w.z();
+    for (int u = u0; u < u1; ++u) {
+      const double x = x0 + (u - u0) * dx;
+      const double b = x * centre.x() + b_row;
+      double t = INFINITY;
+      if (sphere) {
+        const double a = x * x + yy1;
+        const double disc = b * b - a * k;
+        if (disc >= 0) t = (b - std::sqrt(disc)) / a;
+      } else {
+        const double dw = x * w.x() + dw_row;
+        const double a = x * x + yy1 - dw * dw;
+        const double disc = b * b - a * k;
+        if (a > 0 && disc >= 0) {
+          const double side = (b - std::sqrt(disc)) / a;
+          if (std::abs(side * dw - cw) <= h) t = side;
+        }
+        // The cap at axial offset s = +-h faces the ray when s dw < 0.
+        for (const double s : {h, -h}) {
+          if (!(s * dw < 0)) continue;
+          const double cap = (cw + s) / dw;
+          if (!(cap < t)) continue;
+          const Eigen::Vector3d q = cap * Eigen::Vector3d(x, y, 1) - c;
+          if (q.squaredNorm() - h2 <= r2) t = cap;
+        }
+      }
+      if (!(t >= near) || !(t < INFINITY)) continue;
+      const float z = float(t);
+      const float old = row[u];
+      row[u] = (old == 0.f) | (z < old) ? z : old;
+      du0 = std::min(du0, u);
+      du1 = std::max(du1, u + 1);
+      dv0 = std::min(dv0, v);
+      dv1 = v + 1;
+    }
+  }
+  if (du0 < du1) {
+    drawn.u0 = std::min(drawn.u0, du0);
+    drawn.u1 = std::max(drawn.u1, du1);
+    drawn.v0 = std::min(drawn.v0, dv0);
+    drawn.v1 = std::max(drawn.v1, dv1);
+  }
 }
 
 // Clips a triangle (homogeneous image points) against z >= near and draws the

@@ -303,6 +303,25 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
       const TriangleMesh part = geometry_mesh(*visual->geometry, ulink.name, base_dir, source,
                                               options, file_cache, scale);
       Eigen::Affine3d T_link_part(to_isometry(visual->origin));
+      const int type = visual->geometry->type;
+      if (type == urdf::Geometry::CYLINDER || type == urdf::Geometry::SPHERE) {
+        RoundShape shape;
+        shape.T_link_shape = to_isometry(visual->origin);
+        if (type == urdf::Geometry::CYLINDER) {
+          const auto& cylinder = static_cast<const urdf::Cylinder&>(*visual->geometry);
+          shape.kind = RoundShape::Kind::kCylinder;
+          shape.radius_m = cylinder.radius;
+          shape.length_m = cylinder.length;
+        } else {
+          shape.kind = RoundShape::Kind::kSphere;
+          shape.radius_m = static_cast<const urdf::Sphere&>(*visual->geometry).radius;
+        }
+        shape.first_vertex = int(link.mesh.vertices_m.size());
+        shape.num_vertices = int(part.vertices_m.size());
+        shape.first_triangle = int(link.mesh.triangles.size());
+        shape.num_triangles = int(part.triangles.size());
+        link.round_shapes.push_back(shape);
+      }
       T_link_part.linear() = T_link_part.linear() * scale.asDiagonal();
       link.mesh.append(part, T_link_part);
     }

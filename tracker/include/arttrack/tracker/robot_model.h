@@ -43,12 +43,31 @@ struct RobotModelOptions {
   std::string camera_frame = "camera_optical_frame";
   // Inject the six virtual camera joints after camera_frame.
   bool add_virtual_camera_joints = true;
-  // Sides of the polygon approximating URDF cylinders.
+  // Tessellation of URDF cylinders (sides) and spheres (meridians; half as
+  // many bands) in Link::mesh. The renderer draws them exactly
+  // (RoundShape); the mesh stands for them where triangles are counted (the
+  // hypothesis evaluator's cost estimate).
   int cylinder_segments = 32;
-  // Meridians of the UV sphere approximating URDF spheres (half as many
-  // bands). 24 keeps the default render within 2 mm of MuJoCo's on 99% of the
-  // robot's pixels (16 did not: 98.95% at 640x480, the spheres up to 15 mm off).
   int sphere_segments = 24;
+};
+
+// A URDF cylinder or sphere among a link's visuals. The renderer draws it
+// exactly (depth_renderer.h), not its tessellation in Link::mesh: a coarse
+// tessellation fixed to its link changes as a joint turns the shape about
+// itself, which the true shape does not, and its facets told the likelihood
+// about rotations the camera cannot see (docs/accuracy.md, "Consistency").
+struct RoundShape {
+  enum class Kind { kCylinder, kSphere };
+  Kind kind = Kind::kCylinder;
+  // The shape's frame in the link frame: origin at its centre, z along a
+  // cylinder's axis.
+  Eigen::Isometry3d T_link_shape = Eigen::Isometry3d::Identity();
+  double radius_m = 0;
+  double length_m = 0;  // a cylinder's; 0 for a sphere
+  // Its tessellation in Link::mesh: vertices [first_vertex, first_vertex +
+  // num_vertices), triangles [first_triangle, first_triangle + num_triangles).
+  int first_vertex = 0, num_vertices = 0;
+  int first_triangle = 0, num_triangles = 0;
 };
 
 // One link and the joint to its parent.
@@ -71,6 +90,8 @@ struct Link {
   double mimic_offset = 0.0;
   // All visual elements merged, in the link frame, metres (empty if none).
   TriangleMesh mesh;
+  // The cylinders and spheres among them, in mesh order.
+  std::vector<RoundShape> round_shapes;
 };
 
 // The kinematic tree and shapes of a robot. Immutable after construction.
