@@ -1,6 +1,5 @@
 // arttrack bench [SCENARIO.yaml] [--evaluations N] [--resolution WxH] [--json FILE]
 //                [--seed S] [--set k=v ...] [--threads T]
-//                [--cylinder-segments C] [--sphere-segments S]
 //                [--soak MINUTES [--soak-frames K]]
 //
 // How fast the full-fusion tracker runs on a scenario's measurement stream
@@ -18,10 +17,7 @@
 //
 // --evaluations N sets particles = ceil(N / blocks) (the default blocks: one
 // per joint); --resolution sets the likelihood resolution (images are
-// subsampled to it). --cylinder-segments/--sphere-segments set the
-// tessellation hypotheses are rendered with (the tracker configuration's
-// render section; the renderer's cost per hypothesis scales with the
-// triangles).
+// subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
 // can and prints its resident memory (arttrack_bench_soak.h); fails when it
@@ -65,7 +61,6 @@ struct BenchArgs {
   long long seed = -1;
   std::vector<std::string> overrides;
   int threads = -1;
-  Tessellation tessellation;
   double soak_minutes = 0;
   int soak_frames = 30;
 };
@@ -155,7 +150,6 @@ void run_bench(const BenchArgs& args) {
   if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
   if (args.evaluations > kMaxEvaluations)
     throw UsageError("--evaluations must be at most " + std::to_string(kMaxEvaluations));
-  check_tessellation(args.tessellation);
 
   TrackerConfig config = scenario.tracker;
   config.source = scenario.tracker_document.file;
@@ -176,9 +170,6 @@ void run_bench(const BenchArgs& args) {
   }
 
   // The tracker's nominal robot, as the runner builds it.
-  const Tessellation& t = args.tessellation;
-  if (t.cylinder_segments > 0) config.render_cylinder_segments = t.cylinder_segments;
-  if (t.sphere_segments > 0) config.render_sphere_segments = t.sphere_segments;
   auto robot = std::make_shared<const RobotModel>(
       sim::tracker_robot_model(scenario.scene, scenario.tracker_urdf()));
   // Default blocks: one per joint, virtual ones included.
@@ -240,11 +231,6 @@ void run_bench(const BenchArgs& args) {
   j["blocks"] = blocks;
   j["evaluations_per_image"] = evaluations_per_image;
   j["threads"] = threads;
-  // Tessellation the hypotheses are rendered with.
-  j["cylinder_segments"] = config.render_cylinder_segments > 0 ? config.render_cylinder_segments
-                                                               : robot->options().cylinder_segments;
-  j["sphere_segments"] = config.render_sphere_segments > 0 ? config.render_sphere_segments
-                                                           : robot->options().sphere_segments;
   j["joint_measurements"] = stats.joint_measurements;
   j["joint_measurements_dropped"] = stats.joint_measurements_dropped;
   j["images"] = {{"received", stats.images_received},
@@ -326,8 +312,6 @@ void register_bench(CLI::App& app) {
                   "Image update worker threads, 0 = one per core, at most " +
                       std::to_string(kMaxWorkerThreads) + " (default: the configuration's)")
       ->check(CLI::Range(0, kMaxWorkerThreads));
-  add_tessellation_options(cmd, args->tessellation,
-                           "the tracker configuration's render section, else the robot model's");
   cmd->add_option("--soak", args->soak_minutes,
                   "Instead: feed one tracker this many minutes of stream (1 kHz joints, 30 Hz "
                   "images) and check that its resident memory stays within 1 MB after minute 1")

@@ -1,5 +1,4 @@
-// arttrack render [SCENE_OR_SCENARIO.yaml] [--time T] [--cylinder-segments C]
-//                 [--sphere-segments S] --out DIR
+// arttrack render [SCENE_OR_SCENARIO.yaml] [--time T] --out DIR
 //
 // Simulates the scene to time T holding the initial (home) pose, then writes
 //   DIR/sim_depth.png    MuJoCo's depth of the whole scene,
@@ -41,7 +40,6 @@ struct RenderArgs {
   std::string input;
   double time_s = 0;
   std::string out_dir;
-  Tessellation tessellation;  // of the tracker's robot; 0: the robot model's
 };
 
 // The tracker's joint vector for the simulator's true state: every tracker
@@ -61,7 +59,6 @@ Eigen::VectorXd tracker_joints(const RobotModel& robot, const sim::Simulator& si
 }
 
 void run(const RenderArgs& args) {
-  check_tessellation(args.tessellation);
   const fs::path input = args.input.empty() ? sim::default_scene_path() : fs::path(args.input);
   const sim::SceneDescription scene = sim::load_scene(sim::resolve_scene_file(input));
   const fs::path out = args.out_dir;
@@ -82,10 +79,6 @@ void run(const RenderArgs& args) {
   // The tracker's model, from the same URDF and camera link.
   RobotModelOptions options;
   options.add_virtual_camera_joints = false;
-  if (args.tessellation.cylinder_segments > 0)
-    options.cylinder_segments = args.tessellation.cylinder_segments;
-  if (args.tessellation.sphere_segments > 0)
-    options.sphere_segments = args.tessellation.sphere_segments;
   const RobotModel robot = sim::tracker_robot_model(scene, scene.urdf_path, options);
   KinematicsState state(robot);
   forward_kinematics(robot, tracker_joints(robot, simulator), state);
@@ -106,9 +99,7 @@ void run(const RenderArgs& args) {
   const CameraIntrinsics& K = camera.intrinsics();
   std::cout << "scene " << scene.source << " (robot " << scene.urdf_path.string() << ")\n"
             << "time " << simulator.time_s() << " s, camera " << K.width << "x" << K.height
-            << " fx " << K.fx << " px, GL " << camera.gl_description() << ", tracker segments "
-            << options.cylinder_segments << " (cylinders) " << options.sphere_segments
-            << " (spheres)\n"
+            << " fx " << K.fx << " px, GL " << camera.gl_description() << "\n"
             << "wrote " << (out / "sim_depth.png").string() << ", "
             << (out / "model_depth.png").string() << " and their previews\n";
   const sim::DepthAgreement robot_only = sim::compare_depth(model_depth, sim_robot_depth, 2e-3);
@@ -143,11 +134,6 @@ void register_render(CLI::App& app) {
           },
           "SECONDS"));
   cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
-  const RobotModelOptions model_defaults;
-  add_tessellation_options(
-      cmd, args->tessellation,
-      "the robot model's: " + std::to_string(model_defaults.cylinder_segments) + " sides, " +
-          std::to_string(model_defaults.sphere_segments) + " meridians");
   cmd->callback([args] { run(*args); });
 }
 

@@ -42,18 +42,6 @@ const RobotModel& robot() {
   return model;
 }
 
-// The same robot with coarser primitives (16-sided cylinders, 12-meridian
-// spheres): at 80x60 a 32-sided cylinder is a few pixels wide.
-const RobotModel& coarse_robot() {
-  static const RobotModel model = [] {
-    RobotModelOptions options;
-    options.cylinder_segments = 16;
-    options.sphere_segments = 12;
-    return RobotModel::from_urdf_file(urdf_path(), options);
-  }();
-  return model;
-}
-
 // The home pose documented in the header of models/dual_arm.urdf (degrees),
 // then any "name=radians,..." overrides from ARTTRACK_BENCH_POSE. Joints the
 // model lacks are skipped, so another URDF can be benchmarked too.
@@ -124,9 +112,6 @@ BENCHMARK(BM_Render)
     ->Args({160, 120})
     ->Args({640, 480})
     ->Unit(benchmark::kMicrosecond);
-
-void BM_RenderCoarse(benchmark::State& bench) { render_benchmark(bench, coarse_robot()); }
-BENCHMARK(BM_RenderCoarse)->Args({80, 60})->Unit(benchmark::kMicrosecond);
 
 // A hypothesis that moves one wrist: only the links below it are drawn over
 // a cached image of the rest (the coordinate particle filter's inner loop).
@@ -258,10 +243,8 @@ BENCHMARK(BM_CpfBlock)
     ->Unit(benchmark::kMicrosecond);
 
 // A whole image update's particle filter (args: width, height, particles,
-// workers, cached, coarse): 22 blocks x particles evaluations; coarse: the
-// hypotheses are rendered with the coarse tessellation (the observation
-// stays the fine model's). Real time; with one worker the CPU column is
-// all the work.
+// workers, cached): 22 blocks x particles evaluations. Real time; with one
+// worker the CPU column is all the work.
 void BM_CpfImage(benchmark::State& bench) {
   const ImageUpdateFixture f(int(bench.range(0)), int(bench.range(1)));
   DepthModelParams params;
@@ -270,7 +253,7 @@ void BM_CpfImage(benchmark::State& bench) {
   DepthLikelihood likelihood(params);
   likelihood.set_observation(f.observed);
   HypothesisEvaluator evaluator(
-      bench.range(5) ? coarse_robot() : f.model, f.blocks,
+      f.model, f.blocks,
       bench.range(4) ? HypothesisEvaluator::Mode::kCached : HypothesisEvaluator::Mode::kReference);
   CoordinateParticleFilterParams cpf_params;
   cpf_params.num_particles = int(bench.range(2));
@@ -282,19 +265,14 @@ void BM_CpfImage(benchmark::State& bench) {
     cpf.run(f.prior_mean, f.prior_std, evaluator, rng, pool);
   }
   bench.counters["evaluations"] = cpf.num_evaluations();
-  bench.SetLabel(std::string(bench.range(4) ? "cached" : "reference") +
-                 (bench.range(5) ? ", coarse" : ""));
+  bench.SetLabel(bench.range(4) ? "cached" : "reference");
 }
 BENCHMARK(BM_CpfImage)
-    ->Args({80, 60, 46, 1, 0, 0})
-    ->Args({80, 60, 46, 1, 1, 0})
-    ->Args({80, 60, 46, 2, 1, 0})
-    ->Args({80, 60, 46, 1, 1, 1})
-    ->Args({80, 60, 46, 2, 1, 1})
-    ->Args({160, 120, 19, 1, 1, 0})
-    ->Args({160, 120, 19, 2, 1, 0})
-    ->Args({160, 120, 19, 1, 1, 1})
-    ->Args({160, 120, 19, 2, 1, 1})
+    ->Args({80, 60, 46, 1, 0})
+    ->Args({80, 60, 46, 1, 1})
+    ->Args({80, 60, 46, 2, 1})
+    ->Args({160, 120, 19, 1, 1})
+    ->Args({160, 120, 19, 2, 1})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 

@@ -77,39 +77,6 @@ inline std::vector<std::string> split_commas(const std::string& text) {
   return out;
 }
 
-// Tessellation of the tracker's robot for the commands that render it
-// (render, bench): --cylinder-segments, the sides of its URDF cylinders, and
-// --sphere-segments, the meridians of its spheres (the tracker
-// configuration's render section). 0: the command's default.
-struct Tessellation {
-  int cylinder_segments = 0;
-  int sphere_segments = 0;
-};
-
-// Declares --cylinder-segments and --sphere-segments; `default_text` says
-// what 0 (not given) means in this command.
-inline void add_tessellation_options(CLI::App* cmd, Tessellation& t,
-                                     const std::string& default_text) {
-  cmd->add_option(
-      "--cylinder-segments", t.cylinder_segments,
-      "Sides of the tracker's URDF cylinders, 3 to 1024 (default: " + default_text + ")");
-  cmd->add_option(
-      "--sphere-segments", t.sphere_segments,
-      "Meridians of the tracker's URDF spheres, 4 to 1024 (default: " + default_text + ")");
-}
-
-// The ranges of the configuration's render section: a usage error naming
-// the option outside them.
-inline void check_tessellation(const Tessellation& t) {
-  const auto check = [](int value, int lo, const char* option) {
-    if (value != 0 && (value < lo || value > 1024))
-      throw UsageError(std::string(option) + " must be from " + std::to_string(lo) +
-                       " to 1024 (0: the default)");
-  };
-  check(t.cylinder_segments, 3, "--cylinder-segments");
-  check(t.sphere_segments, 4, "--sphere-segments");
-}
-
 // arttrack run's work after parsing (tools/arttrack_run.cc), shared with
 // arttrack rerun: runs the scenario, writes its outputs into `out` (see
 // check_fresh_output), prints the summary table.

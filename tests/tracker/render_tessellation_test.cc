@@ -1,6 +1,7 @@
-// A coarser tessellation for the hypotheses: RobotModel::rebuilt keeps the
-// kinematics and changes only the primitive meshes; the tracker's render
-// section selects it.
+// The tessellation of URDF cylinders and spheres: RobotModel::rebuilt keeps
+// the kinematics and changes only the primitive meshes. The tracker renders
+// those shapes exactly (depth_renderer.h), so its configuration has no
+// tessellation to choose.
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -55,40 +56,12 @@ TEST(RenderTessellation, RebuiltModelHasTheSameKinematicsAndFewerTriangles) {
     EXPECT_EQ(again.link(l).mesh.vertices_m, fine.link(l).mesh.vertices_m);
 }
 
-TEST(RenderTessellation, ConfigKeysAreReadAndChecked) {
-  const TrackerConfig c = tracker_config_from_yaml(
-      load_yaml_string("render: {cylinder_segments: 16, sphere_segments: 12}\n", "t.yaml"));
-  EXPECT_EQ(c.render_cylinder_segments, 16);
-  EXPECT_EQ(c.render_sphere_segments, 12);
-  EXPECT_NE(
-      tracker_config_error("render: {cylinder_segments: 2}\n").find("render.cylinder_segments"),
-      std::string::npos);
-  EXPECT_NE(tracker_config_error("render: {sphere_segments: 3}\n").find("render.sphere_segments"),
-            std::string::npos);
-  EXPECT_NE(tracker_config_error("render: {segments: 3}\n").find("segments"), std::string::npos);
-}
-
-// A tracker on the dual-arm robot with a coarse hypothesis model takes images
-// and keeps the kinematic model's frames for its estimate.
-TEST(RenderTessellation, TrackerRendersWithTheCoarseModel) {
-  auto model = std::make_shared<const RobotModel>(RobotModel::from_urdf_file(kUrdf));
-  TrackerConfig config;
-  config.render_cylinder_segments = 8;
-  config.render_sphere_segments = 6;
-  config.particle_filter.num_particles = 3;
-  config.threads = 1;
-  std::vector<std::string> joints;
-  for (int j = 0; j < model->num_joints(); ++j)
-    if (!model->is_virtual_joint(j)) joints.push_back(model->joint_name(j));
-  Tracker tracker(model, config, joints);
-  const std::vector<double> q(joints.size(), 0.2);
-  const CameraIntrinsics camera =
-      CameraIntrinsics::from_vertical_fov(80, 60, 45 * std::numbers::pi / 180);
-  tracker.add_joint_measurement(0.0, q);
-  tracker.add_depth_image(0.0, DepthImage(80, 60, 1.5f), camera);
-  EXPECT_EQ(tracker.stats().images_applied, 1);
-  EXPECT_EQ(tracker.stats().last_evaluations_per_image, 3 * model->num_joints());
-  EXPECT_EQ(&tracker.model(), model.get());
+// The render section that chose a coarser tessellation for the hypotheses
+// is gone: a file that still has it is told so, not silently ignored.
+TEST(RenderTessellation, RenderSectionIsAnError) {
+  const std::string error = tracker_config_error("render: {cylinder_segments: 16}\n");
+  EXPECT_NE(error.find("render"), std::string::npos) << error;
+  EXPECT_NE(error.find("not a known key"), std::string::npos) << error;
 }
 
 }  // namespace

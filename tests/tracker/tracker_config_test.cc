@@ -187,12 +187,6 @@ const std::vector<RangeRow> kRangeRows = {
     {"depth_model.width", "4096", "4097"},
     {"depth_model.height", "3", "2"},
     {"depth_model.height", "4096", "4097"},
-    {"render.cylinder_segments", "0", "-1"},
-    {"render.cylinder_segments", "3", "2"},
-    {"render.cylinder_segments", "1024", "1025"},
-    {"render.sphere_segments", "0", "-1"},
-    {"render.sphere_segments", "4", "3"},
-    {"render.sphere_segments", "1024", "1025"},
     {"particle_filter.particles", "1", "0"},
     {"particle_filter.particles", "1000000", "1000001"},
     {"particle_filter.max_kl_divergence", "0", "-0.1"},
@@ -306,8 +300,6 @@ TEST(TrackerConfigTest, RangesAreGivenInTheUnitsOfTheKey) {
             std::string::npos);
   EXPECT_NE(defaults_error({"acquisition.coarse_noise_std_m=0.002"})
                 .find("= 0.002 is out of range [0.003 (depth_model.noise_std_m), 0.5]"),
-            std::string::npos);
-  EXPECT_NE(defaults_error({"render.sphere_segments=2"}).find("out of range 0 or [4, 1024]"),
             std::string::npos);
   // Without a bias estimate its diffusion may be 0.
   EXPECT_EQ(defaults_error({"joints.per_joint.l_elbow={estimate_bias: false, "

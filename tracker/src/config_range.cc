@@ -26,22 +26,15 @@ ConfigRange ConfigRange::ends(double lo, double hi, bool lo_open, bool hi_open) 
   return r;
 }
 
-ConfigRange ConfigRange::or_zero() const {
-  ConfigRange r = *this;
-  r.zero_too = true;
-  return r;
-}
-
 bool ConfigRange::contains(double v) const {
-  if (zero_too && v == 0) return true;
   return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
 }
 
 std::string ConfigRange::text() const {
   std::string lo_text = number_text(lo);
   if (!lo_key.empty()) lo_text += " (" + lo_key + ")";
-  return std::string(zero_too ? "0 or " : "") + (lo_open ? "(" : "[") + lo_text + ", " +
-         number_text(hi) + (hi_open ? ")" : "]");
+  return std::string(lo_open ? "(" : "[") + lo_text + ", " + number_text(hi) +
+         (hi_open ? ")" : "]");
 }
 
 void check_range(std::string_view source, const std::string& key, double value,

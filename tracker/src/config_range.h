@@ -19,8 +19,6 @@ struct ConfigRange {
   double hi = 0;
   bool lo_open = false;
   bool hi_open = false;
-  // 0 is allowed too, outside the interval (0: "the model's own").
-  bool zero_too = false;
   // The key the lower bound comes from, when another field sets it.
   std::string lo_key;
 
@@ -28,10 +26,9 @@ struct ConfigRange {
   static ConfigRange open_closed(double lo, double hi) { return ends(lo, hi, true, false); }
   static ConfigRange open(double lo, double hi) { return ends(lo, hi, true, true); }
   static ConfigRange ends(double lo, double hi, bool lo_open, bool hi_open);
-  ConfigRange or_zero() const;
 
   bool contains(double value) const;
-  // As the message shows it: "[0.1, 100]", "(0, 1)", "0 or [3, 1024]",
+  // As the message shows it: "[0.1, 100]", "(0, 1)",
   // "[0.003 (depth_model.noise_std_m), 0.5]".
   std::string text() const;
 };

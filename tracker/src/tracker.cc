@@ -112,7 +112,6 @@ struct Tracker::Impl {
   // Image update machinery (one update at a time).
   std::unique_ptr<WorkerPool> pool;
   std::unique_ptr<CoordinateParticleFilter> cpf;
-  std::shared_ptr<const RobotModel> render_model;  // the model, or it with coarser meshes
   std::unique_ptr<HypothesisEvaluator> evaluator;
   DepthLikelihood likelihood;
   std::mt19937_64 rng;
@@ -295,17 +294,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     CoordinateParticleFilterParams cpf_params = config.particle_filter;
     if (config.method != TrackingMethod::kFullFusion) cpf_params.bandwidth_factor = 0;
     cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), cpf_params);
-    // Hypotheses may be rendered with a coarser tessellation of the same URDF.
-    render_model = model;
-    RobotModelOptions render_options = model->options();
-    if (config.render_cylinder_segments > 0)
-      render_options.cylinder_segments = config.render_cylinder_segments;
-    if (config.render_sphere_segments > 0)
-      render_options.sphere_segments = config.render_sphere_segments;
-    if (render_options.cylinder_segments != model->options().cylinder_segments ||
-        render_options.sphere_segments != model->options().sphere_segments)
-      render_model = std::make_shared<const RobotModel>(model->rebuilt(render_options));
-    evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
+    evaluator = std::make_unique<HypothesisEvaluator>(*model, cpf->blocks());
     prior_std.assign(n, 0.0);
 
     // Kinematic chains: physical DOFs grouped by their top-most physical
@@ -338,7 +327,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     }
     health.whole.name = "all";
     part_open.assign(n, 0);
-    check_kinematics = KinematicsState(*render_model);
+    check_kinematics = KinematicsState(*model);
     check_q = Eigen::VectorXd::Zero(n);
 
     bias_estimated.assign(n_phys, 0);
@@ -351,7 +340,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       for (int j = n_phys; j < n; ++j) search_blocks.push_back({model->joint_name(j), {j}});
       search_cpf =
           std::make_unique<CoordinateParticleFilter>(n, search_blocks, config.particle_filter);
-      search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());
+      search_evaluator = std::make_unique<HypothesisEvaluator>(*model, search_cpf->blocks());
       const int K = config.acquisition.passes;
       for (int k = 0; k + 1 < K; ++k) {
         // Depth noise from coarse to the pixel model's, geometrically.
@@ -477,7 +466,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   likelihood.set_observation(image.image);
   if (!check_renderer || check_camera != camera) {
     check_camera = camera;
-    check_renderer = std::make_unique<DepthRenderer>(*render_model, camera);
+    check_renderer = std::make_unique<DepthRenderer>(*model, camera);
   }
   const double beta = config.likelihood_exponent;
   const bool first = images_seen++ == 0;
@@ -602,7 +591,7 @@ void Tracker::Impl::acquire(std::span<const double> mean, std::span<const double
 // The tempered image log-likelihood ratio of the robot at q (every DOF).
 double Tracker::Impl::score(std::span<const double> q) {
   for (int j = 0; j < n; ++j) check_q[j] = q[j];
-  forward_kinematics(*render_model, check_q, check_kinematics);
+  forward_kinematics(*model, check_q, check_kinematics);
   check_renderer->render(check_kinematics, check_image);
   return config.likelihood_exponent * likelihood.log_ratio(check_image);
 }
@@ -835,7 +824,7 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
                                   double stamp_s) {
   const TrackerConfig::Health& h = config.health;
   for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
-  forward_kinematics(*render_model, check_q, check_kinematics);
+  forward_kinematics(*model, check_q, check_kinematics);
   const float max_range = float(config.depth_model.max_range_m);
   // A rendered depth r explains an observed z within explained_m.
   auto explains = [&](float r, float z) {

@@ -99,8 +99,6 @@ void TrackerConfig::validate(const std::string& source) const {
   check("vision_only.initial_std_deg", vision_only_initial_std_rad, R::closed(0, 180), kRadPerDeg);
 
   depth_model.validate(source, "depth_model.");
-  check("render.cylinder_segments", render_cylinder_segments, R::closed(3, 1024).or_zero());
-  check("render.sphere_segments", render_sphere_segments, R::closed(4, 1024).or_zero());
 
   particle_filter.validate(source, "particle_filter.");
   check("particle_filter.likelihood_exponent", likelihood_exponent, R::closed(1e-3, 1));
@@ -199,8 +197,6 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"occlusion_prior", &d.occlusion_prior},
                     {"width", &d.width},
                     {"height", &d.height}});
-  read_numbers(root.child("render"), {{"cylinder_segments", &c.render_cylinder_segments},
-                                      {"sphere_segments", &c.render_sphere_segments}});
 
   const ConfigNode pf = root.child("particle_filter");
   read_numbers(pf, {{"particles", &c.particle_filter.num_particles},

@@ -62,15 +62,6 @@ struct TrackerConfig {
   double vision_only_initial_std_rad = 0.02;
 
   DepthModelParams depth_model;
-  // Tessellation of the URDF cylinders (sides) and spheres (meridians) in
-  // the model hypotheses are rendered with (RobotModel::rebuilt); 0: the
-  // given model's. At the likelihood's resolution a coarser polygon differs
-  // from a fine one by a fraction of a pixel, and rendering costs about in
-  // proportion to the triangles: 16 and 12 (against the model's default 32
-  // and 24) halve the image update at the same accuracy (default scenario,
-  // 9 seeds: converged error p50 2.03 mm against 2.06 mm).
-  int render_cylinder_segments = 16;
-  int render_sphere_segments = 12;
   CoordinateParticleFilterParams particle_filter;
   // Sampling blocks: named lists of joint names. Empty: one block per physical
   // joint (ordered from the hand towards the root, so that the links a block
