@@ -48,6 +48,11 @@ const Fixture& fixture() {
   return f;
 }
 
+// Feeds 100 ms of 1 kHz encoder readings from time t; t ends just past them.
+void add_readings(const Fixture& f, Tracker& tracker, double& t) {
+  for (int k = 0; k < 100; ++k, t += 0.001) tracker.add_joint_measurement(t, f.readings);
+}
+
 TrackerConfig config_for(int width, int height, int particles) {
   TrackerConfig c;
   c.end_effectors = {"left_ee", "right_ee"};  // the dual-arm robot's, as the runner sets them
@@ -79,12 +84,12 @@ void BM_DelayedImageUpdate(benchmark::State& state) {
   Tracker tracker(f.robot, config_for(width, height, int(state.range(2))),
                   f.sim_model->joint_names);
   double t = 0;
-  for (int k = 0; k < 100; ++k, t += 0.001) tracker.add_joint_measurement(t, f.readings);
+  add_readings(f, tracker, t);
   tracker.add_depth_image(t - 0.1, f.observed, f.camera);
   const int acquisitions_before = tracker.estimate().health.acquisitions;
   for (auto _ : state) {
     state.PauseTiming();
-    for (int k = 0; k < 100; ++k, t += 0.001) tracker.add_joint_measurement(t, f.readings);
+    add_readings(f, tracker, t);
     state.ResumeTiming();
     tracker.add_depth_image(t - 0.1, f.observed, f.camera);
   }
@@ -114,7 +119,7 @@ void BM_FirstImageAcquisition(benchmark::State& state) {
     Tracker tracker(f.robot, config_for(width, height, int(state.range(2))),
                     f.sim_model->joint_names);
     double t = 0;
-    for (int k = 0; k < 100; ++k, t += 0.001) tracker.add_joint_measurement(t, f.readings);
+    add_readings(f, tracker, t);
     state.ResumeTiming();
     tracker.add_depth_image(t - 0.1, f.observed, f.camera);
   }
