@@ -111,12 +111,16 @@ void MethodTrackers::keep(double stamp_s, double arrival_s, const DepthImage& im
 const TruthSample& MethodTrackers::score(TruthSample truth, CameraPoses* camera, bool angles_known,
                                          bool biases_known) {
   ScoredSample scored;
+  std::vector<bool> in_view;
+  for (const Eigen::Isometry3d& T : truth.T_camera_ee)
+    in_view.push_back(in_camera_view(T.translation(), setup_.camera));
   for (std::size_t i = 0; i < trackers_.size(); ++i) {
     const TrackerEstimate est = trackers_[i]->estimate();
     if (estimate_csv_)
       write_estimate_row(*estimate_csv_, truth.time_s, run_.methods[i].method, est);
     run_.methods[i].samples.push_back(
         score_estimate(est, truth, camera, angles_known, biases_known, scored));
+    scored.end_effector_in_view = in_view;
     scores_[i].add(scored);
   }
   run_.truth.push_back(std::move(truth));

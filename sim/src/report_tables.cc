@@ -117,7 +117,11 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
           list << "<li>" << text::html_escape(m.method) << ": run " << run
                << (run < r.seeds.size() ? " (seed " + std::to_string(r.seeds[run]) + ")" : "")
                << ", " << text::html_escape(e.name) << ", from " << fixed(e.lost[run]->from_s, 2)
-               << "&nbsp;s for " << fixed(e.lost[run]->duration_s, 2) << "&nbsp;s</li>\n";
+               << "&nbsp;s for " << fixed(e.lost[run]->duration_s, 2) << "&nbsp;s"
+               << (out_of_view_note(*e.lost[run]).empty()
+                       ? ""
+                       : ", " + text::html_escape(out_of_view_note(*e.lost[run])))
+               << "</li>\n";
   if (!list.str().empty()) o << "<p>Lost:</p><ul class=\"lost\">\n" << list.str() << "</ul>\n";
 }
 

@@ -76,7 +76,8 @@ Json lost_json(const ScenarioResult& r, const MethodSummary& m) {
                             {"seed", run < r.seeds.size() ? Json(r.seeds[run]) : Json(nullptr)},
                             {"end_effector", e.name},
                             {"from_s", number(e.lost[run]->from_s)},
-                            {"duration_s", number(e.lost[run]->duration_s)}});
+                            {"duration_s", number(e.lost[run]->duration_s)},
+                            {"out_of_view_share", number(e.lost[run]->out_of_view_share)}});
   return Json{{"runs", m.lost_runs()}, {"of", m.num_runs}, {"list", list}};
 }
 
@@ -343,6 +344,8 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
         if (run < e.lost.size() && e.lost[run]) {
           out << separator << e.name << " from " << std::fixed << std::setprecision(1)
               << e.lost[run]->from_s << " s for " << e.lost[run]->duration_s << " s";
+          if (const std::string note = out_of_view_note(*e.lost[run]); !note.empty())
+            out << " (" << note << ")";
           separator = ", ";
         }
       run_separator = "; ";

@@ -88,6 +88,12 @@ void ErrorTrace::add(const ScoredSample& x) {
       {&x.angle_std_rad, num_joints_, kAngleStd},      {&x.bias_std_rad, num_joints_, kBiasStd},
       {&x.camera_offset_error, 6, kCameraOffsetError}, {&x.camera_offset_std, 6, kCameraOffsetStd}};
   unsigned present = x.camera ? unsigned(kCamera) : 0u;
+  if (!x.end_effector_in_view.empty()) {
+    if (x.end_effector_in_view.size() != num_end_effectors_)
+      fail("a sample says whether " + std::to_string(x.end_effector_in_view.size()) +
+           " end effectors are in view, expected " + std::to_string(num_end_effectors_));
+    present |= kInView;
+  }
   for (const Optional& o : parts) {
     if (o.values->empty()) continue;
     if (o.values->size() != o.expected)
@@ -98,8 +104,8 @@ void ErrorTrace::add(const ScoredSample& x) {
   if (parts_ == kUnknown) parts_ = present;
   if (present != parts_)
     fail(
-        "per-joint angle/bias errors, standard deviations and camera errors must be given for "
-        "every sample of a run or for none");
+        "per-joint angle/bias errors, standard deviations, camera errors and whether the end "
+        "effectors are in view must be given for every sample of a run or for none");
 
   time_s_.push_back(x.time_s);
   // The worst of the end effectors; a NaN (a lost estimate) is the worst.
@@ -125,6 +131,14 @@ void ErrorTrace::add(const ScoredSample& x) {
     camera_translation_m_.push_back(x.camera->translation_m);
     camera_rotation_rad_.push_back(x.camera->rotation_rad);
   }
+  in_view_.insert(in_view_.end(), x.end_effector_in_view.begin(), x.end_effector_in_view.end());
+}
+
+bool in_camera_view(const Eigen::Vector3d& p, const CameraIntrinsics& camera) {
+  if (!(p.z() > 0)) return false;
+  const double u = camera.fx * p.x() / p.z() + camera.cx;
+  const double v = camera.fy * p.y() / p.z() + camera.cy;
+  return u >= 0 && u < camera.width && v >= 0 && v < camera.height;
 }
 
 void ErrorTrace::add(double time_s, const PoseError& ee, std::span<const double> angle_error_rad,
@@ -150,6 +164,10 @@ ErrorTrace ErrorTrace::end_effector(std::size_t e) const {
   }
   t.ee_translation_m_ = t.translation_m_;
   t.ee_rotation_rad_ = t.rotation_rad_;
+  if (has_in_view()) {
+    t.parts_ = kInView;
+    for (std::size_t i = 0; i < size(); ++i) t.in_view_.push_back(end_effector_in_view(i, e));
+  }
   return t;
 }
 
@@ -213,9 +231,26 @@ std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions&
     if (!from) from = t[i];
     // The stretch goes on while the next sample is above too.
     const bool ends = i + 1 == t.size() || e[i + 1] <= options.lost_threshold_m;
-    if (ends && t[i] - *from > longer_than) return LostSpan{*from, t[i] - *from};
+    if (ends && t[i] - *from > longer_than) {
+      LostSpan span{*from, t[i] - *from};
+      if (trace.has_in_view() && trace.num_end_effectors() == 1) {
+        std::size_t samples = 0, out = 0;
+        for (std::size_t k = i + 1; k-- > 0 && t[k] >= *from;) {
+          ++samples;
+          out += !trace.end_effector_in_view(k, 0);
+        }
+        span.out_of_view_share = double(out) / double(samples);
+      }
+      return span;
+    }
   }
   return std::nullopt;
+}
+
+std::string out_of_view_note(const LostSpan& span) {
+  if (!(span.out_of_view_share > 0)) return "";  // none, or NaN: not known
+  return "out of the camera's view for " +
+         std::to_string(int(std::lround(100 * span.out_of_view_share))) + "% of it";
 }
 
 void Coverage::add(double error, double std) {

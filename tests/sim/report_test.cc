@@ -391,6 +391,7 @@ ScenarioResult two_hands_result() {
         x.time_s = truth.time_s;
         const double right = fusion ? (k == 1 && truth.time_s >= 12 ? 0.3 : 0.002) : 0.04;
         x.end_effectors = {{fusion ? 0.002 : 0.04, 0.01}, {right, 0.01}};
+        x.end_effector_in_view = {true, truth.time_s < 16};  // the right hand leaves at 16 s
         x.angle_error_rad = {0.003};
         x.angle_std_rad = {fusion ? 0.001 : 0.01};
         x.bias_error_rad = {0.0};
@@ -417,8 +418,9 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
   for (const char* key :
        {"\"end_effectors\": {", "\"left_ee\": {", "\"right_ee\": {", "\"lost_runs\": 1",
         "\"runs\": 1", "\"of\": 2", "\"end_effector\": \"right_ee\"", "\"seed\": 22",
-        "\"from_s\": 12.0", "\"duration_s\": 8.0", "\"angles\": 0.0", "\"biases\": 1.0",
-        "\"camera_offset\": null", "\"camera\": null", "\"angle_within_2sigma\": 0.0"})
+        "\"from_s\": 12.0", "\"duration_s\": 8.0", "\"out_of_view_share\": 0.529",
+        "\"angles\": 0.0", "\"biases\": 1.0", "\"camera_offset\": null", "\"camera\": null",
+        "\"angle_within_2sigma\": 0.0"})
     EXPECT_NE(fusion.find(key), std::string::npos) << key;
   const std::string encoders = json.substr(0, json.find("\"full_fusion\": {"));
   EXPECT_NE(encoders.find("\"biases\": null"), std::string::npos);  // not estimated, not 0%
@@ -451,7 +453,9 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
   EXPECT_TRUE(row_of("full_fusion", "left_ee").ends_with("0 of 2")) << t;
   EXPECT_NE(row_of("full_fusion", "worst").find("300.0"), std::string::npos) << t;
   EXPECT_EQ(row_of("full_fusion", "left_ee").find("300.0"), std::string::npos) << t;
-  EXPECT_NE(t.find("full_fusion lost 1 of 2: run 1 (seed 22): right_ee from 12.0 s for 8.0 s\n"),
+  // Out of view from 16 s: 9 of the span's 17 samples (12, 12.5, ..., 20 s).
+  EXPECT_NE(t.find("full_fusion lost 1 of 2: run 1 (seed 22): right_ee from 12.0 s for 8.0 s "
+                   "(out of the camera's view for 53% of it)\n"),
             std::string::npos)
       << t;
 
@@ -462,6 +466,7 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
   EXPECT_NE(html.find("<td>1 of 2</td>"), std::string::npos);
   EXPECT_NE(html.find("<li>full_fusion: run 1 (seed 22), right_ee, from 12.00&nbsp;s"),
             std::string::npos);
+  EXPECT_NE(html.find("view for 53% of it</li>"), std::string::npos);
   EXPECT_NE(html.find("<td>not estimated</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>0.0%</td>"), std::string::npos);
   EXPECT_NE(html.find("worst of left_ee, right_ee"), std::string::npos);

@@ -254,6 +254,61 @@ TEST(Scoring, LostOnlyAfterMoreThanTheTimeAboveTheThreshold) {
   EXPECT_FALSE(lost_span(stretch_trace(10.0, 12.0), strict).has_value());
 }
 
+// A lost span says how much of it the end effector was out of view: an arm
+// no image can see is lost for another reason than one in a wrong mode.
+TEST(Scoring, LostSpanCountsTheSamplesOutOfView) {
+  const ScoringOptions opt;
+  // Two end effectors, 10 ms apart from 10 s: the second is 3 cm off from
+  // 11.0 s to 12.99 s and out of view from 12.5 s (50 of its 200 samples);
+  // the first is never off and always in view.
+  ErrorTrace two(0, 2);
+  for (int i = 1000; i <= 1400; ++i) {
+    ScoredSample x;
+    x.time_s = 0.01 * i;
+    const bool off = i >= 1100 && i < 1300;
+    x.end_effectors = {{0.001, 0.0}, {off ? 0.03 : 0.001, 0.0}};
+    x.end_effector_in_view = {true, i < 1250};
+    two.add(x);
+  }
+  ASSERT_TRUE(two.has_in_view());
+  const std::optional<LostSpan> lost = lost_span(two.end_effector(1), opt);
+  ASSERT_TRUE(lost.has_value());
+  EXPECT_NEAR(lost->from_s, 11.0, 1e-9);
+  EXPECT_DOUBLE_EQ(lost->out_of_view_share, 0.25);
+  EXPECT_EQ(out_of_view_note(*lost), "out of the camera's view for 25% of it");
+  EXPECT_FALSE(lost_span(two.end_effector(0), opt).has_value());
+  // The worst of several end effectors has no single view.
+  EXPECT_TRUE(std::isnan(lost_span(two, opt)->out_of_view_share));
+  // A trace without view flags: not known, and no note.
+  const std::optional<LostSpan> unknown = lost_span(stretch_trace(10.0, 12.0), opt);
+  ASSERT_TRUE(unknown.has_value());
+  EXPECT_TRUE(std::isnan(unknown->out_of_view_share));
+  EXPECT_EQ(out_of_view_note(*unknown), "");
+  // In view throughout: no note either.
+  EXPECT_EQ(out_of_view_note(LostSpan{10.0, 2.0, 0.0}), "");
+  // View flags are all or nothing, one per end effector.
+  ScoredSample bad;
+  bad.time_s = 20;
+  bad.end_effectors = {{0.001, 0.0}, {0.001, 0.0}};
+  EXPECT_THROW(two.add(bad), InputError);
+  bad.end_effector_in_view = {true};
+  EXPECT_THROW(two.add(bad), InputError);
+}
+
+// In view: in front of the camera and projecting into the image.
+TEST(Scoring, InCameraViewIsInFrontAndInsideTheImage) {
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
+  EXPECT_TRUE(in_camera_view({0, 0, 1}, camera));
+  EXPECT_FALSE(in_camera_view({0, 0, -1}, camera));  // behind
+  EXPECT_FALSE(in_camera_view({0, 0, 0}, camera));
+  // The image's right edge is at u = 80: x / z = (80 - cx) / fx.
+  const double edge = (80 - camera.cx) / camera.fx;
+  EXPECT_TRUE(in_camera_view({0.999 * edge, 0, 1}, camera));
+  EXPECT_FALSE(in_camera_view({1.001 * edge, 0, 1}, camera));
+  EXPECT_FALSE(in_camera_view({0, 1.001 * (60 - camera.cy) / camera.fy, 1}, camera));
+  EXPECT_FALSE(in_camera_view({NAN, 0, 1}, camera));
+}
+
 // Two end effectors: a good left hand and a right hand that is lost in run 1.
 MethodScores two_hands(const std::string& method, double right_m_run1) {
   MethodScores m(method, {}, {"left_ee", "right_ee"});

@@ -68,7 +68,8 @@ class MethodTrackers {
   // A depth image captured at stamp_s, given to every method at arrival_s.
   void image(double stamp_s, double arrival_s, const DepthImage& image);
   // Scores every method's estimate now against `truth` (score_estimate:
-  // `camera` may be null, angles_known and biases_known as there), writes
+  // `camera` may be null, angles_known and biases_known as there; whether
+  // each true end effector is in the images' view, in_camera_view), writes
   // their estimate.csv rows, appends the truth to the run and returns it.
   const TruthSample& score(TruthSample truth, CameraPoses* camera, bool angles_known,
                            bool biases_known);

@@ -58,7 +58,9 @@ namespace arttrack::sim {
 // of the time after which the translation error stays below the threshold (a
 // run that never converges counts as infinitely late); null if that median is
 // infinite. "lost" counts the runs in which some end effector is lost
-// (scoring.h lost_span) and lists each lost (run, end effector). "camera":
+// (scoring.h lost_span) and lists each lost (run, end effector), with the
+// share of the span the end effector was out of the camera's view
+// (out_of_view_share; null: not known). "camera":
 // the estimated camera frame against the true one relative to the robot base
 // (null without camera truth). "consistency": the share of (sample,
 // component) pairs whose truth lies within two reported standard deviations,

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 
@@ -114,7 +115,16 @@ struct ScoredSample {
   // Virtual camera joints (CameraOffset order): estimate - truth, and the
   // reported standard deviation.
   std::vector<double> camera_offset_error, camera_offset_std;
+  // Per end effector: whether its true origin was in the camera's view
+  // (in_camera_view); empty: not known. No image can correct an arm out of
+  // view, so a lost span says how much of it was.
+  std::vector<bool> end_effector_in_view;
 };
+
+// Whether a point in the camera's optical frame is in front of it and
+// projects into the image (CameraIntrinsics: pixel (u, v) covers [u, u+1) x
+// [v, v+1)). Whether something hides it is not considered.
+bool in_camera_view(const Eigen::Vector3d& p_camera, const CameraIntrinsics& camera);
 
 // The errors of one method in one run, in time order, for one or several end
 // effectors. Every optional part of a sample (per-joint errors, standard
@@ -178,6 +188,11 @@ class ErrorTrace {
   double camera_offset_std(std::size_t i, std::size_t k) const {
     return camera_offset_std_[i * 6 + k];
   }
+  // Whether end effector e was in view at sample i (only if has_in_view()).
+  bool has_in_view() const { return has(kInView); }
+  bool end_effector_in_view(std::size_t i, std::size_t e) const {
+    return in_view_[i * num_end_effectors_ + e];
+  }
 
  private:
   enum Part : unsigned {
@@ -188,6 +203,7 @@ class ErrorTrace {
     kCamera = 16,
     kCameraOffsetError = 32,
     kCameraOffsetStd = 64,
+    kInView = 128,
   };
   bool has(Part p) const { return parts_ != kUnknown && (parts_ & p); }
   static constexpr unsigned kUnknown = ~0u;
@@ -199,6 +215,7 @@ class ErrorTrace {
   std::vector<double> angle_std_rad_, bias_std_rad_;        // sample-major
   std::vector<double> camera_translation_m_, camera_rotation_rad_;
   std::vector<double> camera_offset_error_, camera_offset_std_;  // sample-major
+  std::vector<bool> in_view_;                                    // sample-major
   unsigned parts_ = kUnknown;  // Part bits, fixed by the first sample
 };
 
@@ -241,6 +258,10 @@ struct ScoringOptions {
 struct LostSpan {
   double from_s = 0;      // its first sample
   double duration_s = 0;  // from its first to its last sample
+  // Share of its samples in which the end effector was out of the camera's
+  // view (ErrorTrace::end_effector_in_view), in [0, 1]; NaN when not known
+  // (no view in the trace, or a trace of several end effectors).
+  double out_of_view_share = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The first stretch of consecutive samples at time >= converged_after_s
@@ -251,6 +272,10 @@ struct LostSpan {
 // of several end effectors this looks at the worst per sample; use
 // ErrorTrace::end_effector for one.
 std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions& options);
+
+// "out of the camera's view for 40% of it" when some of the span was (the
+// terminal's and the report's lost lists); "" when none was or not known.
+std::string out_of_view_note(const LostSpan& span);
 
 // How often the truth lies within two reported standard deviations.
 struct Coverage {
