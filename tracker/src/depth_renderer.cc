@@ -255,15 +255,19 @@ void DepthRenderer::draw_round_shape(const RoundShape& shape,
         const double dw = x * w.x() + dw_row;
         const double a = x * x + yy1 - dw * dw;
         const double disc = b * b - a * k;
-        if (a > 0 && disc >= 0) {
+        // Every point of a cap lies inside the infinite cylinder, so a ray
+        // that misses it (disc < 0) misses the caps, and one that enters
+        // through the side first meets no cap before (only rounding at the
+        // rim could say otherwise): the cap is tried only when the side
+        // entry is off the cylinder's length.
+        if (disc < 0) continue;
+        if (a > 0) {
           const double side = (b - std::sqrt(disc)) / a;
           if (std::abs(side * dw - cw) <= h) t = side;
         }
-        // The cap at axial offset s = +-h faces the ray when s dw < 0.
-        for (const double s : {h, -h}) {
-          if (!(s * dw < 0)) continue;
+        if (t == INFINITY && h > 0 && dw != 0) {
+          const double s = dw < 0 ? h : -h;  // the cap facing the ray: s dw < 0
           const double cap = (cw + s) / dw;
-          if (!(cap < t)) continue;
           const Eigen::Vector3d q = cap * Eigen::Vector3d(x, y, 1) - c;
           if (q.squaredNorm() - h2 <= r2) t = cap;
         }
