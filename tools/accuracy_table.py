@@ -6,10 +6,21 @@ median time to converge, and 2-sigma consistency of angles, biases and
 camera offset.
 
   tools/accuracy_table.py out/paper/*    (each argument: a run's --out folder)
+  tools/accuracy_table.py --pool out/a out/b
+      one row per scenario and method over all the folders of that
+      scenario (e.g. the same file run with --seed 11 and --seed 13): runs
+      and lost runs summed; the converged percentiles over all their
+      samples, from timeseries.csv, as the scorer takes them (the worst end
+      effector per sample, linear interpolation); the median of the runs'
+      times to converge; consistency weighted by runs. A method is pooled
+      over the folders that ran it.
 
-Exit status 1 if a folder has no readable summary.json.
+Exit status 1 if a folder has no readable summary.json (or, with --pool,
+timeseries.csv), or if pooled folders score differently.
 """
+import csv
 import json
+import math
 import statistics
 import sys
 
@@ -22,7 +33,96 @@ def pct(v):
     return "-" if v is None else f"{100 * v:.0f}%"
 
 
+def percentile(values, p):
+    """numpy's default (linear) percentile of unsorted values, p in [0, 1]."""
+    v = sorted(values)
+    k = (len(v) - 1) * p
+    lo = math.floor(k)
+    hi = min(lo + 1, len(v) - 1)
+    return v[lo] + (v[hi] - v[lo]) * (k - lo)
+
+
+def worst_series(folder, summary):
+    """Per (method, run): times and the worst end effector's translation error."""
+    columns = [f"translation_m_{e}" for e in summary["end_effectors"]]
+    series = {}
+    with open(f"{folder}/timeseries.csv", newline="") as f:
+        for row in csv.DictReader(f):
+            errors = [float(row[c]) if row[c] not in ("", "nan") else math.inf
+                      for c in columns]
+            worst = max(math.inf if math.isnan(e) else e for e in errors)
+            key = (row["method"], int(row["run"]))
+            series.setdefault(key, ([], []))
+            series[key][0].append(float(row["time_s"]))
+            series[key][1].append(worst)
+    return series
+
+
+def time_to_converge(times, errors, threshold):
+    """First time after which the error stays below threshold; None: never."""
+    first = len(errors)
+    while first > 0 and errors[first - 1] < threshold:
+        first -= 1
+    return None if first == len(errors) else times[first]
+
+
+def pool(folders):
+    groups = {}
+    for folder in folders:
+        with open(f"{folder}/summary.json") as f:
+            s = json.load(f)
+        groups.setdefault(s["scenario"], []).append((folder, s))
+    print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
+          "median time to converge, s | within 2 sigma: angles / biases / camera |")
+    print("|---|---|---|---|---|---|---|")
+    for scenario, members in groups.items():
+        scoring = members[0][1]["scoring"]
+        ends = members[0][1]["end_effectors"]
+        for folder, s in members:
+            if s["scoring"] != scoring or s["end_effectors"] != ends:
+                raise ValueError(f"{folder}: scored differently from {members[0][0]}")
+        names = []
+        for _, s in members:
+            names += [n for n in s["methods"] if n not in names]
+        for name in names:  # each method over the folders that ran it
+            runs = lost = 0
+            samples, times = [], []
+            weighted = {"angles": 0.0, "biases": 0.0, "camera_offset": 0.0}
+            known = dict.fromkeys(weighted, 0)
+            for folder, s in members:
+                if name not in s["methods"]:
+                    continue
+                m = s["methods"][name]
+                runs += m["lost"]["of"]
+                lost += m["lost"]["runs"]
+                for k in weighted:
+                    if m["consistency"][k] is not None:
+                        weighted[k] += m["consistency"][k] * m["lost"]["of"]
+                        known[k] += m["lost"]["of"]
+                for (method, _), (t, e) in worst_series(folder, s).items():
+                    if method != name:
+                        continue
+                    samples += [v for ti, v in zip(t, e) if ti >= scoring["converged_after_s"]]
+                    times.append(time_to_converge(t, e, scoring["convergence_threshold_m"]))
+            converged = [t for t in times if t is not None]
+            # Half the runs or more never converging makes the median "never".
+            ttc = (f"{statistics.median(converged + [math.inf] * (len(times) - len(converged))):.1f}"
+                   if len(converged) * 2 > len(times) else "never")
+            p = [percentile(samples, q) if samples else None for q in (0.5, 0.75, 0.99)]
+            k = {key: weighted[key] / known[key] if known[key] else None for key in weighted}
+            print(f"| {scenario} | {name} | {runs} | {lost} | "
+                  f"{mm(p[0])} / {mm(p[1])} / {mm(p[2])} | {ttc} | "
+                  f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])} |")
+
+
 def main(folders):
+    if folders and folders[0] == "--pool":
+        try:
+            pool(folders[1:])
+        except (OSError, ValueError, KeyError) as e:
+            print(f"accuracy_table: {e}", file=sys.stderr)
+            return 1
+        return 0
     status = 0
     print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
           "median time to converge, s | within 2 sigma: angles / biases / camera |")
