@@ -221,6 +221,7 @@ std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions&
   // A stretch "lasts more than lost_after_s" within rounding of the times.
   const double longer_than = options.lost_after_s + kTimeMatch_s;
   std::optional<double> from;
+  std::size_t first = 0;  // the stretch's first sample
   for (std::size_t i = 0; i < t.size(); ++i) {
     if (t[i] < options.converged_after_s) continue;
     const bool above = !(e[i] <= options.lost_threshold_m);  // NaN is above
@@ -228,18 +229,18 @@ std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions&
       from.reset();
       continue;
     }
-    if (!from) from = t[i];
+    if (!from) {
+      from = t[i];
+      first = i;
+    }
     // The stretch goes on while the next sample is above too.
     const bool ends = i + 1 == t.size() || e[i + 1] <= options.lost_threshold_m;
     if (ends && t[i] - *from > longer_than) {
       LostSpan span{*from, t[i] - *from};
       if (trace.has_in_view() && trace.num_end_effectors() == 1) {
-        std::size_t samples = 0, out = 0;
-        for (std::size_t k = i + 1; k-- > 0 && t[k] >= *from;) {
-          ++samples;
-          out += !trace.end_effector_in_view(k, 0);
-        }
-        span.out_of_view_share = double(out) / double(samples);
+        std::size_t out = 0;
+        for (std::size_t k = first; k <= i; ++k) out += !trace.end_effector_in_view(k, 0);
+        span.out_of_view_share = double(out) / double(i - first + 1);
       }
       return span;
     }

@@ -286,6 +286,24 @@ TEST(Scoring, LostSpanCountsTheSamplesOutOfView) {
   EXPECT_EQ(out_of_view_note(*unknown), "");
   // In view throughout: no note either.
   EXPECT_EQ(out_of_view_note(LostSpan{10.0, 2.0, 0.0}), "");
+  // Only the stretch's own samples count, not one before it at the same time.
+  ErrorTrace same_time(0, 1);
+  for (int i = 1000; i <= 1150; ++i) {
+    ScoredSample x;
+    x.time_s = 0.01 * i;
+    x.end_effectors = {{0.03, 0.0}};
+    x.end_effector_in_view = {true};
+    if (i == 1000) {  // below the threshold and out of view, then above at 10 s
+      ScoredSample before = x;
+      before.end_effectors = {{0.001, 0.0}};
+      before.end_effector_in_view = {false};
+      same_time.add(before);
+    }
+    same_time.add(x);
+  }
+  const std::optional<LostSpan> in_view = lost_span(same_time, opt);
+  ASSERT_TRUE(in_view.has_value());
+  EXPECT_EQ(in_view->out_of_view_share, 0.0);
   // View flags are all or nothing, one per end effector.
   ScoredSample bad;
   bad.time_s = 20;
