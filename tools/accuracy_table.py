@@ -33,6 +33,20 @@ def pct(v):
     return "-" if v is None else f"{100 * v:.0f}%"
 
 
+def print_header():
+    print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
+          "median time to converge, s | within 2 sigma: angles / biases / camera |")
+    print("|---|---|---|---|---|---|---|")
+
+
+def print_row(scenario, method, runs, lost, p50, p75, p99, ttc, consistency):
+    """One table row: errors in m, ttc as text, consistency keyed as in summary.json."""
+    k = consistency
+    print(f"| {scenario} | {method} | {runs} | {lost} | "
+          f"{mm(p50)} / {mm(p75)} / {mm(p99)} | {ttc} | "
+          f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])} |")
+
+
 def percentile(values, p):
     """numpy's default (linear) percentile of unsorted values, p in [0, 1]."""
     v = sorted(values)
@@ -48,8 +62,8 @@ def worst_series(folder, summary):
     series = {}
     with open(f"{folder}/timeseries.csv", newline="") as f:
         for row in csv.DictReader(f):
-            errors = [float(row[c]) if row[c] not in ("", "nan") else math.inf
-                      for c in columns]
+            # A lost estimate (NaN, or no value) is the worst.
+            errors = [float(row[c]) if row[c] else math.nan for c in columns]
             worst = max(math.inf if math.isnan(e) else e for e in errors)
             key = (row["method"], int(row["run"]))
             series.setdefault(key, ([], []))
@@ -71,25 +85,23 @@ def pool(folders):
     for folder in folders:
         with open(f"{folder}/summary.json") as f:
             s = json.load(f)
-        groups.setdefault(s["scenario"], []).append((folder, s))
-    print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
-          "median time to converge, s | within 2 sigma: angles / biases / camera |")
-    print("|---|---|---|---|---|---|---|")
+        groups.setdefault(s["scenario"], []).append((folder, s, worst_series(folder, s)))
+    print_header()
     for scenario, members in groups.items():
         scoring = members[0][1]["scoring"]
         ends = members[0][1]["end_effectors"]
-        for folder, s in members:
+        for folder, s, _ in members:
             if s["scoring"] != scoring or s["end_effectors"] != ends:
                 raise ValueError(f"{folder}: scored differently from {members[0][0]}")
         names = []
-        for _, s in members:
+        for _, s, _ in members:
             names += [n for n in s["methods"] if n not in names]
         for name in names:  # each method over the folders that ran it
             runs = lost = 0
             samples, times = [], []
             weighted = {"angles": 0.0, "biases": 0.0, "camera_offset": 0.0}
             known = dict.fromkeys(weighted, 0)
-            for folder, s in members:
+            for _, s, series in members:
                 if name not in s["methods"]:
                     continue
                 m = s["methods"][name]
@@ -99,7 +111,7 @@ def pool(folders):
                     if m["consistency"][k] is not None:
                         weighted[k] += m["consistency"][k] * m["lost"]["of"]
                         known[k] += m["lost"]["of"]
-                for (method, _), (t, e) in worst_series(folder, s).items():
+                for (method, _), (t, e) in series.items():
                     if method != name:
                         continue
                     samples += [v for ti, v in zip(t, e) if ti >= scoring["converged_after_s"]]
@@ -110,9 +122,7 @@ def pool(folders):
                    if len(converged) * 2 > len(times) else "never")
             p = [percentile(samples, q) if samples else None for q in (0.5, 0.75, 0.99)]
             k = {key: weighted[key] / known[key] if known[key] else None for key in weighted}
-            print(f"| {scenario} | {name} | {runs} | {lost} | "
-                  f"{mm(p[0])} / {mm(p[1])} / {mm(p[2])} | {ttc} | "
-                  f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])} |")
+            print_row(scenario, name, runs, lost, *p, ttc, k)
 
 
 def main(folders):
@@ -124,9 +134,7 @@ def main(folders):
             return 1
         return 0
     status = 0
-    print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
-          "median time to converge, s | within 2 sigma: angles / biases / camera |")
-    print("|---|---|---|---|---|---|---|")
+    print_header()
     for folder in folders:
         try:
             with open(f"{folder}/summary.json") as f:
@@ -145,10 +153,8 @@ def main(folders):
             ttc = f"{statistics.median(times):.1f}" if times else "never"
             if never and times:
                 ttc += f" ({never} never)"
-            k = m["consistency"]
-            print(f"| {s['scenario']} | {name} | {m['lost']['of']} | {m['lost']['runs']} | "
-                  f"{mm(c['p50'])} / {mm(c['p75'])} / {mm(c['p99'])} | {ttc} | "
-                  f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])} |")
+            print_row(s["scenario"], name, m["lost"]["of"], m["lost"]["runs"], c["p50"],
+                      c["p75"], c["p99"], ttc, m["consistency"])
     return status
 
 
