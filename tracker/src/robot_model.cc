@@ -302,11 +302,12 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
       Eigen::Vector3d scale;
       const TriangleMesh part = geometry_mesh(*visual->geometry, ulink.name, base_dir, source,
                                               options, file_cache, scale);
-      Eigen::Affine3d T_link_part(to_isometry(visual->origin));
+      const Eigen::Isometry3d T_link_visual = to_isometry(visual->origin);
+      Eigen::Affine3d T_link_part(T_link_visual);
       const int type = visual->geometry->type;
       if (type == urdf::Geometry::CYLINDER || type == urdf::Geometry::SPHERE) {
         RoundShape shape;
-        shape.T_link_shape = to_isometry(visual->origin);
+        shape.T_link_shape = T_link_visual;
         if (type == urdf::Geometry::CYLINDER) {
           const auto& cylinder = static_cast<const urdf::Cylinder&>(*visual->geometry);
           shape.kind = RoundShape::Kind::kCylinder;

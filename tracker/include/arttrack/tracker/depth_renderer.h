@@ -18,7 +18,8 @@
 // tessellation fixed to its link drew a shape that changes as a joint turns
 // it about itself; 16-sided cylinders and 12-meridian spheres made the
 // default scenario's camera roll drift 1.2 degrees in 20 s (none with 64
-// and 64, at four times the cost; docs/accuracy.md, "Consistency").
+// and 64, at four times the cost; docs/accuracy.md, "Exact cylinders and
+// spheres").
 //
 // A DepthRenderer is a per-thread workspace: it refers to a shared immutable
 // RobotModel and owns buffers sized once, so rendering never allocates after

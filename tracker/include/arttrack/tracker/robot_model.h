@@ -55,7 +55,8 @@ struct RobotModelOptions {
 // exactly (depth_renderer.h), not its tessellation in Link::mesh: a coarse
 // tessellation fixed to its link changes as a joint turns the shape about
 // itself, which the true shape does not, and its facets told the likelihood
-// about rotations the camera cannot see (docs/accuracy.md, "Consistency").
+// about rotations the camera cannot see (docs/accuracy.md, "Exact cylinders
+// and spheres").
 struct RoundShape {
   enum class Kind { kCylinder, kSphere };
   Kind kind = Kind::kCylinder;
