@@ -118,6 +118,15 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
     EXPECT_NE(tracker_config_error(yaml).find(key), std::string::npos) << yaml;
 }
 
+// The render section that chose a coarser tessellation for the hypotheses
+// is gone (the tracker draws cylinders and spheres exactly): a file that
+// still has it is told so, not silently ignored.
+TEST(TrackerConfigTest, TheRemovedRenderSectionIsAnError) {
+  const std::string error = tracker_config_error("render: {cylinder_segments: 16}\n");
+  EXPECT_NE(error.find("render"), std::string::npos) << error;
+  EXPECT_NE(error.find("not a known key"), std::string::npos) << error;
+}
+
 TEST(TrackerConfigTest, ThreadsHaveTheWorkerPoolsBound) {
   const std::string above = tracker_config_error(
       "particle_filter: {threads: " + std::to_string(kMaxWorkerThreads + 1) + "}\n");

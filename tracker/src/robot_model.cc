@@ -199,18 +199,12 @@ RobotModel RobotModel::from_urdf_string(const std::string& xml, const std::strin
   return build(xml, base_dir, "URDF string", options);
 }
 
-RobotModel RobotModel::rebuilt(const RobotModelOptions& options) const {
-  return build(urdf_xml_, base_dir_, source_, options);
-}
-
 RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir,
                              const std::string& source, const RobotModelOptions& options) {
   const urdf::ModelInterfaceSharedPtr urdf_model = parse_urdf(xml, source);
   const BreakLinkCycles release(urdf_model);
   RobotModel model;
   model.source_ = source;
-  model.urdf_xml_ = xml;
-  model.base_dir_ = base_dir;
   model.options_ = options;
   std::map<std::string, TriangleMesh> file_cache;
 

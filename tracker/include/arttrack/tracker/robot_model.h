@@ -144,10 +144,6 @@ class RobotModel {
   const std::string& source() const { return source_; }
   // The options it was built with.
   const RobotModelOptions& options() const { return options_; }
-  // The same URDF built again with other options, e.g. a coarser
-  // tessellation of its cylinders and spheres to render many hypotheses at a
-  // low resolution (the same links, joints and frames; other meshes).
-  RobotModel rebuilt(const RobotModelOptions& options) const;
 
  private:
   RobotModel() = default;
@@ -157,7 +153,6 @@ class RobotModel {
   void resolve_mimics();
 
   std::string source_;
-  std::string urdf_xml_, base_dir_;  // for rebuilt()
   RobotModelOptions options_;
   std::vector<Link> links_;
   std::vector<std::string> dof_names_;
