@@ -144,7 +144,11 @@ class Run {
     tracking.robot = setup.robot;
     tracking.config = sc.tracker;
     tracking.config.source = sc.tracker_document.file;
-    tracking.config.seed = stream_seed(seed, kTracker);
+    // The run's tracker stream; the configured particle_filter.seed picks
+    // another one (1, the default, keeps it), so that a tracker seed set in
+    // the scenario or its overrides changes the draws rather than being
+    // silently replaced.
+    tracking.config.seed = stream_seed(seed, kTracker) ^ (sc.tracker.seed - 1);
     tracking.config.asynchronous = options.realtime;
     tracking.methods = setup.methods;
     tracking.joint_names = m.joint_names;

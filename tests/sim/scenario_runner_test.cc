@@ -247,6 +247,35 @@ camera: {latency_s: 0.04, jitter_s: 0.01, drop_probability: 0.1, noise_sigma0_m:
   EXPECT_NE(a, c);
 }
 
+// The tracker's seed comes from the run's seed, and the configured
+// particle_filter.seed picks another stream of it: setting it changes the
+// particles' draws (it was once silently replaced), the default keeps them.
+TEST(ScenarioRunner, TheTrackerSeedOfTheConfigurationChangesTheDraws) {
+  const test::TestDir dir("runner_tracker_seed");
+  const std::string yaml = R"(
+scene: scene.yaml
+duration_s: 0.5
+seed: 5
+methods: [full_fusion]
+motion:
+  random: [{joints: [left_arm], amplitude_deg: 10}]
+encoders: [{joints: [arms], offset_deg: 5}]
+)";
+  auto numbers = [&](const std::string& name, const std::string& tracker) {
+    const Scenario scenario = load_scenario(dir.write(name, yaml + tracker));
+    RunOptions options;
+    options.runs = 1;
+    std::stringstream csv;
+    write_timeseries_csv(csv, run_scenario(scenario, options));
+    return csv.str();
+  };
+  const std::string plain = numbers("plain.yaml", "");
+  const std::string one = numbers("one.yaml", "tracker_overrides: {particle_filter.seed: 1}\n");
+  const std::string two = numbers("two.yaml", "tracker_overrides: {particle_filter.seed: 2}\n");
+  EXPECT_EQ(plain, one);
+  EXPECT_NE(plain, two);
+}
+
 // summary.json records what reproduces the run (the resolved scenario, the
 // overrides, the tracker configuration, the seed, runs and methods, the
 // version); running that record again gives the same time series byte for
