@@ -325,18 +325,15 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     }
     normalise_weights();
     std::iota(parents_.begin(), parents_.end(), 0);
+    if (params_.block_moments) {
+      for (int c : block.coordinates) moment_match(c);
+    }
   }
 
-  // Moment matching with the final weights.
-  std::fill(mean_.begin(), mean_.end(), 0.0);
-  std::fill(variance_.begin(), variance_.end(), 0.0);
-  for (int l = 0; l < L; ++l) {
-    const double* x = particles_.data() + std::size_t(l) * n;
-    for (int c = 0; c < n; ++c) mean_[c] += weights_[l] * x[c];
-  }
-  for (int l = 0; l < L; ++l) {
-    const double* x = particles_.data() + std::size_t(l) * n;
-    for (int c = 0; c < n; ++c) variance_[c] += weights_[l] * (x[c] - mean_[c]) * (x[c] - mean_[c]);
+  // Moment matching with the final weights (every coordinate, or those in no
+  // block when each block was matched after its own ratios).
+  for (int c = 0; c < n; ++c) {
+    if (!params_.block_moments || !sampled_[std::size_t(c)]) moment_match(c);
   }
   const double bandwidth = params_.bandwidth_factor * std::pow(double(L), -0.2);
   for (int c = 0; c < n; ++c) {
@@ -354,6 +351,18 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
   double best_w = -1;
   for (int l = 0; l < L; ++l)
     if (weights_[l] > best_w) best_w = weights_[l], best_log_likelihood_ = log_likelihood_[l];
+}
+
+void CoordinateParticleFilter::moment_match(int c) {
+  const int n = dimension_;
+  double mean = 0, variance = 0;
+  for (int l = 0; l < num_particles_; ++l) mean += weights_[l] * particles_[std::size_t(l) * n + c];
+  for (int l = 0; l < num_particles_; ++l) {
+    const double d = particles_[std::size_t(l) * n + c] - mean;
+    variance += weights_[l] * d * d;
+  }
+  mean_[c] = mean;
+  variance_[c] = variance;
 }
 
 double CoordinateParticleFilter::effective_sample_size() const {

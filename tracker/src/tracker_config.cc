@@ -206,6 +206,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"likelihood_exponent", &c.likelihood_exponent},
                     {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);
+  c.particle_filter.block_moments = pf.get<bool>("block_moments", c.particle_filter.block_moments);
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});
