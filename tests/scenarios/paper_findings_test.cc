@@ -161,13 +161,20 @@ TEST(PaperFindings, VaryingBiasFullFusionFollowsTheSteps) {
 // panel hides the forearm and hand from 11.5 s on. Vision only, with nothing
 // but the image, loses the arm.
 TEST(PaperFindings, OcclusionVisionOnlyLosesTrack) {
-  const ScenarioResult r = run_paper("occlusion__constant_bias", 17, {"vision_only"});
-  // Measured vision only p50 from 12 to 17 s: 647.0 mm (seed 2: 516.5, seed
-  // 3: 636.0); before the panel, from 2 to 10 s: 13.5 mm (49.2, 42.2).
-  const Percentiles before = window(r, "vision_only", 2, 10);
-  const Percentiles occluded = window(r, "vision_only", 12, 17);
-  EXPECT_GT(occluded.p50, 150 * kMm);
-  EXPECT_GT(occluded.p50, 4 * before.p50);
+  for (const char* seed : {"seed=1", "seed=2", "seed=3"}) {
+    SCOPED_TRACE(seed);
+    const ScenarioResult r = run_paper("occlusion__constant_bias", 17, {"vision_only"}, {seed});
+    // Vision only's p50 from 12 to 17 s, seeds 1, 2, 3, against 2 to 10 s:
+    // with moments after each block (941f9aa) 145.7, 78.9, 204.8 mm against
+    // 14.0, 14.6, 24.8 mm; with the final weights, earlier, 647.0, 516.5,
+    // 636.0 mm against 13.5, 49.2, 42.2 mm. Lost by the scorer's measure
+    // (2 cm) with a wide margin, and 5 to 10 times worse than before the
+    // panel.
+    const Percentiles before = window(r, "vision_only", 2, 10);
+    const Percentiles occluded = window(r, "vision_only", 12, 17);
+    EXPECT_GT(occluded.p50, 50 * kMm);
+    EXPECT_GT(occluded.p50, 4 * before.p50);
+  }
 }
 
 // The paper's finding under occlusion: full fusion "stays at least as
