@@ -130,8 +130,8 @@ TEST(CoordinateParticleFilter, ProposalScaleWidensThePrior) {
   expect_matches_kalman_posterior(1.5);
 }
 
-// The default matches each block right after its own ratios. With blocks
-// the likelihood does not couple, that is the posterior too.
+// Matched right after its own ratios, a block the likelihood does not
+// couple to the later ones is matched to the posterior too.
 TEST(CoordinateParticleFilter, BlockMomentsMatchThePosteriorOfUncoupledBlocks) {
   LinearGaussianProblem problem;
   problem.H << 1.0, 0.5, 0.0, 0.0, 0.0, 0.0,  //
@@ -142,7 +142,7 @@ TEST(CoordinateParticleFilter, BlockMomentsMatchThePosteriorOfUncoupledBlocks) {
   Eigen::MatrixXd cov;
   problem.posterior(1.0, mean, cov);
   CoordinateParticleFilterParams params;
-  ASSERT_TRUE(params.block_moments);
+  params.block_moments = true;
   params.num_particles = 20000;
   CoordinateParticleFilter cpf(problem.n, three_blocks(), params);
   GaussianEvaluator evaluator(problem);

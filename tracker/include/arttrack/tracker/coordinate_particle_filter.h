@@ -18,9 +18,9 @@
 //        p(image | x after) / p(image | x before), i.e. add the change in its
 //        log-likelihood to its log-weight.
 //   3. Moment-match: weighted mean and variance of every coordinate (Eqs.
-//      (15)-(16), with weights instead of a final resampling), each with the
-//      weights right after its own block by default (block_moments below),
-//      or all with the final weights.
+//      (15)-(16), with weights instead of a final resampling): with the
+//      final weights, or each block with the weights right after its own
+//      ratios (block_moments below).
 // A block whose likelihood ratios were all equal (within no_evidence_nats:
 // e.g. a joint whose every hypothesis leaves the arm out of view) has seen
 // no evidence; its coordinates keep their prior mean and variance exactly.
@@ -191,22 +191,24 @@ struct CoordinateParticleFilterParams {
   // occlusion of occlusion__no_bias the hidden hand's error went from p50
   // 6.6 / p99 38.8 mm to 38.3 / 82.4 mm, worse than encoders only).
   double bandwidth_factor = 0.0;
-  // Where a block's coordinates are moment-matched (step 3). true (the
-  // default): with the weights right after the block's own likelihood
-  // ratios. false: with the final weights, as the paper. The blocks after a
+  // Where a block's coordinates are moment-matched (step 3). false (the
+  // default): with the final weights, as the paper. true: with the weights
+  // right after the block's own likelihood ratios. The blocks after a
   // coordinate's own reweight and resample the particles by evidence about
   // other coordinates (the camera's blocks come last and are sharp); for a
-  // coordinate the image barely informs (a joint behind an occluder or at
-  // the image's edge) that picks a few of its prior draws at random, so its
-  // final moments are a draw about s / sqrt(ESS) off the prior mean with a
-  // collapsed variance, which the joint filters read as evidence about the
-  // bias. The price: a block's moments do not see the later blocks'
-  // evidence about it through the likelihood's coupling (they are those of
-  // the posterior given the other coordinates' values at that step), which
-  // the refinement's joint step (tracker.h) takes up. docs/accuracy.md
-  // "Moments after each block" has the measurements (the paper's files with
-  // an occlusion: lost 0 of 18 runs against 3 of 18).
-  bool block_moments = true;
+  // coordinate the image barely informs (a joint behind an occluder) that
+  // picks a few of its prior draws at random, so its final moments are a
+  // draw about s / sqrt(ESS) off the prior mean with a collapsed variance,
+  // which the joint filters read as evidence about the bias. Matched after
+  // its own block it keeps the prior's width, but it loses the later
+  // blocks' evidence about it through the likelihood's coupling: a hand
+  // sampled before the shoulder is matched to the shoulder's prior mean,
+  // which before the biases are learned is degrees off. docs/accuracy.md
+  // "Moments after each block, tried": the occluded paper files were lost
+  // in 0 of 30 runs against 5 of 30, but the default scenario at its
+  // 640x480 camera settled a still wrist 56 degrees off (seed 1 run 0), so
+  // it is not the default.
+  bool block_moments = false;
 
   // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
   // followed by the field's YAML name (num_particles is "particles"), for a
