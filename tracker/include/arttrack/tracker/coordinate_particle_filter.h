@@ -204,7 +204,7 @@ struct CoordinateParticleFilterParams {
   // blocks' evidence about it through the likelihood's coupling: a hand
   // sampled before the shoulder is matched to the shoulder's prior mean,
   // which before the biases are learned is degrees off. docs/accuracy.md
-  // "Moments after each block, tried": the occluded paper files were lost
+  // "Moments after each block": the occluded paper files were lost
   // in 0 of 30 runs against 5 of 30, but the default scenario at its
   // 640x480 camera settled a still wrist 56 degrees off (seed 1 run 0), so
   // it is not the default.
