@@ -328,7 +328,9 @@ TEST(TrackerConfigTest, TheReaderChecksTypes) {
            {"particle_filter.particles=1e12", "key 'particle_filter.particles' = 1e+12 is not a"},
            {"depth_model.max_range_m=.nan", "key 'depth_model.max_range_m' must be a number"},
            {"depth_model.max_range_m=far", "key 'depth_model.max_range_m' must be a number"},
-           {"timing.camera_delay_s=.inf", "key 'timing.camera_delay_s' = inf is out of range"}})
+           {"timing.camera_delay_s=.inf", "key 'timing.camera_delay_s' = inf is out of range"},
+           {"particle_filter.block_moments=maybe",
+            "key 'particle_filter.block_moments' has the wrong type"}})
     EXPECT_NE(defaults_error({o}).find(part), std::string::npos)
         << o << ": " << defaults_error({o});
 }
