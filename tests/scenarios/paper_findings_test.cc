@@ -166,7 +166,7 @@ TEST(PaperFindings, OcclusionVisionOnlyLosesTrack) {
     const ScenarioResult r = run_paper("occlusion__constant_bias", 17, {"vision_only"}, {seed});
     // Vision only's p50 from 12 to 17 s, seeds 1, 2, 3, against 2 to 10 s:
     // 290.5, 93.1, 86.6 mm against 14.5, 24.8, 15.4 mm (478edcf; with
-    // particle_filter.block_moments 145.7, 78.9, 204.8 mm against 14.0,
+    // particle_filter.block_moments_below_nats .inf 145.7, 78.9, 204.8 mm against 14.0,
     // 14.6, 24.8). Lost by the scorer's measure (2 cm) with a wide margin,
     // and several times worse than before the panel.
     const Percentiles before = window(r, "vision_only", 2, 10);

@@ -21,6 +21,8 @@
 namespace arttrack {
 namespace {
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 // y = H x + N(0, R) with a 6-D state in three blocks; the likelihood couples
 // coordinates across blocks.
 struct LinearGaussianProblem {
@@ -90,7 +92,7 @@ void expect_matches_kalman_posterior(double scale, bool block_moments = false) {
   CoordinateParticleFilterParams params;
   params.num_particles = 20000;
   params.proposal_scale = scale;
-  params.block_moments = block_moments;
+  params.block_moments_below_nats = block_moments ? kInfinity : 0.0;
   CoordinateParticleFilter cpf(problem.n, three_blocks(), params);
   GaussianEvaluator evaluator(problem);
   WorkerPool pool(2);
@@ -142,7 +144,7 @@ TEST(CoordinateParticleFilter, BlockMomentsMatchThePosteriorOfUncoupledBlocks) {
   Eigen::MatrixXd cov;
   problem.posterior(1.0, mean, cov);
   CoordinateParticleFilterParams params;
-  params.block_moments = true;
+  params.block_moments_below_nats = kInfinity;
   params.num_particles = 20000;
   CoordinateParticleFilter cpf(problem.n, three_blocks(), params);
   GaussianEvaluator evaluator(problem);
@@ -178,7 +180,7 @@ TEST(CoordinateParticleFilter, BlockMomentsAreNotMovedByALaterSharpBlock) {
   auto spread = [&](bool block_moments, double& rms_error, double& mean_variance) {
     CoordinateParticleFilterParams params;
     params.num_particles = 20;
-    params.block_moments = block_moments;
+    params.block_moments_below_nats = block_moments ? kInfinity : 0.0;
     CoordinateParticleFilter cpf(2, {{"weak", {0}}, {"sharp", {1}}}, params);
     WorkerPool pool(1);
     std::mt19937_64 rng(3);
@@ -203,6 +205,46 @@ TEST(CoordinateParticleFilter, BlockMomentsAreNotMovedByALaterSharpBlock) {
   EXPECT_GT(final_rms, 0.6 * post_sd);
   EXPECT_GT(block_var, 0.7 * post_var);
   EXPECT_LT(final_var, 0.3 * post_var);
+}
+
+// The threshold picks per block: a block whose ratios span less than it is
+// matched after its own ratios (as with .inf), every other one with the
+// final weights (as with 0). Same seed, same draws, so the moments agree
+// exactly coordinate by coordinate.
+TEST(CoordinateParticleFilter, BlockMomentsThresholdPicksTheWeakBlocksOnly) {
+  struct WeakSharpSharp : PerParticleEvaluator {
+    double log_likelihood(const ParticleBatch& batch, int l, int) override {
+      const std::span<const double> x = batch.particle(l);
+      const double weak = (x[0] - 0.3) / 2.0;  // spans about a nat over the prior
+      const double sharp = (x[1] + 0.2) / 0.05, sharper = (x[2] - 0.1) / 0.02;
+      return -0.5 * (weak * weak + sharp * sharp + sharper * sharper);
+    }
+  } evaluator;
+  const std::vector<double> m = {0.0, 0.0, 0.0}, s = {0.5, 0.5, 0.5};
+  auto moments = [&](double below_nats) {
+    CoordinateParticleFilterParams params;
+    params.num_particles = 50;
+    params.block_moments_below_nats = below_nats;
+    CoordinateParticleFilter cpf(3, {{"weak", {0}}, {"sharp", {1}}, {"sharper", {2}}}, params);
+    WorkerPool pool(1);
+    std::mt19937_64 rng(11);
+    cpf.run(m, s, evaluator, rng, pool);
+    std::vector<double> r(cpf.mean().begin(), cpf.mean().end());
+    r.insert(r.end(), cpf.variance().begin(), cpf.variance().end());
+    return r;
+  };
+  const std::vector<double> never = moments(0), always = moments(kInfinity), some = moments(20);
+  // Weak (coordinate 0: mean, variance at 0 and 3) as after its own block.
+  EXPECT_EQ(some[0], always[0]);
+  EXPECT_EQ(some[3], always[3]);
+  EXPECT_NE(some[0], never[0]);
+  // Sharp (1, followed by a sharper block) with the final weights.
+  EXPECT_EQ(some[1], never[1]);
+  EXPECT_EQ(some[4], never[4]);
+  EXPECT_NE(some[1], always[1]);
+  // The last block: the same either way.
+  EXPECT_EQ(some[2], never[2]);
+  EXPECT_EQ(some[2], always[2]);
 }
 
 TEST(CoordinateParticleFilter, SameSeedSameNumbersWhateverTheThreadCount) {

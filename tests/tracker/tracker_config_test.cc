@@ -204,6 +204,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"particle_filter.proposal_scale", "1e6", "1.1e6"},
     {"particle_filter.bandwidth_factor", "0", "-0.1"},
     {"particle_filter.bandwidth_factor", "10", "10.1"},
+    {"particle_filter.block_moments_below_nats", "0", "-0.1"},
+    {"particle_filter.block_moments_below_nats", ".inf", ""},
     {"particle_filter.likelihood_exponent", "1e-3", "9e-4"},
     {"particle_filter.likelihood_exponent", "1", "1.01"},
     {"particle_filter.threads", "0", "-1"},
@@ -329,8 +331,8 @@ TEST(TrackerConfigTest, TheReaderChecksTypes) {
            {"depth_model.max_range_m=.nan", "key 'depth_model.max_range_m' must be a number"},
            {"depth_model.max_range_m=far", "key 'depth_model.max_range_m' must be a number"},
            {"timing.camera_delay_s=.inf", "key 'timing.camera_delay_s' = inf is out of range"},
-           {"particle_filter.block_moments=maybe",
-            "key 'particle_filter.block_moments' has the wrong type"}})
+           {"particle_filter.block_moments_below_nats=some",
+            "key 'particle_filter.block_moments_below_nats' must be a number"}})
     EXPECT_NE(defaults_error({o}).find(part), std::string::npos)
         << o << ": " << defaults_error({o});
 }

@@ -143,6 +143,8 @@ void CoordinateParticleFilterParams::validate(std::string_view source,
   check_range(source, prefix + "proposal_scale", proposal_scale, ConfigRange::closed(1e-6, 1e6));
   check_range(source, prefix + "no_evidence_nats", no_evidence_nats, ConfigRange::closed(0, kInf));
   check_range(source, prefix + "bandwidth_factor", bandwidth_factor, ConfigRange::closed(0, 10));
+  check_range(source, prefix + "block_moments_below_nats", block_moments_below_nats,
+              ConfigRange::closed(0, kInf));
 }
 
 CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<SamplingBlock> blocks,
@@ -182,6 +184,7 @@ CoordinateParticleFilter::CoordinateParticleFilter(int dimension, std::vector<Sa
   mean_.resize(dimension_);
   variance_.resize(dimension_);
   informed_.resize(dimension_);
+  matched_.resize(dimension_);
 }
 
 void CoordinateParticleFilter::normalise_weights() {
@@ -311,7 +314,8 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
       }
       log_likelihood_[l] = ll;
     }
-    bool evidence = highest_ratio - lowest_ratio > params_.no_evidence_nats;
+    const double ratio_spread = highest_ratio - lowest_ratio;  // NaN or -inf: no possible particle
+    bool evidence = ratio_spread > params_.no_evidence_nats;
     if (!std::isfinite(*std::max_element(log_weights_.begin(), log_weights_.end()))) {
       // No particle explains the image at all: keep the particles, ignore
       // this block's evidence. Log-likelihoods restart at a common 0.
@@ -325,15 +329,18 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     }
     normalise_weights();
     std::iota(parents_.begin(), parents_.end(), 0);
-    if (params_.block_moments) {
-      for (int c : block.coordinates) moment_match(c);
+    // A block the image informed only weakly is matched now, before the
+    // later blocks' resampling picks a few of its draws at random.
+    const bool match_now = ratio_spread >= 0 && ratio_spread < params_.block_moments_below_nats;
+    for (int c : block.coordinates) {
+      matched_[c] = match_now;
+      if (match_now) moment_match(c);
     }
   }
 
-  // Moment matching with the final weights (every coordinate, or those in no
-  // block when each block was matched after its own ratios).
+  // Every other coordinate is matched with the final weights.
   for (int c = 0; c < n; ++c) {
-    if (!params_.block_moments || !sampled_[std::size_t(c)]) moment_match(c);
+    if (!sampled_[std::size_t(c)] || !matched_[c]) moment_match(c);
   }
   const double bandwidth = params_.bandwidth_factor * std::pow(double(L), -0.2);
   for (int c = 0; c < n; ++c) {

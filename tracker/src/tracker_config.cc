@@ -203,10 +203,10 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"max_kl_divergence", &c.particle_filter.max_kl_divergence},
                     {"proposal_scale", &c.particle_filter.proposal_scale},
                     {"bandwidth_factor", &c.particle_filter.bandwidth_factor},
+                    {"block_moments_below_nats", &c.particle_filter.block_moments_below_nats},
                     {"likelihood_exponent", &c.likelihood_exponent},
                     {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);
-  c.particle_filter.block_moments = pf.get<bool>("block_moments", c.particle_filter.block_moments);
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});

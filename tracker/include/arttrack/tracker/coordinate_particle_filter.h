@@ -19,8 +19,8 @@
 //        log-likelihood to its log-weight.
 //   3. Moment-match: weighted mean and variance of every coordinate (Eqs.
 //      (15)-(16), with weights instead of a final resampling): with the
-//      final weights, or each block with the weights right after its own
-//      ratios (block_moments below).
+//      final weights, or, for a block the image informed only weakly, with
+//      the weights right after its own ratios (block_moments_below_nats).
 // A block whose likelihood ratios were all equal (within no_evidence_nats:
 // e.g. a joint whose every hypothesis leaves the arm out of view) has seen
 // no evidence; its coordinates keep their prior mean and variance exactly.
@@ -31,7 +31,7 @@
 // p(x_1..k) p(image | x_1..k, m_k+1..n); proposing block k+1 from its prior
 // and weighting by the likelihood ratio is the importance weight between two
 // consecutive targets, so after the last block the target is the posterior.
-// Matched after its own block (block_moments), a block is matched under its
+// Matched after its own block (block_moments_below_nats), a block is matched under its
 // step's target: exact where the likelihood does not couple it to the later
 // blocks' coordinates.
 // With proposal_scale != 1 the prior standard deviations are scaled in the
@@ -191,30 +191,31 @@ struct CoordinateParticleFilterParams {
   // occlusion of occlusion__no_bias the hidden hand's error went from p50
   // 6.6 / p99 38.8 mm to 38.3 / 82.4 mm, worse than encoders only).
   double bandwidth_factor = 0.0;
-  // Where a block's coordinates are moment-matched (step 3). false (the
-  // default): with the final weights, as the paper. true: with the weights
-  // right after the block's own likelihood ratios. The blocks after a
-  // coordinate's own reweight and resample the particles by evidence about
-  // other coordinates (the camera's blocks come last and are sharp); for a
-  // coordinate the image barely informs (a joint behind an occluder) that
-  // picks a few of its prior draws at random, so its final moments are a
-  // draw about s / sqrt(ESS) off the prior mean with a collapsed variance,
-  // which the joint filters read as evidence about the bias. Matched after
-  // its own block it keeps the prior's width, but it loses the later
-  // blocks' evidence about it through the likelihood's coupling: a hand
-  // sampled before the shoulder is matched to the shoulder's prior mean,
-  // which before the biases are learned is degrees off. docs/accuracy.md
-  // "Moments after each block": the occluded paper files were lost
-  // in 0 of 30 runs against 5 of 30, but the default scenario at its
-  // 640x480 camera settled a still wrist 56 degrees off (seed 1 run 0), so
-  // it is not the default.
-  bool block_moments = false;
+  // Where a block's coordinates are moment-matched (step 3): a block whose
+  // own likelihood ratios span less than block_moments_below_nats is
+  // matched right after them, every other block with the final weights.
+  // 0 (never, the paper's) is the default; .inf matches every block after
+  // its own ratios. Why: the blocks after a coordinate's own reweight and
+  // resample the particles by evidence about other coordinates (the
+  // camera's blocks come last and are sharp); for a coordinate the image
+  // barely informs (a joint behind an occluder, whose ratios span a few
+  // nats) that picks a few of its prior draws at random, so its final
+  // moments are a draw about s / sqrt(ESS) off the prior mean with a
+  // collapsed variance, which the joint filters read as evidence about the
+  // bias. Matched after its own block it keeps the prior's width, but it
+  // loses the later blocks' evidence about it through the likelihood's
+  // coupling: a hand sampled before the shoulder is matched to the
+  // shoulder's prior mean, which before the biases are learned is degrees
+  // off. A hand in view spans hundreds of nats, so a threshold between
+  // keeps the later blocks' say where the image informs the block.
+  // docs/accuracy.md "Moments after each block".
+  double block_moments_below_nats = 0;
 
   // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
   // followed by the field's YAML name (num_particles is "particles"), for a
   // value outside its range: particles in [1, 1e6], max_kl_divergence in
   // [0, inf], proposal_scale in [1e-6, 1e6], no_evidence_nats in [0, inf],
-  // bandwidth_factor in [0, 10].
+  // bandwidth_factor in [0, 10], block_moments_below_nats in [0, inf].
   void validate(std::string_view source, const std::string& prefix = "") const;
 };
 
@@ -295,6 +296,7 @@ class CoordinateParticleFilter {
   std::vector<int> parents_;
   std::vector<double> mean_, variance_;
   std::vector<unsigned char> informed_;
+  std::vector<unsigned char> matched_;  // moment-matched after its own block in the last run
   int num_evaluations_ = 0;
   int num_resamplings_ = 0;
   int num_degenerate_ = 0;
