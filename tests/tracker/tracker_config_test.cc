@@ -44,6 +44,9 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
   EXPECT_TRUE(code.joint_overrides.empty());
   EXPECT_TRUE(file.joint_overrides.empty());
   EXPECT_EQ(file.particle_filter.num_particles, code.particle_filter.num_particles);
+  EXPECT_EQ(file.particle_filter.bandwidth_factor, code.particle_filter.bandwidth_factor);
+  EXPECT_EQ(file.particle_filter.block_moments_below_nats,
+            code.particle_filter.block_moments_below_nats);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);
   EXPECT_NEAR(file.joint_limit_margin_rad, code.joint_limit_margin_rad, 1e-12);
