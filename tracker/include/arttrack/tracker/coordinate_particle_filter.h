@@ -206,11 +206,13 @@ struct CoordinateParticleFilterParams {
   // loses the later blocks' evidence about it through the likelihood's
   // coupling: a hand sampled before the shoulder is matched to the
   // shoulder's prior mean, which before the biases are learned is degrees
-  // off. A hand in view spans hundreds of nats, so the threshold keeps the
-  // later blocks' say where the image informs a block. docs/accuracy.md
-  // "Moments after each block": with 20, the paper's 36 files were lost in
-  // 0 of 180 runs (5 of the 30 runs of the six hard files with 0) and the
-  // default scenario at 640x480 in none of 10 (.inf: 1 of 3).
+  // off. A block the image tells apart while its prior is wide (a shoulder
+  // or elbow in view, any joint before its bias is learned) spans tens to
+  // hundreds of nats, so the threshold keeps the later blocks' say there.
+  // docs/accuracy.md "Moments after weakly informed blocks": with 20, the
+  // paper's 36 files were lost in 0 of 180 runs (5 of the 30 runs of the
+  // six hard files with 0) and the default scenario at 640x480 in none of
+  // 10 (.inf: 1 of 3).
   double block_moments_below_nats = 20;
 
   // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
