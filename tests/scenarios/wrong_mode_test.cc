@@ -29,6 +29,27 @@ TEST(WrongModes, DefaultScenarioBothHandsNeverLost) {
   for (const char* seed : {"seed=1", "seed=2", "seed=3"}) expect_never_lost(seed, "20");
 }
 
+// The default scenario at its own 640x480 camera, where a still wrist
+// once settled in a wrong mode that the 160x120 runs above did not show:
+// with every block moment-matched after its own ratios
+// (particle_filter.block_moments_below_nats: .inf) seed 1's right hand
+// roll went 56 degrees off within 0.5 s and stayed (docs/accuracy.md,
+// "Moments after each block"), and this test fails. About 13 s.
+TEST(WrongModes, DefaultScenarioAtItsOwnCameraNeverLost) {
+  for (const char* seed : {"seed=1", "seed=2"}) {
+    SCOPED_TRACE(seed);
+    const ScenarioResult r =
+        run_short("default", 5, {"full_fusion"},
+                  {seed, "camera.width=640", "camera.height=480", "scoring.converged_after_s=2"});
+    const MethodSummary& s = method(r, "full_fusion").summary;
+    ASSERT_EQ(r.end_effectors.size(), 2u);
+    EXPECT_EQ(s.lost_runs(), 0u);
+    // Measured (seeds 1, 2): worst hand converged p99 1.2 and 0.9 mm; with
+    // .inf seed 1 is lost, p99 51.7 mm.
+    EXPECT_LT(s.converged.translation_m.p99, 10 * kMm);
+  }
+}
+
 TEST(WrongModes, MoreParticlesDoNotHurt) {
   // 2024 evaluations per image (92 particles x 22 blocks), where the old
   // tracker never converged.
