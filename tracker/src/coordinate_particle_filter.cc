@@ -338,9 +338,10 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     }
   }
 
-  // Every other coordinate is matched with the final weights.
+  // Every other coordinate (in no block, or in a block not matched above)
+  // is matched with the final weights.
   for (int c = 0; c < n; ++c) {
-    if (!sampled_[std::size_t(c)] || !matched_[c]) moment_match(c);
+    if (!matched_[c]) moment_match(c);
   }
   const double bandwidth = params_.bandwidth_factor * std::pow(double(L), -0.2);
   for (int c = 0; c < n; ++c) {

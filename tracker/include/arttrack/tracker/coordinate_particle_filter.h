@@ -300,7 +300,9 @@ class CoordinateParticleFilter {
   std::vector<int> parents_;
   std::vector<double> mean_, variance_;
   std::vector<unsigned char> informed_;
-  std::vector<unsigned char> matched_;  // moment-matched after its own block in the last run
+  // Moment-matched after its own block in the last run (never set for a
+  // coordinate in no block).
+  std::vector<unsigned char> matched_;
   int num_evaluations_ = 0;
   int num_resamplings_ = 0;
   int num_degenerate_ = 0;
