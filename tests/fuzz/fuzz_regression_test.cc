@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/sim/dataset.h"
 #include "fuzz_targets.h"
 
@@ -73,8 +74,8 @@ TEST(FuzzRegression, ShippedFilesAreAccepted) {
 }
 
 TEST(FuzzRegression, ExportedDatasetIsAccepted) {
-  const fs::path dir = fs::temp_directory_path() / "arttrack_fuzz_regression_dataset";
-  fs::remove_all(dir);
+  const test_support::ScratchDir scratch("fuzz_regression_test");
+  const fs::path dir = scratch / "dataset";
   // The small dataset tools/fuzz.sh seeds its corpus with.
   sim::export_scenario(
       kSource / "scenarios/default.yaml",
@@ -95,7 +96,6 @@ TEST(FuzzRegression, ExportedDatasetIsAccepted) {
   std::string wider = camera;
   wider.replace(wider.find("width: 32"), 9, "width: 33");
   EXPECT_NE(dataset_one(input(wider)).find("camera.yaml says 33x24"), std::string::npos);
-  fs::remove_all(dir);
 }
 
 }  // namespace

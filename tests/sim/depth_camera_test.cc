@@ -1,6 +1,7 @@
 // The simulated depth camera against closed forms: boxes of known size and
 // pose in front of a fixed camera.
 #include "arttrack/sim/depth_camera.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -27,12 +28,14 @@ constexpr char kCameraUrdf[] = R"(<robot name="camera_only">
   <link name="camera_optical_frame"/>
 </robot>)";
 
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("depth_camera_test");
+  return dir;
+}
+
 fs::path write_file(const std::string& name, const std::string& text) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_depth_camera_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / name) << text;
-  return dir / name;
+  return scratch().write(name, text);
 }
 
 SceneDescription camera_scene() {

@@ -1,6 +1,7 @@
 // Depth PNG files: millimetre round trip, the preview's colours, RGB images
 // encoded in memory, and errors that name the file.
 #include "arttrack/sim/depth_png.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -24,12 +25,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_path(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_depth_png_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("depth_png_test");
+  return dir;
 }
+
+fs::path test_path(const std::string& name) { return scratch() / name; }
 
 TEST(DepthPng, MillimetreRoundTrip) {
   std::mt19937 rng(7);

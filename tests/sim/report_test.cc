@@ -3,6 +3,7 @@
 // well-formed, the summary's numbers appear, and the embedded depth frame
 // decodes (base64 and PNG checked with independent decoders).
 #include "arttrack/sim/report.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -503,9 +504,8 @@ TEST(Report, EmbeddedFrameShowsDepthAndSilhouette) {
 
 TEST(Report, WritesTheFileOrNamesIt) {
   const ScenarioResult r = synthetic_result();
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_report_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test_support::ScratchDir scratch("report_test");
+  const fs::path& dir = scratch.path();
   write_report_html(dir / "report.html", r);
   std::ifstream in(dir / "report.html", std::ios::binary);
   std::stringstream text;

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <string>
 
+#include "../scratch_dir.h"
+
 namespace arttrack::sim::test {
 
 constexpr char kRobotUrdf[] = R"(<robot name="mini_dual_arm">
@@ -135,34 +137,15 @@ scoring: {converged_after_s: 0.5, every_n_joint_steps: 70, end_effectors: [left_
 tracker_overrides: {particle_filter.particles: 10}
 )";
 
-// A folder with robot.urdf and scene.yaml, plus any other files written with
-// write(); named after the test so that tests never share one.
-class TestDir {
+// A scratch folder (scratch_dir.h) with robot.urdf and scene.yaml, plus any
+// other files written with write(); named after the test so that tests never
+// share one.
+class TestDir : public test_support::ScratchDir {
  public:
-  explicit TestDir(const std::string& name)
-      // The process id keeps test processes that CTest runs in parallel apart.
-      : dir_(std::filesystem::temp_directory_path() /
-             ("arttrack_" + name + "_" + std::to_string(::getpid()))) {
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+  explicit TestDir(const std::string& name) : ScratchDir(name) {
     write("robot.urdf", kRobotUrdf);
     write("scene.yaml", kSceneYaml);
   }
-  ~TestDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  TestDir(const TestDir&) = delete;
-  TestDir& operator=(const TestDir&) = delete;
-
-  std::filesystem::path write(const std::string& file, const std::string& text) const {
-    std::ofstream(dir_ / file) << text;
-    return dir_ / file;
-  }
-  const std::filesystem::path& path() const { return dir_; }
-
- private:
-  std::filesystem::path dir_;
 };
 
 }  // namespace arttrack::sim::test

@@ -2,6 +2,7 @@
 // (unknown key, wrong type, malformed YAML, missing file) an InputError
 // naming the file and the key.
 #include "arttrack/sim/scene.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,16 +19,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_scene_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("scene_test");
   return dir;
 }
 
+fs::path test_dir() { return scratch().path(); }
+
 fs::path write_file(const std::string& name, const std::string& text) {
-  std::ofstream(test_dir() / name) << text;
-  return test_dir() / name;
+  return scratch().write(name, text);
 }
 
 constexpr char kUrdf[] = R"(<robot name="r"><link name="base_link"/></robot>)";

@@ -3,6 +3,7 @@
 // frames are the URDF's at full precision, the scene is assembled as
 // documented, and bad input is an InputError naming the item.
 #include "arttrack/sim/sim_model.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,18 +22,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_sim_model_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("sim_model_test");
   return dir;
 }
 
+fs::path test_dir() { return scratch().path(); }
+
 fs::path write_file(const fs::path& rel, const std::string& text) {
-  const fs::path p = test_dir() / rel;
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-  return p;
+  return scratch().write(rel, text);
 }
 
 // Corners of an axis-aligned box [0, sx] x [0, sy] x [0, sz]: index x + 2y + 4z.

@@ -2,6 +2,7 @@
 // balance says, joints are mapped by name (not by order), ground truth poses
 // match hand-computed kinematics, occluders move.
 #include "arttrack/sim/simulator.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,12 +17,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("simulator_test");
+  return dir;
+}
+
 fs::path write_file(const std::string& name, const std::string& text) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_simulator_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / name) << text;
-  return dir / name;
+  return scratch().write(name, text);
 }
 
 // A planar two-link arm swinging about horizontal y axes. The joints are

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "../error_of.h"
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
@@ -181,9 +182,8 @@ TEST(TextFormat, SplitCsvTrimsOutsideQuotesOnly) {
 }
 
 TEST(TextFormat, CsvReaderReadsRowsWithLineNumbersAndCrlfEndings) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("text_format_csv_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test_support::ScratchDir scratch("text_format_csv");
+  const fs::path& dir = scratch.path();
   const fs::path file = dir / "in.csv";
   text::write_text(file,
                    "time_s, x ,name\r\n\r\n  \r\n0.5,nan,\"a,b\"\r\n1,inf,\r\n2,abc,c\n3,4\n");
@@ -216,7 +216,6 @@ TEST(TextFormat, CsvReaderReadsRowsWithLineNumbersAndCrlfEndings) {
   EXPECT_EQ(error_of([&] { open_quote.next(row); }), file.string() + ":2: a quote is not closed");
   EXPECT_EQ(error_of([&] { text::CsvReader(dir / "missing.csv", text::CsvSpace::kTrim); }),
             (dir / "missing.csv").string() + ": cannot read file");
-  fs::remove_all(dir);
 }
 
 TEST(TextFormat, OneLineReplacesLineBreaksAndTabsBySpaces) {
@@ -225,9 +224,8 @@ TEST(TextFormat, OneLineReplacesLineBreaksAndTabsBySpaces) {
 }
 
 TEST(TextFormat, WriteTextWritesBytesAndNamesTheFileOnFailure) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("text_format_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test_support::ScratchDir scratch("text_format_test");
+  const fs::path& dir = scratch.path();
   const fs::path file = dir / "out.txt";
   text::write_text(file, "old contents, longer\n");
   text::write_text(file, "a\r\nb\n");
@@ -242,7 +240,6 @@ TEST(TextFormat, WriteTextWritesBytesAndNamesTheFileOnFailure) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), bad.string() + ": cannot write file");
   }
-  fs::remove_all(dir);
 }
 
 TEST(TextFormat, MedianConvergenceCountsNeverAsInfinity) {

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <random>
 
+#include "../scratch_dir.h"
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/depth_compare.h"
 #include "arttrack/sim/scene.h"
@@ -61,11 +62,8 @@ struct Robot {
 };
 
 Robot inline_robot() {
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_tracker_agreement_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "inline.urdf") << kInlineRobot;
-  return {"inline", dir / "inline.urdf", {}};
+  static const test_support::ScratchDir scratch("tracker_agreement_test");  // removed at exit
+  return {"inline", scratch.write("inline.urdf", kInlineRobot), {}};
 }
 
 const fs::path kModels = fs::path(ARTTRACK_SOURCE_DIR) / "models";

@@ -9,6 +9,7 @@
 //     default configuration, so the tuned objective is no worse than the
 //     default's, which re-running the default reproduces exactly.
 #include "arttrack/sim/tuning.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -173,9 +174,9 @@ TEST(TuningCandidates, WrittenYamlLoadsWithItsValues) {
        "joints.defaults.bias_diffusion_deg_per_sqrt_s=0.5:10"},
       base);
   const YamlDocument doc = candidate_document(base, p, {0.3125, 33, 1.75});
-  const fs::path file = fs::temp_directory_path() /
-                        ("arttrack_tuning_candidate_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(file) << tracker_yaml_text(doc, "a comment\nof two lines");
+  const test_support::ScratchDir scratch("tuning_test");
+  const fs::path file =
+      scratch.write("candidate.yaml", tracker_yaml_text(doc, "a comment\nof two lines"));
   const TrackerConfig c = load_tracker_config(file.string());
   EXPECT_DOUBLE_EQ(c.depth_model.occlusion_prior, 0.3125);
   EXPECT_EQ(c.particle_filter.num_particles, 33);

@@ -1,4 +1,5 @@
 #include "arttrack/tracker/depth_renderer.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -506,9 +507,8 @@ TEST(DepthRenderer, SubsetsCachesAndRectangles) {
 // A tilted sheet of ~29k jittered triangles: every pixel inside it must be
 // drawn (no crack along shared edges, no pixel lost by the per-row spans).
 TEST(DepthRenderer, SharedEdgesLeaveNoCracks) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("arttrack_render_" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
+  const test_support::ScratchDir scratch("depth_renderer_test");
+  const std::filesystem::path& dir = scratch.path();
   const int n = 120;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
@@ -573,7 +573,6 @@ TEST(DepthRenderer, SharedEdgesLeaveNoCracks) {
     }
   }
   EXPECT_EQ(holes, 0);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(DepthRenderer, RenderingAllocatesNothingOnceSized) {

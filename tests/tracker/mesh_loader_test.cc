@@ -1,4 +1,5 @@
 #include "arttrack/tracker/mesh_loader.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,13 +19,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder per test for the mesh files it writes.
-fs::path test_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_mesh_" + std::to_string(getpid())) / info->name();
-  fs::create_directories(dir);
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("mesh_loader_test");
   return dir;
+}
+
+// A fresh folder per test for the files it writes.
+fs::path test_dir() {
+  return scratch().subfolder(::testing::UnitTest::GetInstance()->current_test_info()->name());
 }
 
 void write_file(const fs::path& path, const std::string& text) {

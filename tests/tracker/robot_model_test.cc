@@ -1,4 +1,5 @@
 #include "arttrack/tracker/robot_model.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -21,12 +22,15 @@ using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir =
-      fs::temp_directory_path() / ("arttrack_robot_" + std::to_string(getpid())) / info->name();
-  fs::create_directories(dir);
+// This program's scratch folder, removed when it exits (scratch_dir.h).
+const test_support::ScratchDir& scratch() {
+  static const test_support::ScratchDir dir("robot_model_test");
   return dir;
+}
+
+// A fresh folder per test for the files it writes.
+fs::path test_dir() {
+  return scratch().subfolder(::testing::UnitTest::GetInstance()->current_test_info()->name());
 }
 
 void write_file(const fs::path& path, const std::string& text) {

@@ -1,4 +1,5 @@
 #include "arttrack/tracker/yaml_config.h"
+#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -22,19 +23,11 @@ std::string message_of(const std::function<void()>& f) {
 
 class YamlConfigTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("arttrack_yaml_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
-    const auto p = dir_ / name;
-    std::ofstream(p) << text;
-    return p.string();
+    return scratch_.write(name, text).string();
   }
-  fs::path dir_;
+  const test_support::ScratchDir scratch_{"yaml_config_test"};  // one per test
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(YamlConfigTest, ExtendsMergesMapsDeeplyAndChildWins) {

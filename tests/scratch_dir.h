@@ -1,0 +1,67 @@
+// Scratch folders for the files a test writes. A ScratchDir is a fresh folder
+// under the system's temporary directory that is removed, with everything in
+// it, when the object goes out of scope, so that a test run leaves nothing
+// behind in /tmp (a test that crashes still can).
+//
+//   const test_support::ScratchDir dir("scene_test");
+//   const auto urdf = dir.write("robot.urdf", text);
+//
+// Helpers that write files outside any one test's scope keep one ScratchDir
+// in a function-local static: it lives until the test program exits.
+#pragma once
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <system_error>
+
+namespace arttrack::test_support {
+
+class ScratchDir {
+ public:
+  // <temp>/arttrack_<tag>_<process id>. The process id keeps apart the test
+  // processes that CTest runs in parallel; a folder of the same name left by
+  // a crashed run is emptied first.
+  explicit ScratchDir(const std::string& tag)
+      : dir_(std::filesystem::temp_directory_path() /
+             ("arttrack_" + tag + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  ~ScratchDir() {
+    std::error_code ignored;  // a destructor must not throw; nothing to do about it
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+
+  const std::filesystem::path& path() const { return dir_; }
+  std::filesystem::path operator/(const std::filesystem::path& relative) const {
+    return dir_ / relative;
+  }
+
+  // Writes `text` (bytes as they are) to path() / relative, creating the
+  // folders on the way; returns the file's path.
+  std::filesystem::path write(const std::filesystem::path& relative,
+                              const std::string& text) const {
+    const std::filesystem::path file = dir_ / relative;
+    std::filesystem::create_directories(file.parent_path());
+    std::ofstream(file, std::ios::binary) << text;
+    return file;
+  }
+
+  // A fresh subfolder, created (emptied if it exists); returns its path.
+  std::filesystem::path subfolder(const std::filesystem::path& relative) const {
+    const std::filesystem::path folder = dir_ / relative;
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    return folder;
+  }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+}  // namespace arttrack::test_support
