@@ -24,6 +24,12 @@
 
 namespace arttrack {
 
+// The lane-wise functions (and the polynomials they share with the scalar
+// ones) are always inlined, so no vector crosses a call; GCC's note that such
+// calls change the ABI without AVX does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace fast_math_detail {
 
 constexpr double kLog2e = 1.4426950408889634;
@@ -95,11 +101,6 @@ inline double fast_erfc(double y) {
   const double reflected = 2.0 - e;
   return negative ? reflected : e;
 }
-
-// The lane-wise functions are always inlined, so no vector crosses a call;
-// GCC's note that such calls change the ABI without AVX does not apply.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 // Two, four and eight doubles, lane-wise (two: SSE2, what every x86-64 has).
 using Double2 = double __attribute__((vector_size(16)));
