@@ -1,15 +1,13 @@
 // The simulated depth camera against closed forms: boxes of known size and
 // pose in front of a fixed camera.
 #include "arttrack/sim/depth_camera.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/sim/depth_compare.h"
 #include "arttrack/sim/simulator.h"
 

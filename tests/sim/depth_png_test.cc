@@ -1,11 +1,8 @@
 // Depth PNG files: millimetre round trip, the preview's colours, RGB images
 // encoded in memory, and errors that name the file.
 #include "arttrack/sim/depth_png.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <png.h>
 
 #include <cstdint>
@@ -17,6 +14,7 @@
 #include <vector>
 
 #include "../error_of.h"
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 #include "png_rgb.h"
 

@@ -3,11 +3,8 @@
 // well-formed, the summary's numbers appear, and the embedded depth frame
 // decodes (base64 and PNG checked with independent decoders).
 #include "arttrack/sim/report.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <png.h>
 
 #include <cmath>
@@ -17,6 +14,7 @@
 #include <random>
 #include <sstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
 #include "png_rgb.h"

@@ -6,8 +6,6 @@
 // shoulders at 1.6 m, tilted down 40 degrees in the scene.
 #pragma once
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>

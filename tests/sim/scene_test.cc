@@ -2,16 +2,14 @@
 // (unknown key, wrong type, malformed YAML, missing file) an InputError
 // naming the file and the key.
 #include "arttrack/sim/scene.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {

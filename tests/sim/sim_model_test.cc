@@ -3,17 +3,15 @@
 // frames are the URDF's at full precision, the scene is assembled as
 // documented, and bad input is an InputError naming the item.
 #include "arttrack/sim/sim_model.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/sim/simulator.h"
 #include "arttrack/tracker/error.h"
 

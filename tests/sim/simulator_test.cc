@@ -2,14 +2,12 @@
 // balance says, joints are mapped by name (not by order), ground truth poses
 // match hand-computed kinematics, occluders move.
 #include "arttrack/sim/simulator.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {

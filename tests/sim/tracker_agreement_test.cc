@@ -4,8 +4,6 @@
 // real robot (primitive and mesh variants: the mesh variant also proves the
 // DAE/OBJ/STL conversion) and on a small inline robot.
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

@@ -9,17 +9,15 @@
 //     default configuration, so the tuned objective is no worse than the
 //     default's, which re-running the default reproduces exactly.
 #include "arttrack/sim/tuning.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "../error_of.h"
+#include "../scratch_dir.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"

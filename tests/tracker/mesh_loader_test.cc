@@ -1,9 +1,6 @@
 #include "arttrack/tracker/mesh_loader.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -12,6 +9,7 @@
 #include <map>
 #include <numbers>
 
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {

@@ -1,9 +1,7 @@
 #include "arttrack/tracker/robot_model.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <array>
 
 #include <cmath>
@@ -12,6 +10,7 @@
 #include <random>
 
 #include "../error_of.h"
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 

@@ -1,11 +1,11 @@
 #include "arttrack/tracker/yaml_config.h"
-#include "../scratch_dir.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
