@@ -191,7 +191,10 @@ void apply_override(YamlDocument& doc, const std::string& assignment) {
     YAML::Node node = chain.back();
     const KeyStep& step = steps[i];
     if (step.is_index()) {
-      const std::string index = "[" + std::to_string(step.index) + "]";
+      // Appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that.
+      std::string index = "[";
+      index += std::to_string(step.index);
+      index += ']';
       if (!node.IsSequence())
         throw InputError(context + ": '" + walked + "' is " +
                          (node && !node.IsNull() ? describe(node) : "missing") +
