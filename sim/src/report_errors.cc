@@ -139,8 +139,8 @@ void error_time_section(std::ostream& o, const ScenarioResult& r) {
   c.title = std::string("Translation error over time, ") +
             (median ? "median over " + std::to_string(r.runs.size()) + " runs" : "run 0") +
             (r.end_effectors.size() > 1 ? " (worst of " + ees + ")" : " (" + ees + ")");
-  c.x_marks.push_back({r.scoring.converged_after_s, "converged window from here"});
-  c.y_marks.push_back({r.scoring.convergence_threshold_m * kMm, "convergence threshold"});
+  c.x_marks.emplace_back(r.scoring.converged_after_s, "converged window from here");
+  c.y_marks.emplace_back(r.scoring.convergence_threshold_m * kMm, "convergence threshold");
   o << "<h2>Error over time</h2>\n";
   chart::line_chart(o, c);
 }
