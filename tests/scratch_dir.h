@@ -6,10 +6,11 @@
 //   const test_support::ScratchDir dir("scene_test");
 //   const auto urdf = dir.write("robot.urdf", text);
 //
-// Helpers that write files outside any one test's scope keep one ScratchDir
-// in a function-local static: it lives until the test program exits.
+// Helpers that write files outside any one test's scope use
+// program_scratch_dir(), which lives until the test program exits.
 #pragma once
 
+#include <errno.h>  // program_invocation_short_name (glibc)
 #include <unistd.h>
 
 #include <filesystem>
@@ -63,5 +64,12 @@ class ScratchDir {
  private:
   std::filesystem::path dir_;
 };
+
+// The running test program's scratch folder, named after the program (one
+// per process, as CTest runs one test per process); removed when it exits.
+inline const ScratchDir& program_scratch_dir() {
+  static const ScratchDir dir(program_invocation_short_name);
+  return dir;
+}
 
 }  // namespace arttrack::test_support

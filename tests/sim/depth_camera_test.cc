@@ -3,6 +3,7 @@
 #include "arttrack/sim/depth_camera.h"
 
 #include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -26,14 +27,8 @@ constexpr char kCameraUrdf[] = R"(<robot name="camera_only">
   <link name="camera_optical_frame"/>
 </robot>)";
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("depth_camera_test");
-  return dir;
-}
-
 fs::path write_file(const std::string& name, const std::string& text) {
-  return scratch().write(name, text);
+  return test_support::program_scratch_dir().write(name, text);
 }
 
 SceneDescription camera_scene() {

@@ -3,6 +3,7 @@
 #include "arttrack/sim/depth_png.h"
 
 #include <gtest/gtest.h>
+
 #include <png.h>
 
 #include <cstdint>
@@ -23,13 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("depth_png_test");
-  return dir;
-}
-
-fs::path test_path(const std::string& name) { return scratch() / name; }
+fs::path test_path(const std::string& name) { return test_support::program_scratch_dir() / name; }
 
 TEST(DepthPng, MillimetreRoundTrip) {
   std::mt19937 rng(7);

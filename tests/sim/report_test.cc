@@ -5,6 +5,7 @@
 #include "arttrack/sim/report.h"
 
 #include <gtest/gtest.h>
+
 #include <png.h>
 
 #include <cmath>

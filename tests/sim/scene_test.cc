@@ -4,6 +4,7 @@
 #include "arttrack/sim/scene.h"
 
 #include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -17,16 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("scene_test");
-  return dir;
-}
-
-fs::path test_dir() { return scratch().path(); }
+fs::path test_dir() { return test_support::program_scratch_dir().path(); }
 
 fs::path write_file(const std::string& name, const std::string& text) {
-  return scratch().write(name, text);
+  return test_support::program_scratch_dir().write(name, text);
 }
 
 constexpr char kUrdf[] = R"(<robot name="r"><link name="base_link"/></robot>)";

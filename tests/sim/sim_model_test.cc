@@ -5,6 +5,7 @@
 #include "arttrack/sim/sim_model.h"
 
 #include <gtest/gtest.h>
+
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -20,16 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("sim_model_test");
-  return dir;
-}
-
-fs::path test_dir() { return scratch().path(); }
+fs::path test_dir() { return test_support::program_scratch_dir().path(); }
 
 fs::path write_file(const fs::path& rel, const std::string& text) {
-  return scratch().write(rel, text);
+  return test_support::program_scratch_dir().write(rel, text);
 }
 
 // Corners of an axis-aligned box [0, sx] x [0, sy] x [0, sz]: index x + 2y + 4z.

@@ -4,6 +4,7 @@
 #include "arttrack/sim/simulator.h"
 
 #include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -15,14 +16,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("simulator_test");
-  return dir;
-}
-
 fs::path write_file(const std::string& name, const std::string& text) {
-  return scratch().write(name, text);
+  return test_support::program_scratch_dir().write(name, text);
 }
 
 // A planar two-link arm swinging about horizontal y axes. The joints are

@@ -4,6 +4,7 @@
 // real robot (primitive and mesh variants: the mesh variant also proves the
 // DAE/OBJ/STL conversion) and on a small inline robot.
 #include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -60,8 +61,7 @@ struct Robot {
 };
 
 Robot inline_robot() {
-  static const test_support::ScratchDir scratch("tracker_agreement_test");  // removed at exit
-  return {"inline", scratch.write("inline.urdf", kInlineRobot), {}};
+  return {"inline", test_support::program_scratch_dir().write("inline.urdf", kInlineRobot), {}};
 }
 
 const fs::path kModels = fs::path(ARTTRACK_SOURCE_DIR) / "models";

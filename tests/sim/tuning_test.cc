@@ -11,6 +11,7 @@
 #include "arttrack/sim/tuning.h"
 
 #include <gtest/gtest.h>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>

@@ -1,6 +1,7 @@
 #include "arttrack/tracker/mesh_loader.h"
 
 #include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -17,15 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("mesh_loader_test");
-  return dir;
-}
-
 // A fresh folder per test for the files it writes.
 fs::path test_dir() {
-  return scratch().subfolder(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  return test_support::program_scratch_dir().subfolder(
+      ::testing::UnitTest::GetInstance()->current_test_info()->name());
 }
 
 void write_file(const fs::path& path, const std::string& text) {

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <array>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -21,15 +20,10 @@ using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
-// This program's scratch folder, removed when it exits (scratch_dir.h).
-const test_support::ScratchDir& scratch() {
-  static const test_support::ScratchDir dir("robot_model_test");
-  return dir;
-}
-
 // A fresh folder per test for the files it writes.
 fs::path test_dir() {
-  return scratch().subfolder(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  return test_support::program_scratch_dir().subfolder(
+      ::testing::UnitTest::GetInstance()->current_test_info()->name());
 }
 
 void write_file(const fs::path& path, const std::string& text) {
