@@ -8,15 +8,19 @@
 // to one synchronous full-fusion tracker, which processes each at once: only
 // the tracker's calls are timed, the simulation is not. Prints and writes
 // (--json) the joint update time, the image update and re-filtering times
-// (the tracker's own timings), likelihood evaluations per image, and the
+// (the tracker's own timings): over all images, over the steady state (the
+// images at which no acquisition or re-acquisition search ran) and the
+// searches' own count and durations; the sampling blocks, the triangles of
+// the model and those the tracker draws (TrackerConfig::geometry),
+// likelihood evaluations per image, and the
 // realtime factor: stream duration / total (wall) time in the tracker's
 // calls. Also the CPU time of those calls, all threads: on a machine shared
 // with other jobs, the work the tracker did (wall time grows with the load).
 // Also scores the tracker's end-effector error against the ground truth at
 // the scenario's scored instants (all samples and converged ones).
 //
-// --evaluations N sets particles = ceil(N / blocks) (the default blocks: one
-// per joint); --resolution sets the likelihood resolution (images are
+// --evaluations N sets particles = ceil(N / blocks) (sampling_blocks(): by
+// default one per joint); --resolution sets the likelihood resolution (images are
 // subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
@@ -172,8 +176,9 @@ void run_bench(const BenchArgs& args) {
   // The tracker's nominal robot, as the runner builds it.
   auto robot = std::make_shared<const RobotModel>(
       sim::tracker_robot_model(scenario.scene, scenario.tracker_urdf()));
-  // Default blocks: one per joint, virtual ones included.
-  const int blocks = config.blocks.empty() ? robot->num_joints() : int(config.blocks.size());
+  config.validate(config.source);
+  const std::vector<SamplingBlock> sampling = sampling_blocks(*robot, config);
+  const int blocks = int(sampling.size());
   if (args.evaluations > 0)
     config.particle_filter.num_particles = (args.evaluations + blocks - 1) / blocks;
   config.validate(config.source);
@@ -207,6 +212,15 @@ void run_bench(const BenchArgs& args) {
   const TrackerStats stats = sink.tracker().stats();
   const sim::Percentiles joint_us = sim::percentiles(sink.joint_update_us());
   const sim::Percentiles image_ms = sim::percentiles(stats.images.values(&ImageTiming::update_ms));
+  // The steady state: images at which no search ran; and the searches.
+  std::vector<double> steady, searches;
+  for (std::size_t k = 0; k < stats.images.size(); ++k) {
+    const ImageTiming& t = stats.images[k];
+    (t.search_ms > 0 ? searches : steady).push_back(t.update_ms);
+  }
+  const sim::Percentiles steady_ms = sim::percentiles(steady);
+  const sim::Percentiles search_ms = sim::percentiles(searches);
+  const double search_max_ms = search_ms.max;
   const sim::Percentiles refilter_ms =
       sim::percentiles(stats.images.values(&ImageTiming::refilter_ms));
   sim::MethodScores scores(method_name(TrackingMethod::kFullFusion), {},
@@ -229,6 +243,13 @@ void run_bench(const BenchArgs& args) {
   j["resolution"] = resolution;
   j["particles"] = config.particle_filter.num_particles;
   j["blocks"] = blocks;
+  j["block_names"] = Json::array();
+  for (const SamplingBlock& b : sampling) j["block_names"].push_back(b.name);
+  j["triangles"] = {{"model", stats.model_triangles},
+                    {"drawn", stats.drawn_triangles},
+                    {"max_error_px", config.geometry.max_error_px},
+                    {"error_bound_m", stats.mesh_error_bound_m},
+                    {"simplifier_error_m", stats.mesh_error_m}};
   j["evaluations_per_image"] = evaluations_per_image;
   j["threads"] = threads;
   j["joint_measurements"] = stats.joint_measurements;
@@ -242,6 +263,11 @@ void run_bench(const BenchArgs& args) {
   j["joint_update_us"] = p50_p99(joint_us);
   j["refilter_ms"] = p50_p99(refilter_ms);
   j["image_update_ms"] = p50_p99(image_ms);
+  j["steady_image_update_ms"] =
+      Json{{"count", steady_ms.count}, {"p50", steady_ms.p50}, {"p99", steady_ms.p99}};
+  j["searches"] = Json{{"count", search_ms.count},
+                       {"p50_ms", search_ms.count ? Json(search_ms.p50) : Json(nullptr)},
+                       {"max_ms", search_ms.count ? Json(search_max_ms) : Json(nullptr)}};
   j["processing_s"] = sink.processing_s();
   j["processing_cpu_s"] = sink.cpu_s();
   j["realtime_factor"] = realtime_factor;
@@ -261,12 +287,26 @@ void run_bench(const BenchArgs& args) {
             << config.particle_filter.num_particles << " particles x " << blocks
             << " blocks = " << evaluations_per_image << " evaluations per image, " << threads
             << " threads\n";
+  std::cout << "  blocks           ";
+  for (std::size_t b = 0; b < sampling.size(); ++b)
+    std::cout << (b ? ", " : "") << sampling[b].name;
+  std::cout << "\n";
+  std::cout << "  triangles        " << stats.model_triangles << " in the model, "
+            << stats.drawn_triangles << " drawn (" << config.geometry.max_error_px << " px at "
+            << config.geometry.nearest_range_m << " m: at most " << 1e3 * stats.mesh_error_bound_m
+            << " mm; the simplifier reports " << 1e3 * stats.mesh_error_m << " mm)\n";
   std::cout << "  joint update     p50 " << joint_us.p50 << " us, p99 " << joint_us.p99 << " us ("
             << stats.joint_measurements << ", " << stats.joint_measurements_dropped
             << " dropped)\n";
   std::cout << "  image update     p50 " << image_ms.p50 << " ms, p99 " << image_ms.p99 << " ms ("
             << stats.images_applied << " of " << stats.images_received << " applied, "
             << stats.images_dropped_bad_stamp << " dropped off the joint clock)\n";
+  std::cout << "  steady state     p50 " << steady_ms.p50 << " ms, p99 " << steady_ms.p99 << " ms ("
+            << steady_ms.count << " images without a search)\n";
+  std::cout << "  searches         " << search_ms.count;
+  if (search_ms.count)
+    std::cout << ", p50 " << search_ms.p50 << " ms, max " << search_max_ms << " ms";
+  std::cout << "\n";
   std::cout << "  of which refilter p50 " << refilter_ms.p50 << " ms, p99 " << refilter_ms.p99
             << " ms\n";
   std::cout << "  realtime factor  " << std::setprecision(2) << realtime_factor << " ("

@@ -3,10 +3,15 @@
 // Simulates the scene to time T holding the initial (home) pose, then writes
 //   DIR/sim_depth.png    MuJoCo's depth of the whole scene,
 //   DIR/model_depth.png  the tracker's own render of the robot at the true
-//                        state from the true camera,
+//                        state from the true camera, with the geometry the
+//                        tracker draws (its meshes simplified for the
+//                        likelihood's resolution: TrackerConfig::geometry,
+//                        from the scenario's tracker configuration, or the
+//                        default one for a scene),
 // (16-bit PNG, millimetres, 0 = no return) and a false-colour *_preview.png of
-// each, and prints how well the tracker's render agrees with MuJoCo's render
-// of the robot alone.
+// each, and prints the triangles of the model and of what the tracker draws,
+// and how well the tracker's render, with the full meshes and with the drawn
+// ones, agrees with MuJoCo's render of the robot alone.
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -19,13 +24,16 @@
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/depth_compare.h"
 #include "arttrack/sim/depth_png.h"
+#include "arttrack/sim/scenario.h"
 #include "arttrack/sim/scene.h"
 #include "arttrack/sim/simulator.h"
 #include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/tracker_config.h"
 #include "commands.h"
 
 namespace arttrack::cli {
@@ -60,7 +68,11 @@ Eigen::VectorXd tracker_joints(const RobotModel& robot, const sim::Simulator& si
 
 void run(const RenderArgs& args) {
   const fs::path input = args.input.empty() ? sim::default_scene_path() : fs::path(args.input);
-  const sim::SceneDescription scene = sim::load_scene(sim::resolve_scene_file(input));
+  const fs::path scene_file = sim::resolve_scene_file(input);
+  const sim::SceneDescription scene = sim::load_scene(scene_file);
+  // The tracker configuration that decides the geometry it draws.
+  const TrackerConfig config =
+      scene_file != input ? sim::load_scenario(input).tracker : default_tracker_config();
   const fs::path out = args.out_dir;
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -82,9 +94,16 @@ void run(const RenderArgs& args) {
   const RobotModel robot = sim::tracker_robot_model(scene, scene.urdf_path, options);
   KinematicsState state(robot);
   forward_kinematics(robot, tracker_joints(robot, simulator), state);
-  DepthRenderer renderer(robot, camera.intrinsics());
-  DepthImage model_depth;
-  renderer.render(state, model_depth);
+  // What the tracker draws: the meshes simplified for the likelihood's camera.
+  const CameraIntrinsics likelihood_camera = subsampled_intrinsics(
+      camera.intrinsics(), config.depth_model.width, config.depth_model.height);
+  const double bound_m = mesh_error_bound_m(likelihood_camera, config.geometry.max_error_px,
+                                            config.geometry.nearest_range_m);
+  double simplifier_error_m = 0;
+  const RobotModel drawn = robot.with_simplified_meshes(bound_m, &simplifier_error_m);
+  DepthImage model_depth, full_depth;
+  DepthRenderer(drawn, camera.intrinsics()).render(state, model_depth);
+  DepthRenderer(robot, camera.intrinsics()).render(state, full_depth);
 
   sim::write_depth_png_mm(out / "sim_depth.png", sim_depth);
   sim::write_depth_png_mm(out / "model_depth.png", model_depth);
@@ -102,8 +121,16 @@ void run(const RenderArgs& args) {
             << " fx " << K.fx << " px, GL " << camera.gl_description() << "\n"
             << "wrote " << (out / "sim_depth.png").string() << ", "
             << (out / "model_depth.png").string() << " and their previews\n";
+  std::printf(
+      "tracker geometry: %d triangles in the model, %d drawn (%g px of the %dx%d likelihood at "
+      "%g m: at most %.2f mm; the simplifier reports %.2f mm)\n",
+      robot.num_drawn_triangles(), drawn.num_drawn_triangles(), config.geometry.max_error_px,
+      likelihood_camera.width, likelihood_camera.height, config.geometry.nearest_range_m,
+      1e3 * bound_m, 1e3 * simplifier_error_m);
   const sim::DepthAgreement robot_only = sim::compare_depth(model_depth, sim_robot_depth, 2e-3);
   std::cout << "tracker render vs MuJoCo robot alone: " << robot_only.summary() << "\n";
+  const sim::DepthAgreement full_only = sim::compare_depth(full_depth, sim_robot_depth, 2e-3);
+  std::cout << "the same with the full meshes: " << full_only.summary() << "\n";
   // In the whole scene the robot may be hidden by objects; what matters there
   // is the share of the tracker's robot pixels the sensor really sees.
   const sim::DepthAgreement whole = sim::compare_depth(model_depth, sim_depth, 2e-3);

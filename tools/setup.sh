@@ -17,7 +17,7 @@ build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 
 packages=(cmake g++ ninja-build pkg-config
-  libmujoco-dev libqhull-dev libeigen3-dev liburdfdom-dev libassimp-dev
+  libmujoco-dev libqhull-dev libeigen3-dev liburdfdom-dev libassimp-dev libmeshoptimizer-dev
   libosmesa6-dev libegl-dev libyaml-cpp-dev libpng-dev libcli11-dev
   libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev nlohmann-json3-dev
   parallel

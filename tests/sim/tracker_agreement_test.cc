@@ -17,7 +17,9 @@
 #include "arttrack/sim/simulator.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/tracker_config.h"
 
 namespace arttrack::sim {
 namespace {
@@ -152,13 +154,24 @@ TEST(TrackerAgreement, KinematicsDualArm) { check_kinematics(dual_arm()); }
 TEST(TrackerAgreement, KinematicsDualArmMeshes) { check_kinematics(dual_arm_meshes()); }
 
 // Renders at 160x120 for the scene's initial pose (if any) and perturbed
-// poses around it, and compares the tracker's render with MuJoCo's.
-void check_render(const Robot& r, const std::map<std::string, double>& home) {
+// poses around it, and compares the tracker's render with MuJoCo's. With
+// `geometry`, the tracker's meshes are simplified as a tracker with that
+// configuration draws them for an 80x60 likelihood (mesh_simplify.h).
+void check_render(const Robot& r, const std::map<std::string, double>& home,
+                  const TrackerConfig::Geometry* geometry = nullptr) {
   SCOPED_TRACE(r.name);
   SceneDescription scene = scene_for(r, 160, 120);
   scene.initial_joints_rad = home;
   const auto model = build_sim_model(scene);
-  const RobotModel robot = tracker_model(r);
+  RobotModel robot = tracker_model(r);
+  if (geometry) {
+    const CameraIntrinsics likelihood = CameraIntrinsics::from_vertical_fov(80, 60, scene.fovy_rad);
+    const int full = robot.num_drawn_triangles();
+    robot = robot.with_simplified_meshes(
+        mesh_error_bound_m(likelihood, geometry->max_error_px, geometry->nearest_range_m));
+    std::printf("%s: %d triangles drawn of %d\n", r.name, robot.num_drawn_triangles(), full);
+    EXPECT_LT(robot.num_drawn_triangles(), full);
+  }
   Simulator sim(model);
   DepthCamera camera(model);
   RenderOptions options;
@@ -197,6 +210,12 @@ TEST(TrackerAgreement, RenderDualArmMeshes) {
   const auto model = build_sim_model(scene_for(dual_arm_meshes(), 64, 48));
   EXPECT_GE(model->mj->nmesh, 4);
   check_render(dual_arm_meshes(), home_pose());
+}
+// As the tracker draws it by default: its meshes simplified for an 80x60
+// likelihood (TrackerConfig::geometry), within the same bounds.
+TEST(TrackerAgreement, RenderDualArmMeshesSimplified) {
+  const TrackerConfig::Geometry defaults = default_tracker_config().geometry;
+  check_render(dual_arm_meshes(), home_pose(), &defaults);
 }
 
 // What the tracker really uses: its default tessellation, the default scene

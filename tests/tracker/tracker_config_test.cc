@@ -47,10 +47,19 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
   EXPECT_EQ(file.particle_filter.bandwidth_factor, code.particle_filter.bandwidth_factor);
   EXPECT_EQ(file.particle_filter.block_moments_below_nats,
             code.particle_filter.block_moments_below_nats);
+  EXPECT_EQ(file.geometry.max_error_px, code.geometry.max_error_px);
+  EXPECT_EQ(file.geometry.nearest_range_m, code.geometry.nearest_range_m);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);
   EXPECT_NEAR(file.joint_limit_margin_rad, code.joint_limit_margin_rad, 1e-12);
   EXPECT_EQ(file.max_image_clock_offset_s, code.max_image_clock_offset_s);
+}
+
+TEST(TrackerConfigTest, ReadsGeometry) {
+  const TrackerConfig c = tracker_config_from_yaml(
+      load_yaml_string("geometry: {max_error_px: 0.5, nearest_range_m: 0.6}\n", "t.yaml"));
+  EXPECT_EQ(c.geometry.max_error_px, 0.5);
+  EXPECT_EQ(c.geometry.nearest_range_m, 0.6);
 }
 
 TEST(TrackerConfigTest, ReadsInputChecks) {
@@ -202,6 +211,10 @@ const std::vector<RangeRow> kRangeRows = {
     {"particle_filter.particles", "1", "0"},
     {"particle_filter.particles", "1000000", "1000001"},
     {"particle_filter.max_kl_divergence", "0", "-0.1"},
+    {"geometry.max_error_px", "0", "-0.1"},
+    {"geometry.max_error_px", "4", "4.1"},
+    {"geometry.nearest_range_m", "0.01", "0.009"},
+    {"geometry.nearest_range_m", "100", "101"},
     {"particle_filter.max_kl_divergence", ".inf", ""},
     {"particle_filter.proposal_scale", "1e-6", "1e-7"},
     {"particle_filter.proposal_scale", "1e6", "1.1e6"},

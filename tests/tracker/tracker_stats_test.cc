@@ -10,7 +10,7 @@
 namespace arttrack {
 namespace {
 
-ImageTiming timing(int k) { return {0.033 * k, 10.0 + k, 1.0 + k, 20.0 + k}; }
+ImageTiming timing(int k) { return {0.033 * k, 10.0 + k, 1.0 + k, 0.5 * k, 20.0 + k}; }
 
 TEST(ImageTimings, KeepsEveryImageBelowTheBoundInOrder) {
   ImageTimings t;

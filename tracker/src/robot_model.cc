@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/mesh_simplify.h"
 
 namespace arttrack {
 namespace {
@@ -441,6 +442,54 @@ int RobotModel::joint_index(const std::string& name) const {
                      "', not a degree of freedom");
   }
   throw InputError("unknown joint '" + name + "' in robot model from " + source_);
+}
+
+int RobotModel::num_drawn_triangles() const {
+  int count = 0;
+  for (const Link& link : links_) {
+    count += int(link.mesh.triangles.size());
+    for (const RoundShape& shape : link.round_shapes) count -= shape.num_triangles;
+  }
+  return count;
+}
+
+RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_m) const {
+  RobotModel out = *this;
+  double largest_error_m = 0;
+  for (Link& link : out.links_) {
+    if (link.mesh.empty() || max_error_m <= 0) continue;
+    // The triangles drawn as triangles, simplified together; then each round
+    // shape's tessellation (its vertices and triangles are its own) after them.
+    TriangleMesh drawn;
+    drawn.vertices_m = link.mesh.vertices_m;
+    std::size_t next_shape = 0;
+    for (int t = 0; t < int(link.mesh.triangles.size()); ++t) {
+      if (next_shape < link.round_shapes.size() &&
+          t == link.round_shapes[next_shape].first_triangle) {
+        t += link.round_shapes[next_shape++].num_triangles - 1;
+        continue;
+      }
+      drawn.triangles.push_back(link.mesh.triangles[std::size_t(t)]);
+    }
+    SimplifiedMesh simplified = simplify_mesh(drawn, max_error_m);
+    largest_error_m = std::max(largest_error_m, simplified.error_m);
+    TriangleMesh rebuilt = std::move(simplified.mesh);
+    for (RoundShape& shape : link.round_shapes) {
+      TriangleMesh part;
+      part.vertices_m.assign(
+          link.mesh.vertices_m.begin() + shape.first_vertex,
+          link.mesh.vertices_m.begin() + shape.first_vertex + shape.num_vertices);
+      for (int t = 0; t < shape.num_triangles; ++t)
+        part.triangles.push_back(link.mesh.triangles[std::size_t(shape.first_triangle + t)] -
+                                 Eigen::Vector3i::Constant(shape.first_vertex));
+      shape.first_vertex = int(rebuilt.vertices_m.size());
+      shape.first_triangle = int(rebuilt.triangles.size());
+      rebuilt.append(part);
+    }
+    link.mesh = std::move(rebuilt);
+  }
+  if (error_m) *error_m = largest_error_m;
+  return out;
 }
 
 LinkSet RobotModel::links_moved_by(int dof) const {

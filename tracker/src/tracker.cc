@@ -22,6 +22,7 @@
 #include "arttrack/tracker/image_information.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/posterior_covariance.h"
 
 namespace arttrack {
@@ -148,6 +149,11 @@ struct Tracker::Impl {
   bool periodic_search = false;     // the current reacquire() is the periodic one
   TrackingHealth health;            // the image thread's
   TrackingHealth published_health;  // guarded by mutex
+  // The model the image updates draw: `model` with its meshes simplified for
+  // the camera at the likelihood's resolution (TrackerConfig::geometry), and
+  // the evaluators that draw it; made by use_camera() at the first image.
+  std::shared_ptr<const RobotModel> render_model;
+  double render_error_bound_m = -1, render_error_m = 0;
   // Rendering the estimate (health, acquisition checks) at the likelihood's resolution.
   std::unique_ptr<DepthRenderer> check_renderer;
   CameraIntrinsics check_camera;
@@ -166,6 +172,7 @@ struct Tracker::Impl {
   Eigen::VectorXd refine_x, refine_delta, refine_rhs, refine_var_q;
   Eigen::MatrixXd refine_prior, refine_system;
 
+  void use_camera(const CameraIntrinsics& camera);
   void search(std::span<const double> mean, std::span<const double> stddev,
               const CameraIntrinsics& camera, const DepthImage& observed);
   void acquire(std::span<const double> mean, std::span<const double> stddev,
@@ -256,36 +263,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
   }
 
   if (use_images) {
-    // Sampling blocks: configured by joint name, or one per physical joint
-    // from the hand to the root of each chain (reverse depth-first order),
-    // then one per virtual camera joint.
-    std::vector<SamplingBlock> blocks;
-    if (!config.blocks.empty()) {
-      for (const auto& b : config.blocks) {
-        SamplingBlock block{b.name, {}};
-        for (const std::string& joint : b.joints) {
-          try {
-            block.coordinates.push_back(model->joint_index(joint));
-          } catch (const InputError& e) {
-            throw InputError(config.source + ": block '" + b.name + "': " + e.what());
-          }
-        }
-        blocks.push_back(std::move(block));
-      }
-    } else {
-      // One block per joint, virtual ones included. A single six-dimensional
-      // camera block settles in local optima (a roll and pitch that mimic a
-      // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
-      // which coordinate-wise sampling avoids.
-      for (int j = n_phys - 1; j >= 0; --j) blocks.push_back({model->joint_name(j), {j}});
-      for (int j = n_phys; j < n; ++j) blocks.push_back({model->joint_name(j), {j}});
-    }
-    if (config.method == TrackingMethod::kCameraOffsetOnly) {
-      // Encoders are trusted: only the virtual joints are sampled.
-      for (auto& b : blocks)
-        std::erase_if(b.coordinates, [&](int j) { return !model->is_virtual_joint(j); });
-      std::erase_if(blocks, [](const SamplingBlock& b) { return b.coordinates.empty(); });
-    }
+    std::vector<SamplingBlock> blocks = sampling_blocks(*model, config);
     pool = std::make_unique<WorkerPool>(config.threads);
     // The variance floor is full fusion's (its bias fold-back is what a
     // collapsed variance pins); the paper's other methods keep its moment
@@ -294,7 +272,6 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     CoordinateParticleFilterParams cpf_params = config.particle_filter;
     if (config.method != TrackingMethod::kFullFusion) cpf_params.bandwidth_factor = 0;
     cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), cpf_params);
-    evaluator = std::make_unique<HypothesisEvaluator>(*model, cpf->blocks());
     prior_std.assign(n, 0.0);
 
     // Kinematic chains: physical DOFs grouped by their top-most physical
@@ -340,7 +317,6 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       for (int j = n_phys; j < n; ++j) search_blocks.push_back({model->joint_name(j), {j}});
       search_cpf =
           std::make_unique<CoordinateParticleFilter>(n, search_blocks, config.particle_filter);
-      search_evaluator = std::make_unique<HypothesisEvaluator>(*model, search_cpf->blocks());
       const int K = config.acquisition.passes;
       for (int k = 0; k + 1 < K; ++k) {
         // Depth noise from coarse to the pixel model's, geometrically.
@@ -464,10 +440,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   const CameraIntrinsics camera =
       subsampled_intrinsics(image.camera, likelihood.width(), likelihood.height());
   likelihood.set_observation(image.image);
-  if (!check_renderer || check_camera != camera) {
-    check_camera = camera;
-    check_renderer = std::make_unique<DepthRenderer>(*model, camera);
-  }
+  if (!check_renderer || check_camera != camera) use_camera(camera);
+  double search_ms = 0;
   const double beta = config.likelihood_exponent;
   const bool first = images_seen++ == 0;
   if (acquisition_on && first) {
@@ -476,7 +450,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     const auto search_start = Clock::now();
     acquire(prior.mean_a, prior_std, camera, image.image);
     fold_angle_posteriors(found_mean, found_variance, prior);
-    health.last_acquisition_ms = ms_since(search_start);
+    health.last_acquisition_ms = search_ms = ms_since(search_start);
     ++health.acquisitions;
     last_acquisition_s = t;
   } else {
@@ -503,6 +477,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
       periodic_search = periodic && poor_images < due && !confirm;
       confirming_search = confirm && poor_images < due;
       reacquire(prior, reading_at_t, camera, image.image, t);
+      search_ms = health.last_acquisition_ms;
     }
   }
   update_covariance(prior, t);
@@ -537,8 +512,33 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   ++stats.images_applied;
   stats.last_evaluations_per_image = cpf->num_evaluations();
   stats.likelihood_evaluations += cpf->num_evaluations();
-  stats.images.add(
-      {image.stamp_s, ms_since(start), ms_since(refilter_start), ms_since(image.received)});
+  stats.model_triangles = model->num_drawn_triangles();
+  stats.drawn_triangles = render_model->num_drawn_triangles();
+  stats.mesh_error_bound_m = std::max(0.0, render_error_bound_m);
+  stats.mesh_error_m = render_error_m;
+  stats.images.add({image.stamp_s, ms_since(start), ms_since(refilter_start), search_ms,
+                    ms_since(image.received)});
+}
+
+// The geometry for a camera (at the likelihood's resolution): the model's
+// meshes simplified to a fraction of this camera's pixel (mesh_simplify.h),
+// once per error bound, and the renderers and evaluators that draw them.
+void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
+  check_camera = camera;
+  const TrackerConfig::Geometry& g = config.geometry;
+  const double bound_m =
+      g.max_error_px > 0 ? mesh_error_bound_m(camera, g.max_error_px, g.nearest_range_m) : 0;
+  if (!render_model || bound_m != render_error_bound_m) {
+    render_error_bound_m = bound_m;
+    render_error_m = 0;
+    render_model = bound_m > 0 ? std::make_shared<const RobotModel>(
+                                     model->with_simplified_meshes(bound_m, &render_error_m))
+                               : model;
+    evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
+    if (search_cpf)
+      search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());
+  }
+  check_renderer = std::make_unique<DepthRenderer>(*render_model, camera);
 }
 
 // Annealed search (Deutscher et al.'s annealing, as coarse-to-fine depth
@@ -945,6 +945,44 @@ void Tracker::Impl::worker_loop() {
     updating = false;
     idle.notify_all();
   }
+}
+
+std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config) {
+  std::vector<SamplingBlock> blocks;
+  if (config.method == TrackingMethod::kEncodersOnly) return blocks;
+  if (!config.blocks.empty()) {
+    for (const auto& b : config.blocks) {
+      SamplingBlock block{b.name, {}};
+      for (const std::string& joint : b.joints) {
+        try {
+          block.coordinates.push_back(model.joint_index(joint));
+        } catch (const InputError& e) {
+          throw InputError(config.source + ": block '" + b.name + "': " + e.what());
+        }
+      }
+      blocks.push_back(std::move(block));
+    }
+  } else {
+    // One block per joint, virtual ones included. A single six-dimensional
+    // camera block settles in local optima (a roll and pitch that mimic a
+    // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
+    // which coordinate-wise sampling avoids.
+    const auto sampled = [&](int) { return true; };
+    // Physical joints from the hand to the root of each chain (reverse
+    // depth-first order), then the virtual ones.
+    const int n = model.num_joints();
+    for (int j = n - 1; j >= 0; --j)
+      if (!model.is_virtual_joint(j) && sampled(j)) blocks.push_back({model.joint_name(j), {j}});
+    for (int j = 0; j < n; ++j)
+      if (model.is_virtual_joint(j)) blocks.push_back({model.joint_name(j), {j}});
+  }
+  if (config.method == TrackingMethod::kCameraOffsetOnly) {
+    // Encoders are trusted: only the virtual joints are sampled.
+    for (auto& b : blocks)
+      std::erase_if(b.coordinates, [&](int j) { return !model.is_virtual_joint(j); });
+    std::erase_if(blocks, [](const SamplingBlock& b) { return b.coordinates.empty(); });
+  }
+  return blocks;
 }
 
 Tracker::Tracker(std::shared_ptr<const RobotModel> model, const TrackerConfig& config,

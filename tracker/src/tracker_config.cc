@@ -99,6 +99,8 @@ void TrackerConfig::validate(const std::string& source) const {
   check("vision_only.initial_std_deg", vision_only_initial_std_rad, R::closed(0, 180), kRadPerDeg);
 
   depth_model.validate(source, "depth_model.");
+  check("geometry.max_error_px", geometry.max_error_px, R::closed(0, 4));
+  check("geometry.nearest_range_m", geometry.nearest_range_m, R::closed(0.01, 100));
 
   particle_filter.validate(source, "particle_filter.");
   check("particle_filter.likelihood_exponent", likelihood_exponent, R::closed(1e-3, 1));
@@ -197,6 +199,9 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"occlusion_prior", &d.occlusion_prior},
                     {"width", &d.width},
                     {"height", &d.height}});
+
+  read_numbers(root.child("geometry"), {{"max_error_px", &c.geometry.max_error_px},
+                                        {"nearest_range_m", &c.geometry.nearest_range_m}});
 
   const ConfigNode pf = root.child("particle_filter");
   read_numbers(pf, {{"particles", &c.particle_filter.num_particles},

@@ -140,6 +140,16 @@ class RobotModel {
   LinkSet links_moved_by(int dof) const;
   // The links that have a mesh.
   const std::vector<int>& links_with_geometry() const { return geometry_links_; }
+  // Triangles the renderer draws: every link mesh, less the tessellations of
+  // the cylinders and spheres (drawn exactly).
+  int num_drawn_triangles() const;
+  // A copy whose link meshes are simplified to within max_error_m of the
+  // originals (mesh_simplify.h); cylinders and spheres, drawn exactly, are
+  // kept. Links, joints and their indices are those of this model, so its
+  // KinematicsState and LinkSets serve the copy. max_error_m <= 0 keeps
+  // every triangle. `error_m`, if given, receives the largest error measured
+  // over the links (SimplifiedMesh::error_m).
+  RobotModel with_simplified_meshes(double max_error_m, double* error_m = nullptr) const;
   // Where the model came from ("URDF file 'x'" or "URDF string"), for messages.
   const std::string& source() const { return source_; }
   // The options it was built with.

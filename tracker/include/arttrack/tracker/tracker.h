@@ -158,6 +158,9 @@ struct ImageTiming {
   double stamp_s = 0;      // the image's time stamp
   double update_ms = 0;    // wall time of the update
   double refilter_ms = 0;  // of which: re-filtering the buffered joints
+  // Of which: the acquisition or re-acquisition search run at this image (0
+  // when none ran). Images without one are the steady state.
+  double search_ms = 0;
   // Wall time from its add_depth_image call until the estimate includes it
   // (waiting included).
   double latency_ms = 0;
@@ -224,8 +227,24 @@ struct TrackerStats {
   int images_dropped_bad_stamp = 0;
   long long likelihood_evaluations = 0;
   int last_evaluations_per_image = 0;
+  // The geometry the image updates draw (TrackerConfig::geometry), known from
+  // the first image on: triangles of the model as loaded and as drawn (the
+  // cylinders' and spheres' tessellations excluded: they are drawn exactly),
+  // the error the simplification was allowed and the largest it reports.
+  int model_triangles = 0;
+  int drawn_triangles = 0;
+  double mesh_error_bound_m = 0;
+  double mesh_error_m = 0;
   ImageTimings images;  // of the applied images
 };
+
+// The Coordinate Particle Filter's sampling blocks for `config` on `model`,
+// in visiting order: TrackerConfig::blocks by name, or by default one block
+// per physical joint, from the hand to the root of each chain, then one per
+// virtual camera joint; camera_offset_only keeps only the virtual joints,
+// encoders_only has none. Joints in no block follow their encoders. Throws
+// InputError naming a block and its unknown joint.
+std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config);
 
 class Tracker {
  public:

@@ -62,12 +62,26 @@ struct TrackerConfig {
   double vision_only_initial_std_rad = 0.02;
 
   DepthModelParams depth_model;
+  // Geometry at the likelihood's resolution (mesh_simplify.h): at the first
+  // image (when the camera is known) every link mesh the tracker draws is
+  // simplified so that its surface moves at most max_error_px of one pixel
+  // (at depth_model's resolution) at nearest_range_m, the nearest range the
+  // camera sees the robot (a depth camera's minimum range). Cylinders and
+  // spheres are drawn exactly whatever this says.
+  struct Geometry {
+    // In [0, 4]; 0 draws the full meshes.
+    double max_error_px = 0.25;
+    // In [0.01, 100] metres.
+    double nearest_range_m = 0.3;
+  };
+  Geometry geometry;
   CoordinateParticleFilterParams particle_filter;
   // Sampling blocks: named lists of joint names. Empty: one block per physical
   // joint (ordered from the hand towards the root, so that the links a block
   // does not move are the same for all particles within a chain), then one
   // per virtual camera joint (a joint six-dimensional camera block finds
-  // local optima). camera_offset_only samples only the virtual joints.
+  // local optima); see sampling_blocks() in tracker.h. camera_offset_only
+  // samples only the virtual joints.
   struct Block {
     std::string name;
     std::vector<std::string> joints;

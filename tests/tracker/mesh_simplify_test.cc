@@ -1,0 +1,178 @@
+#include "arttrack/tracker/mesh_simplify.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <utility>
+
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/robot_model.h"
+
+namespace arttrack {
+namespace {
+
+double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b) {
+  const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * (b - a))).norm();
+}
+
+// Distance from p to triangle abc, the obvious way (not the library's
+// Voronoi-region walk): the foot of the perpendicular on the plane when it
+// falls inside (barycentric signs), else the nearest of the three edges.
+double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+  const Eigen::Vector3d foot = p - n.dot(p - a) * n;
+  const bool inside = (b - a).cross(foot - a).dot(n) >= 0 && (c - b).cross(foot - b).dot(n) >= 0 &&
+                      (a - c).cross(foot - c).dot(n) >= 0;
+  if (inside) return std::abs(n.dot(p - a));
+  return std::min({point_segment_distance(p, a, b), point_segment_distance(p, b, c),
+                   point_segment_distance(p, c, a)});
+}
+
+// The largest distance from a vertex of `original` to the surface of
+// `simplified`, by brute force over every triangle.
+double largest_vertex_distance(const TriangleMesh& original, const TriangleMesh& simplified) {
+  double largest = 0;
+  for (const Eigen::Vector3f& vf : original.vertices_m) {
+    const Eigen::Vector3d p = vf.cast<double>();
+    double nearest = INFINITY;
+    for (const Eigen::Vector3i& t : simplified.triangles)
+      nearest =
+          std::min(nearest, point_triangle_distance(p, simplified.vertices_m[t[0]].cast<double>(),
+                                                    simplified.vertices_m[t[1]].cast<double>(),
+                                                    simplified.vertices_m[t[2]].cast<double>()));
+    largest = std::max(largest, nearest);
+  }
+  return largest;
+}
+
+double signed_volume(const TriangleMesh& mesh) {
+  double volume = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    volume += mesh.vertices_m[t[0]].cast<double>().dot(mesh.vertices_m[t[1]].cast<double>().cross(
+                  mesh.vertices_m[t[2]].cast<double>())) /
+              6;
+  return volume;
+}
+
+// Closed and consistently wound: every directed edge once, its reverse once.
+bool closed_and_consistent(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, int> edges;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
+  for (const auto& [edge, count] : edges) {
+    if (count != 1) return false;
+    const auto reverse = edges.find({edge.second, edge.first});
+    if (reverse == edges.end() || reverse->second != 1) return false;
+  }
+  return true;
+}
+
+TEST(SimplifyMesh, FineSphereKeepsItsSurfaceWithinTheBoundAndStaysClosed) {
+  // 64 meridians, 32 bands: about 4 000 triangles on a 10 cm sphere, whose
+  // millimetre of error allows a few hundred (edges of about 28 mm).
+  const TriangleMesh fine = make_sphere(0.1, 64);
+  const double bound_m = 1e-3;
+  const SimplifiedMesh s = simplify_mesh(fine, bound_m);
+  EXPECT_LT(s.mesh.triangles.size() * 2, fine.triangles.size())
+      << s.mesh.triangles.size() << " of " << fine.triangles.size();
+  EXPECT_LE(s.error_m, bound_m);
+  // Independent of the simplifier's own estimate: the original's vertices
+  // lie within the bound of the new surface (its vertices are original ones).
+  EXPECT_LE(largest_vertex_distance(fine, s.mesh), bound_m);
+  EXPECT_TRUE(closed_and_consistent(s.mesh));
+  EXPECT_NEAR(signed_volume(s.mesh), signed_volume(fine), 0.03 * signed_volume(fine));
+}
+
+TEST(SimplifyMesh, ZeroErrorKeepsEveryTriangleAndSplitVerticesAreMerged) {
+  // A box as an STL holds it: three vertices per triangle.
+  const TriangleMesh box = make_box(Eigen::Vector3d(0.1, 0.2, 0.3));
+  TriangleMesh split;
+  for (const Eigen::Vector3i& t : box.triangles) {
+    const int first = int(split.vertices_m.size());
+    for (int k = 0; k < 3; ++k) split.vertices_m.push_back(box.vertices_m[t[k]]);
+    split.triangles.emplace_back(first, first + 1, first + 2);
+  }
+  const SimplifiedMesh kept = simplify_mesh(split, 0);
+  EXPECT_EQ(kept.mesh.triangles.size(), box.triangles.size());
+  EXPECT_EQ(kept.mesh.vertices_m.size(), 8u);
+  EXPECT_EQ(kept.error_m, 0);
+  EXPECT_TRUE(closed_and_consistent(kept.mesh));
+  // A box has nothing to remove within a millimetre.
+  EXPECT_EQ(simplify_mesh(split, 1e-3).mesh.triangles.size(), box.triangles.size());
+  EXPECT_TRUE(simplify_mesh(TriangleMesh{}, 1e-3).mesh.empty());
+}
+
+TEST(SimplifyMesh, ErrorBoundIsAFractionOfAPixelAtTheNearestRange) {
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * M_PI / 180);
+  // A pixel at 0.3 m covers 0.3 / fy metres; a quarter of it:
+  EXPECT_NEAR(mesh_error_bound_m(camera, 0.25, 0.3), 0.25 * 0.3 / camera.fy, 1e-15);
+  EXPECT_EQ(mesh_error_bound_m(camera, 0, 0.3), 0);
+}
+
+// The dual arm with meshes: simplified, its round shapes are still drawn
+// exactly and the render stays within the bound of the full one.
+TEST(SimplifyMesh, RobotModelKeepsRoundShapesAndRendersWithinTheBound) {
+  const auto full = std::make_shared<const RobotModel>(RobotModel::from_urdf_file(
+      std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm_meshes.urdf"));
+  double error_m = -1;
+  const double bound_m = 2e-3;
+  const RobotModel drawn = full->with_simplified_meshes(bound_m, &error_m);
+  EXPECT_LT(drawn.num_drawn_triangles(), full->num_drawn_triangles());
+  EXPECT_GE(error_m, 0);
+  EXPECT_LE(error_m, bound_m);
+  ASSERT_EQ(drawn.num_links(), full->num_links());
+  for (int l = 0; l < full->num_links(); ++l) {
+    const Link &a = full->link(l), &b = drawn.link(l);
+    ASSERT_EQ(a.round_shapes.size(), b.round_shapes.size()) << a.name;
+    for (std::size_t k = 0; k < a.round_shapes.size(); ++k) {
+      const RoundShape &ra = a.round_shapes[k], &rb = b.round_shapes[k];
+      EXPECT_EQ(ra.radius_m, rb.radius_m);
+      ASSERT_EQ(ra.num_vertices, rb.num_vertices);
+      ASSERT_EQ(ra.num_triangles, rb.num_triangles);
+      for (int v = 0; v < ra.num_vertices; ++v)
+        ASSERT_EQ(a.mesh.vertices_m[std::size_t(ra.first_vertex + v)],
+                  b.mesh.vertices_m[std::size_t(rb.first_vertex + v)]);
+    }
+  }
+  EXPECT_EQ(full->with_simplified_meshes(0).num_drawn_triangles(), full->num_drawn_triangles());
+
+  // Rendered from the head camera: where both see the robot, depths agree
+  // within the bound plus the rasterizer's own sampling of slanted faces.
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(320, 240, 45 * M_PI / 180);
+  KinematicsState state(*full);
+  // The default scene's home pose (models/scene_default.yaml): the head
+  // camera sees both lower arms and hands.
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(full->num_joints());
+  const std::map<std::string, double> home_deg = {
+      {"head_tilt_joint", 40},    {"left_arm_joint_1", 30},   {"left_arm_joint_2", 65},
+      {"left_arm_joint_3", 30},   {"left_arm_joint_4", 90},   {"left_arm_joint_5", 30},
+      {"left_arm_joint_6", -80},  {"left_arm_joint_7", 20},   {"right_arm_joint_1", -30},
+      {"right_arm_joint_2", 65},  {"right_arm_joint_3", -30}, {"right_arm_joint_4", 90},
+      {"right_arm_joint_5", -30}, {"right_arm_joint_6", -80}, {"right_arm_joint_7", -20}};
+  for (const auto& [joint, deg] : home_deg) q[full->joint_index(joint)] = deg * M_PI / 180;
+  forward_kinematics(*full, q, state);
+  DepthImage a, b;
+  DepthRenderer(*full, camera).render(state, a);
+  DepthRenderer(drawn, camera).render(state, b);
+  int both = 0, either = 0, close = 0;
+  for (std::size_t i = 0; i < a.depth_m.size(); ++i) {
+    const bool in_a = a.depth_m[i] > 0, in_b = b.depth_m[i] > 0;
+    either += in_a || in_b;
+    if (!(in_a && in_b)) continue;
+    ++both;
+    close += std::abs(a.depth_m[i] - b.depth_m[i]) <= 3 * bound_m;
+  }
+  ASSERT_GT(both, 1000);
+  EXPECT_GT(double(both) / either, 0.99) << both << " of " << either;
+  EXPECT_GT(double(close) / both, 0.99) << close << " of " << both;
+}
+
+}  // namespace
+}  // namespace arttrack
