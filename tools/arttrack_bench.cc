@@ -20,7 +20,8 @@
 // the scenario's scored instants (all samples and converged ones).
 //
 // --evaluations N sets particles = ceil(N / blocks) (sampling_blocks(): by
-// default one per joint); --resolution sets the likelihood resolution (images are
+// default one per joint whose bias is estimated and one per camera-offset
+// joint); --resolution sets the likelihood resolution (images are
 // subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it

@@ -71,6 +71,40 @@ DepthImage render_truth(const RobotModel& model, double q0, double q1) {
   return image;
 }
 
+// Only what is estimated is sampled: a joint whose bias is not estimated
+// follows its encoder (full fusion); vision only samples every joint, the
+// camera offset only the camera; configured blocks are kept as given.
+TEST(TrackerTest, DefaultBlocksSampleOnlyWhatIsEstimated) {
+  const auto model = arm_model();
+  const auto names = [&](TrackerConfig c) {
+    std::vector<std::string> out;
+    for (const SamplingBlock& b : sampling_blocks(*model, c)) out.push_back(b.name);
+    return out;
+  };
+  const std::vector<std::string> camera = {"camera_offset_x",     "camera_offset_y",
+                                           "camera_offset_z",     "camera_offset_roll",
+                                           "camera_offset_pitch", "camera_offset_yaw"};
+  auto with = [&](std::vector<std::string> head) {
+    head.insert(head.end(), camera.begin(), camera.end());
+    return head;
+  };
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  EXPECT_EQ(names(c), with({"elbow", "shoulder"}));  // hand to root
+  JointFilterParams exact = c.joint_defaults;
+  exact.estimate_bias = false;
+  c.joint_overrides["shoulder"] = exact;
+  EXPECT_EQ(names(c), with({"elbow"}));
+  c.method = TrackingMethod::kVisionOnly;
+  EXPECT_EQ(names(c), with({"elbow", "shoulder"}));
+  c.method = TrackingMethod::kCameraOffsetOnly;
+  EXPECT_EQ(names(c), camera);
+  c.method = TrackingMethod::kEncodersOnly;
+  EXPECT_TRUE(names(c).empty());
+  c.method = TrackingMethod::kFullFusion;
+  c.blocks = {{"arm", {"shoulder", "elbow"}}};
+  EXPECT_EQ(names(c), std::vector<std::string>{"arm"});
+}
+
 TEST(TrackerTest, EncodersOnlyReportsTheRawReadings) {
   auto model = arm_model();
   Tracker tracker(model, small_config(TrackingMethod::kEncodersOnly), {"elbow", "shoulder"});

@@ -966,8 +966,16 @@ std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const Tracke
     // One block per joint, virtual ones included. A single six-dimensional
     // camera block settles in local optima (a roll and pitch that mimic a
     // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
-    // which coordinate-wise sampling avoids.
-    const auto sampled = [&](int) { return true; };
+    // which coordinate-wise sampling avoids. A joint whose bias is not
+    // estimated follows its encoder: sampling it would spend particles on
+    // what the encoder already says (a humanoid's fingers, eyes and neck).
+    const auto sampled = [&](int dof) {
+      if (model.is_virtual_joint(dof) || config.method == TrackingMethod::kVisionOnly) return true;
+      if (config.method != TrackingMethod::kFullFusion) return false;
+      const auto it = config.joint_overrides.find(model.joint_name(dof));
+      return it != config.joint_overrides.end() ? it->second.estimate_bias
+                                                : config.joint_defaults.estimate_bias;
+    };
     // Physical joints from the hand to the root of each chain (reverse
     // depth-first order), then the virtual ones.
     const int n = model.num_joints();

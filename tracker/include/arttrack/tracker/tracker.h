@@ -240,7 +240,8 @@ struct TrackerStats {
 
 // The Coordinate Particle Filter's sampling blocks for `config` on `model`,
 // in visiting order: TrackerConfig::blocks by name, or by default one block
-// per physical joint, from the hand to the root of each chain, then one per
+// per physical joint whose bias is estimated (every physical joint for
+// vision_only), from the hand to the root of each chain, then one per
 // virtual camera joint; camera_offset_only keeps only the virtual joints,
 // encoders_only has none. Joints in no block follow their encoders. Throws
 // InputError naming a block and its unknown joint.

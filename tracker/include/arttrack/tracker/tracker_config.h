@@ -76,12 +76,15 @@ struct TrackerConfig {
   };
   Geometry geometry;
   CoordinateParticleFilterParams particle_filter;
-  // Sampling blocks: named lists of joint names. Empty: one block per physical
-  // joint (ordered from the hand towards the root, so that the links a block
-  // does not move are the same for all particles within a chain), then one
-  // per virtual camera joint (a joint six-dimensional camera block finds
-  // local optima); see sampling_blocks() in tracker.h. camera_offset_only
-  // samples only the virtual joints.
+  // Sampling blocks: named lists of joint names. Empty: one block per
+  // physical joint whose bias is estimated (every physical joint for
+  // vision_only; a joint whose bias is not estimated, like a mimic joint,
+  // follows its encoder and costs no particles), ordered from the hand
+  // towards the root (so that the links a block does not move are the same
+  // for all particles within a chain), then one per virtual camera joint (a
+  // joint six-dimensional camera block finds local optima); see
+  // sampling_blocks() in tracker.h. camera_offset_only samples only the
+  // virtual joints.
   struct Block {
     std::string name;
     std::vector<std::string> joints;
