@@ -48,19 +48,22 @@ struct RunArgs {
   bool force = false;
 };
 
-// --realtime: per method, what the asynchronous tracker did with the images
-// and how long each took from capture to the estimate.
+// --realtime: per method, what the asynchronous tracker did with the images,
+// how long each took from capture to the estimate, the searches among the
+// image updates, and the slowest joint update (the joints never wait for an
+// image update or a search: they run on the caller's thread meanwhile).
 void print_realtime(std::ostream& os, const sim::ScenarioResult& result, double wall_s) {
   os << std::fixed << std::setprecision(1)
      << "real time: " << result.duration_s * double(result.runs.size()) << " s simulated in "
      << wall_s << " s, asynchronous trackers\n"
      << "  method              received  applied  dropped (too old, backlog, busy)"
-     << "  latency ms: p50     p99  update ms: p50    p99\n";
+     << "  latency ms: p50     p99  update ms: p50    p99  searches  joint us: p99    max\n";
   for (std::size_t i = 0; i < result.method_results.size(); ++i) {
     const sim::MethodResult& m = result.method_results[i];
-    int received = 0, applied = 0, old = 0, backlog = 0, busy = 0;
+    int received = 0, applied = 0, old = 0, backlog = 0, busy = 0, searches = 0;
     for (const sim::RunResult& run : result.runs) {
       const TrackerStats& s = run.methods[i].stats;
+      for (std::size_t k = 0; k < s.images.size(); ++k) searches += s.images[k].search_ms > 0;
       received += s.images_received;
       applied += s.images_applied;
       old += s.images_dropped_too_old;
@@ -73,7 +76,8 @@ void print_realtime(std::ostream& os, const sim::ScenarioResult& result, double 
        << std::setw(9) << applied << "  " << std::left << std::setw(32) << dropped.str()
        << std::right << std::setw(15) << m.timing.image_latency_ms.p50 << std::setw(8)
        << m.timing.image_latency_ms.p99 << std::setw(15) << m.timing.image_update_ms.p50
-       << std::setw(7) << m.timing.image_update_ms.p99 << "\n";
+       << std::setw(7) << m.timing.image_update_ms.p99 << std::setw(10) << searches << std::setw(15)
+       << m.timing.joint_update_us.p99 << std::setw(7) << m.timing.joint_update_us.max << "\n";
   }
   os.unsetf(std::ios::floatfield);
 }
