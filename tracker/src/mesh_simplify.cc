@@ -34,73 +34,117 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
   return (ap - ab * (vb * denom) - ac * (vc * denom)).norm();
 }
 
-// The largest distance from `points` to the surface of `mesh`, measured
-// exactly up to limit_m; a point with no triangle within limit_m counts as
-// infinitely far. A uniform grid holds every triangle in the cells its
-// bounding box, grown by limit_m, overlaps: a triangle within limit_m of a
-// point is then in the point's cell.
-double largest_distance(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& mesh,
-                        double limit_m) {
-  if (points.empty()) return 0;
-  if (mesh.empty()) return std::numeric_limits<double>::infinity();
-  Eigen::Vector3d lo = points[0], hi = points[0];
-  for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const double extent = (hi - lo).maxCoeff();
-  constexpr int kMaxCellsPerAxis = 32;
-  const double cell = std::max({extent / kMaxCellsPerAxis, 2 * limit_m, 1e-9});
-  Eigen::Array3i size = ((hi - lo) / cell).array().floor().cast<int>() + 1;
-  size = size.min(kMaxCellsPerAxis + 1);
-  const auto cell_of = [&](const Eigen::Vector3d& p) {
-    return (((p - lo) / cell).array().floor().cast<int>().max(0)).min(size - 1).eval();
+// A mesh's triangles in a uniform grid over a box, to measure distances up
+// to limit_m: each triangle is in every cell its bounding box, grown by
+// limit_m, overlaps, so a triangle within limit_m of a point in the box is
+// in the point's cell.
+class TriangleGrid {
+ public:
+  TriangleGrid(const TriangleMesh& mesh, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+               double limit_m)
+      : lo_(lo), limit_m_(limit_m) {
+    constexpr int kMaxCellsPerAxis = 96;
+    cell_m_ = std::max({(hi - lo).maxCoeff() / kMaxCellsPerAxis, 2 * limit_m, 1e-9});
+    size_ = (((hi - lo) / cell_m_).array().floor().cast<int>() + 1).min(kMaxCellsPerAxis + 1);
+    // Two passes (count, then fill) into one flat array.
+    std::vector<std::pair<Eigen::Array3i, Eigen::Array3i>> ranges(mesh.triangles.size());
+    first_.assign(std::size_t(size_.prod()) + 1, 0);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Eigen::Vector3i& tri = mesh.triangles[t];
+      Eigen::Vector3d tlo = mesh.vertices_m[tri[0]].cast<double>(), thi = tlo;
+      for (int k = 1; k < 3; ++k) {
+        tlo = tlo.cwiseMin(mesh.vertices_m[tri[k]].cast<double>());
+        thi = thi.cwiseMax(mesh.vertices_m[tri[k]].cast<double>());
+      }
+      tlo.array() -= limit_m;
+      thi.array() += limit_m;
+      if ((thi.array() < lo.array()).any() || (tlo.array() > hi.array()).any()) {
+        ranges[t] = {Eigen::Array3i::Zero(), Eigen::Array3i::Constant(-1)};  // outside: none
+        continue;
+      }
+      ranges[t] = {cell_of(tlo), cell_of(thi)};
+      for_cells(ranges[t], [&](std::size_t c) { ++first_[c + 1]; });
+    }
+    for (std::size_t c = 1; c < first_.size(); ++c) first_[c] += first_[c - 1];
+    triangles_.resize(first_.back());
+    std::vector<std::size_t> next(first_.begin(), first_.end() - 1);
+    for (std::size_t t = 0; t < ranges.size(); ++t)
+      for_cells(ranges[t], [&](std::size_t c) { triangles_[next[c]++] = int(t); });
+    corners_.resize(mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      Corners& k = corners_[t];
+      for (int i = 0; i < 3; ++i) k.p[i] = mesh.vertices_m[mesh.triangles[t][i]].cast<double>();
+      k.normal = (k.p[1] - k.p[0]).cross(k.p[2] - k.p[0]);
+      const double area2 = k.normal.norm();
+      k.normal = area2 > 0 ? Eigen::Vector3d(k.normal / area2) : Eigen::Vector3d::Zero();
+    }
+  }
+
+  // The largest distance from `points` (inside the box) to the mesh,
+  // exact up to the limit; a point with no triangle within it counts as
+  // infinitely far.
+  double largest_distance(const std::vector<Eigen::Vector3d>& points) const {
+    double largest = 0;
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Array3i c = cell_of(p);
+      const std::size_t cell = std::size_t((c.x() * size_.y() + c.y()) * size_.z() + c.z());
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t k = first_[cell]; k < first_[cell + 1]; ++k) {
+        const Corners& t = corners_[std::size_t(triangles_[k])];
+        // The distance to the plane bounds the distance to the triangle.
+        if (std::abs(t.normal.dot(p - t.p[0])) >= nearest) continue;
+        nearest = std::min(nearest, point_triangle_distance(p, t.p[0], t.p[1], t.p[2]));
+        if (nearest <= largest) break;  // this point cannot raise the largest distance
+      }
+      if (nearest > limit_m_) return std::numeric_limits<double>::infinity();
+      largest = std::max(largest, nearest);
+    }
+    return largest;
+  }
+
+ private:
+  Eigen::Array3i cell_of(const Eigen::Vector3d& p) const {
+    return (((p - lo_) / cell_m_).array().floor().cast<int>().max(0)).min(size_ - 1);
+  }
+  template <typename F>
+  void for_cells(const std::pair<Eigen::Array3i, Eigen::Array3i>& range, F&& f) const {
+    for (int x = range.first.x(); x <= range.second.x(); ++x)
+      for (int y = range.first.y(); y <= range.second.y(); ++y)
+        for (int z = range.first.z(); z <= range.second.z(); ++z)
+          f(std::size_t((x * size_.y() + y) * size_.z() + z));
+  }
+
+  struct Corners {
+    Eigen::Vector3d p[3];
+    Eigen::Vector3d normal;  // unit; zero for a degenerate triangle
   };
-  std::vector<std::vector<int>> cells(std::size_t(size.prod()));
-  for (int t = 0; t < int(mesh.triangles.size()); ++t) {
-    const Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
-    Eigen::Vector3d tlo = mesh.vertices_m[tri[0]].cast<double>(), thi = tlo;
-    for (int k = 1; k < 3; ++k) {
-      tlo = tlo.cwiseMin(mesh.vertices_m[tri[k]].cast<double>());
-      thi = thi.cwiseMax(mesh.vertices_m[tri[k]].cast<double>());
-    }
-    tlo.array() -= limit_m;
-    thi.array() += limit_m;
-    if ((thi.array() < lo.array()).any() || (tlo.array() > hi.array()).any()) continue;
-    const Eigen::Array3i a = cell_of(tlo), b = cell_of(thi);
-    for (int x = a.x(); x <= b.x(); ++x)
-      for (int y = a.y(); y <= b.y(); ++y)
-        for (int z = a.z(); z <= b.z(); ++z)
-          cells[std::size_t((x * size.y() + y) * size.z() + z)].push_back(t);
-  }
-  double largest = 0;
-  for (const Eigen::Vector3d& p : points) {
-    const Eigen::Array3i c = cell_of(p);
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const int t : cells[std::size_t((c.x() * size.y() + c.y()) * size.z() + c.z())]) {
-      const Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
-      nearest = std::min(nearest, point_triangle_distance(p, mesh.vertices_m[tri[0]].cast<double>(),
-                                                          mesh.vertices_m[tri[1]].cast<double>(),
-                                                          mesh.vertices_m[tri[2]].cast<double>()));
-    }
-    if (nearest > limit_m) return std::numeric_limits<double>::infinity();
-    largest = std::max(largest, nearest);
-  }
-  return largest;
-}
+  std::vector<Corners> corners_;  // per triangle
+  Eigen::Vector3d lo_;
+  double limit_m_, cell_m_ = 0;
+  Eigen::Array3i size_;
+  std::vector<std::size_t> first_;  // per cell: its triangles' start in triangles_ (and end)
+  std::vector<int> triangles_;
+};
 
 // Points on a mesh's surface to measure its distance to another: its
-// vertices, and each triangle's centroid and edge midpoints.
+// vertices, or (with_faces) each triangle's centroid and edge midpoints
+// first, where a coarse face lies furthest from a fine surface, so that
+// TriangleGrid::largest_distance finds the largest early and stops the
+// other points' searches sooner.
 std::vector<Eigen::Vector3d> surface_samples(const TriangleMesh& mesh, bool with_faces) {
   std::vector<Eigen::Vector3d> points;
-  for (const Eigen::Vector3f& v : mesh.vertices_m) points.push_back(v.cast<double>());
-  if (!with_faces) return points;
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    const Eigen::Vector3d a = mesh.vertices_m[t[0]].cast<double>();
-    const Eigen::Vector3d b = mesh.vertices_m[t[1]].cast<double>();
-    const Eigen::Vector3d c = mesh.vertices_m[t[2]].cast<double>();
-    points.push_back((a + b + c) / 3);
-    points.push_back((a + b) / 2);
-    points.push_back((b + c) / 2);
-    points.push_back((c + a) / 2);
+  if (with_faces) {
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const Eigen::Vector3d a = mesh.vertices_m[t[0]].cast<double>();
+      const Eigen::Vector3d b = mesh.vertices_m[t[1]].cast<double>();
+      const Eigen::Vector3d c = mesh.vertices_m[t[2]].cast<double>();
+      points.push_back((a + b + c) / 3);
+      points.push_back((a + b) / 2);
+      points.push_back((b + c) / 2);
+      points.push_back((c + a) / 2);
+    }
   }
+  for (const Eigen::Vector3f& v : mesh.vertices_m) points.push_back(v.cast<double>());
   return points;
 }
 
@@ -152,6 +196,11 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
   const TriangleMesh original = indexed_mesh(welded, indices);
   const float scale = meshopt_simplifyScale(welded[0].data(), unique, kStride);
   const std::vector<Eigen::Vector3d> original_points = surface_samples(original, false);
+  Eigen::Vector3d lo = original_points[0], hi = lo;
+  for (const Eigen::Vector3d& p : original_points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  // The original's grid serves every attempt (the new surface lies within
+  // its bounding box: its vertices are original ones).
+  const TriangleGrid original_grid(original, lo, hi, max_error_m);
   // Simplifies for `request_m`; keeps the result when it holds the bound.
   const auto attempt = [&](double request_m) {
     std::vector<unsigned> candidate(index_count);
@@ -161,9 +210,11 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
     if (count == 0 || count >= index_count) return false;
     candidate.resize(count);
     const TriangleMesh simplified = indexed_mesh(welded, candidate);
-    const double error_m =
-        std::max(largest_distance(original_points, simplified, max_error_m),
-                 largest_distance(surface_samples(simplified, true), original, max_error_m));
+    double error_m =
+        TriangleGrid(simplified, lo, hi, max_error_m).largest_distance(original_points);
+    if (error_m <= max_error_m)
+      error_m =
+          std::max(error_m, original_grid.largest_distance(surface_samples(simplified, true)));
     if (error_m > max_error_m) return false;
     if (reduced.empty() || count < reduced.size()) {
       reduced = std::move(candidate);
@@ -172,13 +223,16 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
     return true;
   };
   if (max_error_m > 0 && scale > 0) {
-    double failed_m = 0, held_m = max_error_m;
+    // The requests that held were 0.35-0.6 of the bound (a bumpy sphere, a
+    // fine sphere): start at half, and bisect between what held and what
+    // failed (the bound itself if half held).
+    double failed_m = max_error_m, held_m = 0.5 * max_error_m;
     constexpr int kLowerings = 8, kBisections = 3;
     for (int k = 0; k < kLowerings && !attempt(held_m); ++k) {
       failed_m = held_m;
       held_m *= 0.7;
     }
-    for (int k = 0; k < kBisections && !reduced.empty() && failed_m > 0; ++k) {
+    for (int k = 0; k < kBisections && !reduced.empty(); ++k) {
       const double middle_m = 0.5 * (held_m + failed_m);
       (attempt(middle_m) ? held_m : failed_m) = middle_m;
     }

@@ -68,6 +68,34 @@ struct PendingImage {
   Clock::time_point received;  // add_depth_image was called
 };
 
+// `model` with its meshes simplified to bound_m (RobotModel::
+// with_simplified_meshes), shared by the trackers of a process that track
+// the same model at the same bound (a scenario's methods and runs):
+// simplifying a maker's meshes takes a quarter of a second per 150 000
+// triangles. An entry lives as long as its source model.
+std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
+                                                   double bound_m, double& error_m) {
+  struct Entry {
+    std::weak_ptr<const RobotModel> source;
+    double bound_m, error_m;
+    std::shared_ptr<const RobotModel> simplified;
+  };
+  static std::mutex mutex;
+  static std::vector<Entry> cache;
+  std::lock_guard lock(mutex);
+  std::erase_if(cache, [](const Entry& e) { return e.source.expired(); });
+  for (const Entry& e : cache) {
+    if (e.source.lock() == model && e.bound_m == bound_m) {
+      error_m = e.error_m;
+      return e.simplified;
+    }
+  }
+  auto simplified =
+      std::make_shared<const RobotModel>(model->with_simplified_meshes(bound_m, &error_m));
+  cache.push_back({model, bound_m, error_m, simplified});
+  return simplified;
+}
+
 // The configuration, validated before any member is built from it.
 const TrackerConfig& validated(const TrackerConfig& config) {
   config.validate(config.source);
@@ -531,9 +559,7 @@ void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
   if (!render_model || bound_m != render_error_bound_m) {
     render_error_bound_m = bound_m;
     render_error_m = 0;
-    render_model = bound_m > 0 ? std::make_shared<const RobotModel>(
-                                     model->with_simplified_meshes(bound_m, &render_error_m))
-                               : model;
+    render_model = bound_m > 0 ? simplified_model(model, bound_m, render_error_m) : model;
     evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
     if (search_cpf)
       search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());
