@@ -35,12 +35,16 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
                    point_segment_distance(p, c, a)});
 }
 
-// The largest distance from a vertex of `original` to the surface of
-// `simplified`, by brute force over every triangle.
+// The largest distance from a vertex of `original`'s triangles to the
+// surface of `simplified`, by brute force over every triangle.
 double largest_vertex_distance(const TriangleMesh& original, const TriangleMesh& simplified) {
+  std::vector<bool> used(original.vertices_m.size(), false);
+  for (const Eigen::Vector3i& t : original.triangles)
+    for (int k = 0; k < 3; ++k) used[std::size_t(t[k])] = true;
   double largest = 0;
-  for (const Eigen::Vector3f& vf : original.vertices_m) {
-    const Eigen::Vector3d p = vf.cast<double>();
+  for (std::size_t i = 0; i < original.vertices_m.size(); ++i) {
+    if (!used[i]) continue;
+    const Eigen::Vector3d p = original.vertices_m[i].cast<double>();
     double nearest = INFINITY;
     for (const Eigen::Vector3i& t : simplified.triangles)
       nearest =
@@ -129,7 +133,8 @@ TEST(SimplifyMesh, RobotModelKeepsRoundShapesAndRendersWithinTheBound) {
       std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm_meshes.urdf"));
   double error_m = -1;
   const double bound_m = 2e-3;
-  const RobotModel drawn = full->with_simplified_meshes(bound_m, &error_m);
+  const double nearest_m = 0.3;  // levels of detail from 0.6 m on, within 2^k bound_m
+  const RobotModel drawn = full->with_simplified_meshes(bound_m, &error_m, nearest_m, 4);
   EXPECT_LT(drawn.num_drawn_triangles(), full->num_drawn_triangles());
   EXPECT_GE(error_m, 0);
   EXPECT_LE(error_m, bound_m);
@@ -150,7 +155,8 @@ TEST(SimplifyMesh, RobotModelKeepsRoundShapesAndRendersWithinTheBound) {
   EXPECT_EQ(full->with_simplified_meshes(0).num_drawn_triangles(), full->num_drawn_triangles());
 
   // Rendered from the head camera: where both see the robot, depths agree
-  // within the bound plus the rasterizer's own sampling of slanted faces.
+  // within the bound of the level drawn (at most bound_m z / nearest_m at
+  // depth z) plus the rasterizer's own sampling of slanted faces.
   const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(320, 240, 45 * M_PI / 180);
   KinematicsState state(*full);
   // The default scene's home pose (models/scene_default.yaml): the head
@@ -173,11 +179,55 @@ TEST(SimplifyMesh, RobotModelKeepsRoundShapesAndRendersWithinTheBound) {
     either += in_a || in_b;
     if (!(in_a && in_b)) continue;
     ++both;
-    close += std::abs(a.depth_m[i] - b.depth_m[i]) <= 3 * bound_m;
+    const double level_bound_m = bound_m * std::max(1.0, double(a.depth_m[i]) / nearest_m);
+    close += std::abs(a.depth_m[i] - b.depth_m[i]) <= 3 * level_bound_m;
   }
   ASSERT_GT(both, 1000);
   EXPECT_GT(double(both) / either, 0.99) << both << " of " << either;
   EXPECT_GT(double(close) / both, 0.99) << close << " of " << both;
+}
+
+// Levels of detail: level k is within 2^k of the bound of the full mesh
+// and drawn from 2^k times the nearest range on.
+TEST(SimplifyMesh, CoarserLevelsStayWithinTheirBoundsAndRanges) {
+  // One link of the sculpted dual arm (models/generate_sculpted.py): a
+  // 7 cm shoulder sphere of 9 000 triangles, and a cylinder drawn exactly.
+  const RobotModel full = RobotModel::from_urdf_string(
+      R"(<robot name="r">
+        <link name="base"><visual><geometry>
+          <mesh filename="meshes/sculpted/sphere_r0.07.stl"/></geometry></visual>
+          <visual><origin xyz="0 0 0.2"/><geometry><cylinder radius="0.05" length="0.1"/></geometry>
+          </visual></link>
+        <link name="camera_optical_frame"/>
+        <joint name="c" type="fixed"><parent link="base"/><child link="camera_optical_frame"/>
+          <origin xyz="1 0 0"/></joint></robot>)",
+      std::string(ARTTRACK_SOURCE_DIR) + "/models");
+  const double bound_m = 1e-3, nearest_m = 0.3;
+  const RobotModel drawn = full.with_simplified_meshes(bound_m, nullptr, nearest_m, 4);
+  int links_with_levels = 0;
+  for (int l = 0; l < full.num_links(); ++l) {
+    const Link& link = drawn.link(l);
+    links_with_levels += !link.coarser_meshes.empty();
+    // The link's triangles drawn as triangles (less the cylinder's), at full detail.
+    TriangleMesh original = full.link(l).mesh;
+    for (const RoundShape& shape : full.link(l).round_shapes)
+      original.triangles.erase(
+          original.triangles.begin() + shape.first_triangle,
+          original.triangles.begin() + shape.first_triangle + shape.num_triangles);
+    std::size_t previous = original.triangles.size();
+    for (std::size_t k = 0; k < link.coarser_meshes.size(); ++k) {
+      const Link::MeshLevel& level = link.coarser_meshes[k];
+      SCOPED_TRACE(link.name + " level " + std::to_string(k + 1));
+      EXPECT_EQ(level.min_range_m, nearest_m * double(2 << k));
+      EXPECT_LT(level.mesh.triangles.size(), previous);
+      previous = level.mesh.triangles.size();
+      EXPECT_TRUE(closed_and_consistent(level.mesh));
+      EXPECT_LE(largest_vertex_distance(original, level.mesh), bound_m * double(2 << k));
+    }
+  }
+  EXPECT_GT(links_with_levels, 0);
+  for (int k = 1; k <= 4; ++k)
+    EXPECT_LE(drawn.num_drawn_triangles(k), drawn.num_drawn_triangles(k - 1));
 }
 
 }  // namespace

@@ -138,13 +138,21 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   const Eigen::Matrix3f A = (K * T_camera_link.linear()).cast<float>();
   const Eigen::Vector3f b = (K * T_camera_link.translation()).cast<float>();
 
-  const TriangleMesh& mesh = model_->link(link).mesh;
+  // The coarsest level of detail the link's nearest point is far enough for
+  // (robot_model.h, Link::coarser_meshes); its triangles hold no round shape.
+  const Link& l = model_->link(link);
+  const TriangleMesh* level = &l.mesh;
+  const float nearest = centre.z() - bounds.radius_m;
+  for (const Link::MeshLevel& coarser : l.coarser_meshes)
+    if (nearest >= coarser.min_range_m) level = &coarser.mesh;
+  const TriangleMesh& mesh = *level;
   const int nv = int(mesh.vertices_m.size());
   const Eigen::Vector3f* v = mesh.vertices_m.data();
   Eigen::Vector3f* hom = hom_.data();
   Eigen::Vector3f* screen = screen_.data();
   // Every vertex but the round shapes' (drawn exactly below).
-  const std::vector<RoundShape>& shapes = model_->link(link).round_shapes;
+  static const std::vector<RoundShape> kNoShapes;
+  const std::vector<RoundShape>& shapes = level == &l.mesh ? l.round_shapes : kNoShapes;
   auto transform = [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       hom[i] = A * v[i] + b;
@@ -182,7 +190,8 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
       raster_triangle(a, b, c, depth, drawn);
     }
   }
-  for (const RoundShape& shape : shapes) draw_round_shape(shape, T_camera_link, depth, drawn);
+  for (const RoundShape& shape : l.round_shapes)
+    draw_round_shape(shape, T_camera_link, depth, drawn);
   return drawn.empty() ? PixelRect{} : drawn;
 }
 

@@ -444,16 +444,22 @@ int RobotModel::joint_index(const std::string& name) const {
   throw InputError("unknown joint '" + name + "' in robot model from " + source_);
 }
 
-int RobotModel::num_drawn_triangles() const {
+int RobotModel::num_drawn_triangles(int level) const {
   int count = 0;
   for (const Link& link : links_) {
+    if (level > 0 && !link.coarser_meshes.empty()) {
+      const std::size_t k = std::min(std::size_t(level), link.coarser_meshes.size());
+      count += int(link.coarser_meshes[k - 1].mesh.triangles.size());
+      continue;
+    }
     count += int(link.mesh.triangles.size());
     for (const RoundShape& shape : link.round_shapes) count -= shape.num_triangles;
   }
   return count;
 }
 
-RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_m) const {
+RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_m,
+                                              double nearest_range_m, int coarser_levels) const {
   RobotModel out = *this;
   double largest_error_m = 0;
   for (Link& link : out.links_) {
@@ -473,6 +479,17 @@ RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_
     }
     SimplifiedMesh simplified = simplify_mesh(drawn, max_error_m);
     largest_error_m = std::max(largest_error_m, simplified.error_m);
+    // Each level from the one before, within the error it adds: 2^k e in
+    // all (the distances add up along the chain).
+    link.coarser_meshes.clear();
+    const TriangleMesh* finer = &simplified.mesh;
+    for (int k = 1; k <= coarser_levels && !finer->empty(); ++k) {
+      const double scale = double(1 << k);
+      SimplifiedMesh coarser = simplify_mesh(*finer, 0.5 * scale * max_error_m);
+      if (10 * coarser.mesh.triangles.size() > 9 * finer->triangles.size()) break;
+      link.coarser_meshes.push_back({scale * nearest_range_m, std::move(coarser.mesh)});
+      finer = &link.coarser_meshes.back().mesh;
+    }
     TriangleMesh rebuilt = std::move(simplified.mesh);
     for (RoundShape& shape : link.round_shapes) {
       TriangleMesh part;

@@ -21,6 +21,14 @@
 // and 64, at four times the cost; docs/accuracy.md, "Exact cylinders and
 // spheres").
 //
+// A link with levels of detail (Link::coarser_meshes, made by
+// RobotModel::with_simplified_meshes) is drawn with the coarsest level whose
+// min_range_m its bounding sphere's nearest depth reaches: a pixel there
+// covers as much more as the level's error grew, so the error stays the same
+// share of a pixel. The level is a function of the link's pose alone, so a
+// link drawn twice at one pose is drawn alike (the evaluator's caches rely
+// on it).
+//
 // A DepthRenderer is a per-thread workspace: it refers to a shared immutable
 // RobotModel and owns buffers sized once, so rendering never allocates after
 // the first call with a given output image.

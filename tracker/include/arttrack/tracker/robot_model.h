@@ -93,6 +93,16 @@ struct Link {
   TriangleMesh mesh;
   // The cylinders and spheres among them, in mesh order.
   std::vector<RoundShape> round_shapes;
+  // Levels of detail (RobotModel::with_simplified_meshes): coarser versions
+  // of `mesh`'s triangles without the round shapes' (drawn exactly anyway),
+  // in increasing min_range_m. The renderer draws the coarsest level whose
+  // min_range_m the link's nearest point lies beyond, along the optical
+  // axis (a pixel there covers as much more as the level's error grew).
+  struct MeshLevel {
+    double min_range_m = 0;
+    TriangleMesh mesh;
+  };
+  std::vector<MeshLevel> coarser_meshes;
 };
 
 // The kinematic tree and shapes of a robot. Immutable after construction.
@@ -141,15 +151,23 @@ class RobotModel {
   // The links that have a mesh.
   const std::vector<int>& links_with_geometry() const { return geometry_links_; }
   // Triangles the renderer draws: every link mesh, less the tessellations of
-  // the cylinders and spheres (drawn exactly).
-  int num_drawn_triangles() const;
+  // the cylinders and spheres (drawn exactly); or, for level > 0, those of
+  // each link's level `level` of detail (its coarsest below it if it has
+  // fewer).
+  int num_drawn_triangles(int level = 0) const;
   // A copy whose link meshes are simplified to within max_error_m of the
   // originals (mesh_simplify.h); cylinders and spheres, drawn exactly, are
-  // kept. Links, joints and their indices are those of this model, so its
+  // kept. With coarser_levels > 0, level k = 1, 2, ... of each link
+  // (Link::coarser_meshes) is within 2^k max_error_m of the original and
+  // drawn from 2^k nearest_range_m on: at twice the range, a pixel covers
+  // twice as much, so the error stays the same share of a pixel. A level
+  // that removes less than a tenth of the one before ends the link's list.
+  // Links, joints and their indices are those of this model, so its
   // KinematicsState and LinkSets serve the copy. max_error_m <= 0 keeps
   // every triangle. `error_m`, if given, receives the largest error measured
-  // over the links (SimplifiedMesh::error_m).
-  RobotModel with_simplified_meshes(double max_error_m, double* error_m = nullptr) const;
+  // over the links at level 0 (SimplifiedMesh::error_m).
+  RobotModel with_simplified_meshes(double max_error_m, double* error_m = nullptr,
+                                    double nearest_range_m = 0, int coarser_levels = 0) const;
   // Where the model came from ("URDF file 'x'" or "URDF string"), for messages.
   const std::string& source() const { return source_; }
   // The options it was built with.

@@ -66,8 +66,10 @@ struct TrackerConfig {
   // image (when the camera is known) every link mesh the tracker draws is
   // simplified so that its surface moves at most max_error_px of one pixel
   // (at depth_model's resolution) at nearest_range_m, the nearest range the
-  // camera sees the robot (a depth camera's minimum range). Cylinders and
-  // spheres are drawn exactly whatever this says.
+  // camera sees the robot (a depth camera's minimum range), with four
+  // coarser levels of detail for links twice, 4, 8 and 16 times as far
+  // (robot_model.h, Link::coarser_meshes). Cylinders and spheres are drawn
+  // exactly whatever this says.
   struct Geometry {
     // In [0, 4]; 0 draws the full meshes.
     double max_error_px = 0.25;
