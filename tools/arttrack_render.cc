@@ -31,7 +31,6 @@
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
-#include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker_config.h"
 #include "commands.h"
@@ -97,10 +96,11 @@ void run(const RenderArgs& args) {
   // What the tracker draws: the meshes simplified for the likelihood's camera.
   const CameraIntrinsics likelihood_camera = subsampled_intrinsics(
       camera.intrinsics(), config.depth_model.width, config.depth_model.height);
-  const double bound_m = mesh_error_bound_m(likelihood_camera, config.geometry.max_error_px,
-                                            config.geometry.nearest_range_m);
+  const double bound_m = config.geometry.error_bound_m(likelihood_camera);
   double simplifier_error_m = 0;
-  const RobotModel drawn = robot.with_simplified_meshes(bound_m, &simplifier_error_m);
+  const RobotModel drawn =
+      robot.with_simplified_meshes(bound_m, &simplifier_error_m, config.geometry.nearest_range_m,
+                                   TrackerConfig::Geometry::kCoarserLevels);
   DepthImage model_depth, full_depth;
   DepthRenderer(drawn, camera.intrinsics()).render(state, model_depth);
   DepthRenderer(robot, camera.intrinsics()).render(state, full_depth);
@@ -127,6 +127,11 @@ void run(const RenderArgs& args) {
       robot.num_drawn_triangles(), drawn.num_drawn_triangles(), config.geometry.max_error_px,
       likelihood_camera.width, likelihood_camera.height, config.geometry.nearest_range_m,
       1e3 * bound_m, 1e3 * simplifier_error_m);
+  std::printf("  levels of detail:");
+  for (int k = 1; k <= TrackerConfig::Geometry::kCoarserLevels; ++k)
+    std::printf("%s %d beyond %g m", k > 1 ? "," : "", drawn.num_drawn_triangles(k),
+                config.geometry.nearest_range_m * double(1 << k));
+  std::printf("\n");
   const sim::DepthAgreement robot_only = sim::compare_depth(model_depth, sim_robot_depth, 2e-3);
   std::cout << "tracker render vs MuJoCo robot alone: " << robot_only.summary() << "\n";
   const sim::DepthAgreement full_only = sim::compare_depth(full_depth, sim_robot_depth, 2e-3);

@@ -450,7 +450,8 @@ TEST(Scenario, ShippedScenariosLoad) {
     const Scenario s = load_scenario(entry.path());
     EXPECT_FALSE(s.methods.empty());
     // Both arms are in view: both hands are scored (the second robot: its one hand).
-    if (entry.path().parent_path().filename() == "arm7")
+    if (entry.path().parent_path().filename() == "arm7" ||
+        entry.path().filename().string().starts_with("arm7_"))
       EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"arm7_ee"}));
     else
       EXPECT_EQ(s.scoring.end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));

@@ -76,8 +76,6 @@ struct PendingImage {
 std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
                                                    double bound_m, double nearest_range_m,
                                                    double& error_m) {
-  // Levels of detail up to 16 times the nearest range (0.3 -> 4.8 m).
-  constexpr int kCoarserLevels = 4;
   struct Entry {
     std::weak_ptr<const RobotModel> source;
     double bound_m, nearest_range_m, error_m;
@@ -93,8 +91,8 @@ std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const R
       return e.simplified;
     }
   }
-  auto simplified = std::make_shared<const RobotModel>(
-      model->with_simplified_meshes(bound_m, &error_m, nearest_range_m, kCoarserLevels));
+  auto simplified = std::make_shared<const RobotModel>(model->with_simplified_meshes(
+      bound_m, &error_m, nearest_range_m, TrackerConfig::Geometry::kCoarserLevels));
   cache.push_back({model, bound_m, nearest_range_m, error_m, simplified});
   return simplified;
 }
@@ -557,8 +555,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
 void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
   check_camera = camera;
   const TrackerConfig::Geometry& g = config.geometry;
-  const double bound_m =
-      g.max_error_px > 0 ? mesh_error_bound_m(camera, g.max_error_px, g.nearest_range_m) : 0;
+  const double bound_m = g.error_bound_m(camera);
   if (!render_model || bound_m != render_error_bound_m) {
     render_error_bound_m = bound_m;
     render_error_m = 0;

@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/units.h"
 #include "config_range.h"
@@ -72,6 +73,11 @@ TrackingMethod parse_method(const std::string& name, const std::string& context)
   }
   throw InputError(context + ": unknown method '" + name +
                    "' (expected encoders_only, camera_offset_only, full_fusion or vision_only)");
+}
+
+double TrackerConfig::Geometry::error_bound_m(const CameraIntrinsics& likelihood_camera) const {
+  return max_error_px > 0 ? mesh_error_bound_m(likelihood_camera, max_error_px, nearest_range_m)
+                          : 0.0;
 }
 
 // Every range of the configuration, in the YAML's keys and units; the

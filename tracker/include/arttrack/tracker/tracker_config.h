@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/joint_filter.h"
@@ -75,6 +76,11 @@ struct TrackerConfig {
     double max_error_px = 0.25;
     // In [0.01, 100] metres.
     double nearest_range_m = 0.3;
+    // Levels of detail beyond the first: up to 16 times the nearest range.
+    static constexpr int kCoarserLevels = 4;
+    // The largest error the simplification may make for a camera at the
+    // likelihood's resolution (mesh_error_bound_m(); 0: full meshes).
+    double error_bound_m(const CameraIntrinsics& likelihood_camera) const;
   };
   Geometry geometry;
   CoordinateParticleFilterParams particle_filter;
