@@ -39,6 +39,8 @@ FILLET_STEPS = 8
 CAP_RINGS = 6
 SPHERE_BANDS = 48
 BOX_GRID = 24
+# Largest edge radius of a box (m).
+BOX_FILLET_MAX = 0.005
 
 
 def fmt(x):
@@ -131,9 +133,11 @@ def sphere(radius):
 
 def box(size):
     """Box centred at the origin with rounded edges and corners (radius a
-    fifth of its smallest half size): a subdivided cube pushed onto it."""
+    fifth of its smallest half size, at most BOX_FILLET_MAX: the torso's
+    edges would otherwise round off 3 cm and shrink its silhouette in the
+    head camera by as much): a subdivided cube pushed onto it."""
     half = [0.5 * s for s in size]
-    f = 0.2 * min(half)
+    f = min(0.2 * min(half), BOX_FILLET_MAX)
     inner = [hh - f for hh in half]
     n = BOX_GRID
     verts, tris, index = [], [], {}
