@@ -100,7 +100,7 @@ void run(const RenderArgs& args) {
   double simplifier_error_m = 0;
   const RobotModel drawn =
       robot.with_simplified_meshes(bound_m, &simplifier_error_m, config.geometry.nearest_range_m,
-                                   TrackerConfig::Geometry::kCoarserLevels);
+                                   config.geometry.coarser_levels);
   DepthImage model_depth, full_depth;
   DepthRenderer(drawn, camera.intrinsics()).render(state, model_depth);
   DepthRenderer(robot, camera.intrinsics()).render(state, full_depth);
@@ -128,7 +128,7 @@ void run(const RenderArgs& args) {
       likelihood_camera.width, likelihood_camera.height, config.geometry.nearest_range_m,
       1e3 * bound_m, 1e3 * simplifier_error_m);
   std::printf("  levels of detail:");
-  for (int k = 1; k <= TrackerConfig::Geometry::kCoarserLevels; ++k)
+  for (int k = 1; k <= config.geometry.coarser_levels; ++k)
     std::printf("%s %d beyond %g m", k > 1 ? "," : "", drawn.num_drawn_triangles(k),
                 config.geometry.nearest_range_m * double(1 << k));
   std::printf("\n");

@@ -169,7 +169,7 @@ void check_render(const Robot& r, const std::map<std::string, double>& home,
     const int full = robot.num_drawn_triangles();
     bound_m = geometry->error_bound_m(likelihood);
     robot = robot.with_simplified_meshes(bound_m, nullptr, geometry->nearest_range_m,
-                                         TrackerConfig::Geometry::kCoarserLevels);
+                                         geometry->coarser_levels);
     std::printf("%s: %d triangles drawn of %d\n", r.name, robot.num_drawn_triangles(), full);
     EXPECT_LT(robot.num_drawn_triangles(), full);
   }

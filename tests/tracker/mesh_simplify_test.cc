@@ -215,14 +215,18 @@ TEST(SimplifyMesh, CoarserLevelsStayWithinTheirBoundsAndRanges) {
           original.triangles.begin() + shape.first_triangle,
           original.triangles.begin() + shape.first_triangle + shape.num_triangles);
     std::size_t previous = original.triangles.size();
-    for (std::size_t k = 0; k < link.coarser_meshes.size(); ++k) {
-      const Link::MeshLevel& level = link.coarser_meshes[k];
-      SCOPED_TRACE(link.name + " level " + std::to_string(k + 1));
-      EXPECT_EQ(level.min_range_m, nearest_m * double(2 << k));
+    double previous_range_m = nearest_m;
+    for (const Link::MeshLevel& level : link.coarser_meshes) {
+      // Level k (ranges 2^k times the nearest; a level may be left out).
+      const double factor = level.min_range_m / nearest_m;
+      SCOPED_TRACE(link.name + " level from " + std::to_string(level.min_range_m) + " m");
+      EXPECT_GT(level.min_range_m, previous_range_m);
+      EXPECT_EQ(factor, std::exp2(std::round(std::log2(factor))));
+      previous_range_m = level.min_range_m;
       EXPECT_LT(level.mesh.triangles.size(), previous);
       previous = level.mesh.triangles.size();
       EXPECT_TRUE(closed_and_consistent(level.mesh));
-      EXPECT_LE(largest_vertex_distance(original, level.mesh), bound_m * double(2 << k));
+      EXPECT_LE(largest_vertex_distance(original, level.mesh), bound_m * factor);
     }
   }
   EXPECT_GT(links_with_levels, 0);

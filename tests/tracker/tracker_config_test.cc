@@ -49,6 +49,7 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
             code.particle_filter.block_moments_below_nats);
   EXPECT_EQ(file.geometry.max_error_px, code.geometry.max_error_px);
   EXPECT_EQ(file.geometry.nearest_range_m, code.geometry.nearest_range_m);
+  EXPECT_EQ(file.geometry.coarser_levels, code.geometry.coarser_levels);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);
   EXPECT_NEAR(file.joint_limit_margin_rad, code.joint_limit_margin_rad, 1e-12);
@@ -215,6 +216,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"geometry.max_error_px", "4", "4.1"},
     {"geometry.nearest_range_m", "0.01", "0.009"},
     {"geometry.nearest_range_m", "100", "101"},
+    {"geometry.coarser_levels", "0", "-1"},
+    {"geometry.coarser_levels", "8", "9"},
     {"particle_filter.max_kl_divergence", ".inf", ""},
     {"particle_filter.proposal_scale", "1e-6", "1e-7"},
     {"particle_filter.proposal_scale", "1e6", "1.1e6"},

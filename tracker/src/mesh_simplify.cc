@@ -148,6 +148,45 @@ std::vector<Eigen::Vector3d> surface_samples(const TriangleMesh& mesh, bool with
   return points;
 }
 
+double signed_volume(const TriangleMesh& mesh) {
+  double volume = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    volume += mesh.vertices_m[t[0]].cast<double>().dot(
+                  mesh.vertices_m[t[1]].cast<double>().cross(mesh.vertices_m[t[2]].cast<double>())) /
+              6;
+  return volume;
+}
+
+// Edge collapses keep vertices on the original surface, so the new, larger
+// faces of a convex part lie inside it: rendered, the whole part sits up to
+// the sag further away, a bias the tracker's estimate takes on (the camera
+// moved by a millimetre). Moves every vertex by the same distance along its
+// normal (area-weighted) so that the mesh encloses the original's volume:
+// the faces then straddle the original surface. Clamped to half the bound;
+// a mesh that is not closed gets no meaningful volume, and the measurement
+// that follows keeps the bound whatever this does.
+TriangleMesh volume_preserving(const TriangleMesh& simplified, double original_volume,
+                               double max_error_m) {
+  TriangleMesh out = simplified;
+  std::vector<Eigen::Vector3d> normals(simplified.vertices_m.size(), Eigen::Vector3d::Zero());
+  double area = 0;
+  for (const Eigen::Vector3i& t : simplified.triangles) {
+    const Eigen::Vector3d a = simplified.vertices_m[t[0]].cast<double>();
+    const Eigen::Vector3d n = (simplified.vertices_m[t[1]].cast<double>() - a)
+                                  .cross(simplified.vertices_m[t[2]].cast<double>() - a);
+    area += 0.5 * n.norm();
+    for (int k = 0; k < 3; ++k) normals[std::size_t(t[k])] += n;
+  }
+  if (!(area > 0)) return out;
+  const double offset_m = std::clamp((original_volume - signed_volume(simplified)) / area,
+                                     -0.5 * max_error_m, 0.5 * max_error_m);
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    const double n = normals[v].norm();
+    if (n > 0) out.vertices_m[v] += (offset_m / n * normals[v]).cast<float>();
+  }
+  return out;
+}
+
 TriangleMesh indexed_mesh(const std::vector<Eigen::Vector3f>& vertices,
                           const std::vector<unsigned>& indices) {
   TriangleMesh mesh;
@@ -192,14 +231,18 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
   // measured (both ways: vertices, edge midpoints and centroids) and the
   // request lowered by 30% until it holds, then bisected towards the
   // largest request that holds.
+  // The best result: indices into `welded`, with its own vertex positions.
   std::vector<unsigned> reduced;
+  std::vector<Eigen::Vector3f> reduced_vertices = welded;
   const TriangleMesh original = indexed_mesh(welded, indices);
+  const double original_volume = signed_volume(original);
   const float scale = meshopt_simplifyScale(welded[0].data(), unique, kStride);
   const std::vector<Eigen::Vector3d> original_points = surface_samples(original, false);
   Eigen::Vector3d lo = original_points[0], hi = lo;
   for (const Eigen::Vector3d& p : original_points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   // The original's grid serves every attempt (the new surface lies within
-  // its bounding box: its vertices are original ones).
+  // its bounding box but for the volume-preserving offset, within the bound:
+  // points outside count in the boundary cells).
   const TriangleGrid original_grid(original, lo, hi, max_error_m);
   // Simplifies for `request_m`; keeps the result when it holds the bound.
   const auto attempt = [&](double request_m) {
@@ -209,7 +252,8 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
         /*target_index_count=*/0, float(request_m / scale), /*options=*/0, nullptr);
     if (count == 0 || count >= index_count) return false;
     candidate.resize(count);
-    const TriangleMesh simplified = indexed_mesh(welded, candidate);
+    TriangleMesh simplified =
+        volume_preserving(indexed_mesh(welded, candidate), original_volume, max_error_m);
     double error_m =
         TriangleGrid(simplified, lo, hi, max_error_m).largest_distance(original_points);
     if (error_m <= max_error_m)
@@ -218,6 +262,7 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
     if (error_m > max_error_m) return false;
     if (reduced.empty() || count < reduced.size()) {
       reduced = std::move(candidate);
+      reduced_vertices = std::move(simplified.vertices_m);
       out.error_m = error_m;
     }
     return true;
@@ -245,7 +290,7 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
   // Compact: only the vertices the remaining triangles use, in first-use order.
   std::vector<Eigen::Vector3f> vertices(unique);
   const std::size_t used = meshopt_optimizeVertexFetch(
-      vertices.data(), reduced.data(), reduced.size(), welded.data(), unique, kStride);
+      vertices.data(), reduced.data(), reduced.size(), reduced_vertices.data(), unique, kStride);
   vertices.resize(used);
   out.mesh.vertices_m = std::move(vertices);
   out.mesh.triangles.resize(reduced.size() / 3);

@@ -479,16 +479,19 @@ RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_
     }
     SimplifiedMesh simplified = simplify_mesh(drawn, max_error_m);
     largest_error_m = std::max(largest_error_m, simplified.error_m);
-    // Each level from the one before, within the error it adds: 2^k e in
-    // all (the distances add up along the chain).
+    // Each level from the last one kept, within the error it may add: 2^k e
+    // in all (the distances add up along the chain). A level that would
+    // remove less than a tenth is left out (the finer one serves its range).
     link.coarser_meshes.clear();
     const TriangleMesh* finer = &simplified.mesh;
+    double finer_error_m = max_error_m;
     for (int k = 1; k <= coarser_levels && !finer->empty(); ++k) {
-      const double scale = double(1 << k);
-      SimplifiedMesh coarser = simplify_mesh(*finer, 0.5 * scale * max_error_m);
-      if (10 * coarser.mesh.triangles.size() > 9 * finer->triangles.size()) break;
-      link.coarser_meshes.push_back({scale * nearest_range_m, std::move(coarser.mesh)});
+      const double level_error_m = double(1 << k) * max_error_m;
+      SimplifiedMesh coarser = simplify_mesh(*finer, level_error_m - finer_error_m);
+      if (10 * coarser.mesh.triangles.size() > 9 * finer->triangles.size()) continue;
+      link.coarser_meshes.push_back({double(1 << k) * nearest_range_m, std::move(coarser.mesh)});
       finer = &link.coarser_meshes.back().mesh;
+      finer_error_m = level_error_m;
     }
     TriangleMesh rebuilt = std::move(simplified.mesh);
     for (RoundShape& shape : link.round_shapes) {

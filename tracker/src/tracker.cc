@@ -75,10 +75,12 @@ struct PendingImage {
 // triangles. An entry lives as long as its source model.
 std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
                                                    double bound_m, double nearest_range_m,
-                                                   double& error_m) {
+                                                   int levels, double& error_m) {
   struct Entry {
     std::weak_ptr<const RobotModel> source;
-    double bound_m, nearest_range_m, error_m;
+    double bound_m, nearest_range_m;
+    int levels;
+    double error_m;
     std::shared_ptr<const RobotModel> simplified;
   };
   static std::mutex mutex;
@@ -86,14 +88,15 @@ std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const R
   std::lock_guard lock(mutex);
   std::erase_if(cache, [](const Entry& e) { return e.source.expired(); });
   for (const Entry& e : cache) {
-    if (e.source.lock() == model && e.bound_m == bound_m && e.nearest_range_m == nearest_range_m) {
+    if (e.source.lock() == model && e.bound_m == bound_m && e.nearest_range_m == nearest_range_m &&
+        e.levels == levels) {
       error_m = e.error_m;
       return e.simplified;
     }
   }
-  auto simplified = std::make_shared<const RobotModel>(model->with_simplified_meshes(
-      bound_m, &error_m, nearest_range_m, TrackerConfig::Geometry::kCoarserLevels));
-  cache.push_back({model, bound_m, nearest_range_m, error_m, simplified});
+  auto simplified = std::make_shared<const RobotModel>(
+      model->with_simplified_meshes(bound_m, &error_m, nearest_range_m, levels));
+  cache.push_back({model, bound_m, nearest_range_m, levels, error_m, simplified});
   return simplified;
 }
 
@@ -559,8 +562,9 @@ void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
   if (!render_model || bound_m != render_error_bound_m) {
     render_error_bound_m = bound_m;
     render_error_m = 0;
-    render_model =
-        bound_m > 0 ? simplified_model(model, bound_m, g.nearest_range_m, render_error_m) : model;
+    render_model = bound_m > 0 ? simplified_model(model, bound_m, g.nearest_range_m,
+                                                  g.coarser_levels, render_error_m)
+                               : model;
     evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
     if (search_cpf)
       search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());

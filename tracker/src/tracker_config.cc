@@ -107,6 +107,7 @@ void TrackerConfig::validate(const std::string& source) const {
   depth_model.validate(source, "depth_model.");
   check("geometry.max_error_px", geometry.max_error_px, R::closed(0, 4));
   check("geometry.nearest_range_m", geometry.nearest_range_m, R::closed(0.01, 100));
+  check("geometry.coarser_levels", geometry.coarser_levels, R::closed(0, 8));
 
   particle_filter.validate(source, "particle_filter.");
   check("particle_filter.likelihood_exponent", likelihood_exponent, R::closed(1e-3, 1));
@@ -207,7 +208,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"height", &d.height}});
 
   read_numbers(root.child("geometry"), {{"max_error_px", &c.geometry.max_error_px},
-                                        {"nearest_range_m", &c.geometry.nearest_range_m}});
+                                        {"nearest_range_m", &c.geometry.nearest_range_m},
+                                        {"coarser_levels", &c.geometry.coarser_levels}});
 
   const ConfigNode pf = root.child("particle_filter");
   read_numbers(pf, {{"particles", &c.particle_filter.num_particles},

@@ -161,7 +161,7 @@ class RobotModel {
   // (Link::coarser_meshes) is within 2^k max_error_m of the original and
   // drawn from 2^k nearest_range_m on: at twice the range, a pixel covers
   // twice as much, so the error stays the same share of a pixel. A level
-  // that removes less than a tenth of the one before ends the link's list.
+  // that would remove less than a tenth of the finer one is left out.
   // Links, joints and their indices are those of this model, so its
   // KinematicsState and LinkSets serve the copy. max_error_m <= 0 keeps
   // every triangle. `error_m`, if given, receives the largest error measured

@@ -76,8 +76,9 @@ struct TrackerConfig {
     double max_error_px = 0.25;
     // In [0.01, 100] metres.
     double nearest_range_m = 0.3;
-    // Levels of detail beyond the first: up to 16 times the nearest range.
-    static constexpr int kCoarserLevels = 4;
+    // Levels of detail beyond the first, in [0, 8]: level k drawn from 2^k
+    // times the nearest range (4: up to 16 times, 0.3 -> 4.8 m).
+    int coarser_levels = 4;
     // The largest error the simplification may make for a camera at the
     // likelihood's resolution (mesh_error_bound_m(); 0: full meshes).
     double error_bound_m(const CameraIntrinsics& likelihood_camera) const;
