@@ -137,8 +137,10 @@ BENCHMARK(BM_RenderCachedWrist)->Unit(benchmark::kMicrosecond);
 // The particle filter of one image on the home pose: an observation of the
 // robot a few degrees away (3 mm noise, a wall behind), the prior at the
 // home pose (3 degrees per arm joint, 1 per head joint, 1 cm / 0.5 degree
-// camera), the tracker's default blocks (one per joint, hand to root: right
-// arm, head, left arm; then the camera joints), scored by HypothesisEvaluator.
+// camera), one block per joint, hand to root (right arm, head, left arm;
+// then the camera joints: the tracker's default blocks before 9e448b0,
+// which leaves out joints whose bias is not estimated, the dual arm's
+// head), scored by HypothesisEvaluator.
 struct ImageUpdateFixture {
   const RobotModel& model = robot();
   CameraIntrinsics camera;
