@@ -26,21 +26,34 @@ inline int first_centre_from(float x, int n) {
   return i + int(float(i) < t);
 }
 
+// Whether a triangle of screen points faces the camera (or, without culling,
+// is not degenerate). Twice the signed screen area: with v pointing down, a
+// triangle wound counter-clockwise seen from outside has negative area when it
+// faces the camera: area = fx fy (n . p_a) / (z_a z_b z_c), n its outward normal.
+inline bool faces_camera(const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                         const Eigen::Vector3f& c, bool cull_back_faces) {
+  const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  return cull_back_faces ? area < 0.f : area != 0.f;
+}
+
+// Whether a triangle's bounding box holds a pixel centre, from its corners'
+// first_centre_from() indices: the function is monotonic, so the index of the
+// box's edge is the least (greatest) of the corners'.
+inline bool box_holds_centre(const Eigen::Vector2i& a, const Eigen::Vector2i& b,
+                             const Eigen::Vector2i& c) {
+  return std::min({a.x(), b.x(), c.x()}) < std::max({a.x(), b.x(), c.x()}) &&
+         std::min({a.y(), b.y(), c.y()}) < std::max({a.y(), b.y(), c.y()});
+}
+
 // Whether a triangle of screen points can cover a pixel centre of a W x H
-// image (its bounding box holds one) and faces the camera (or, without
-// culling, is not degenerate). Most triangles at 80x60 fail here, so it runs
-// inline in the triangle loop.
+// image and faces the camera (the clipped triangles' test; the mesh loop
+// takes the corners' indices from the vertices).
 inline bool may_cover(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
                       int W, int H, bool cull_back_faces) {
-  // Twice the signed screen area. With v pointing down, a triangle wound
-  // counter-clockwise seen from outside has negative area when it faces the
-  // camera: area = fx fy (n . p_a) / (z_a z_b z_c), n its outward normal.
-  const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-  if (cull_back_faces ? !(area < 0.f) : area == 0.f) return false;
-  return first_centre_from(std::min({a.y(), b.y(), c.y()}), H) <
-             first_centre_from(std::max({a.y(), b.y(), c.y()}), H) &&
-         first_centre_from(std::min({a.x(), b.x(), c.x()}), W) <
-             first_centre_from(std::max({a.x(), b.x(), c.x()}), W);
+  auto index = [W, H](const Eigen::Vector3f& p) {
+    return Eigen::Vector2i(first_centre_from(p.x(), W), first_centre_from(p.y(), H));
+  };
+  return faces_camera(a, b, c, cull_back_faces) && box_holds_centre(index(a), index(b), index(c));
 }
 
 // Strict order of screen points by v, then u: the two ends of an edge are
@@ -82,6 +95,7 @@ DepthRenderer::DepthRenderer(const RobotModel& model, const CameraIntrinsics& ca
   }
   hom_.resize(max_vertices);
   screen_.resize(max_vertices);
+  first_centre_.resize(max_vertices);
   // A camera-frame point p is inside the view when 0 <= u <= W and 0 <= v <= H,
   // i.e. fx x + cx z >= 0, -fx x + (W - cx) z >= 0, and the same in y.
   const float fx = float(camera.fx), fy = float(camera.fy);
@@ -150,13 +164,19 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   const Eigen::Vector3f* v = mesh.vertices_m.data();
   Eigen::Vector3f* hom = hom_.data();
   Eigen::Vector3f* screen = screen_.data();
+  Eigen::Vector2i* centre_index = first_centre_.data();
+  const int W = depth.width, H = depth.height;
   // Every vertex but the round shapes' (drawn exactly below).
   static const std::vector<RoundShape> kNoShapes;
   const std::vector<RoundShape>& shapes = level == &l.mesh ? l.round_shapes : kNoShapes;
   auto transform = [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       hom[i] = A * v[i] + b;
-      if (!may_clip || hom[i].z() >= near) screen[i] = project(hom[i]);
+      if (!may_clip || hom[i].z() >= near) {
+        screen[i] = project(hom[i]);
+        centre_index[i] = Eigen::Vector2i(first_centre_from(screen[i].x(), W),
+                                          first_centre_from(screen[i].y(), H));
+      }
     }
   };
   int next_vertex = 0;
@@ -169,7 +189,9 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   PixelRect drawn{camera_.width, camera_.height, 0, 0};
   // The round shapes' triangles are skipped.
   std::size_t next_shape = 0;
-  for (int i = 0; i < int(mesh.triangles.size()); ++i) {
+  const int num_triangles = int(mesh.triangles.size());
+  const bool cull_back_faces = options_.cull_back_faces;
+  for (int i = 0; i < num_triangles; ++i) {
     if (next_shape < shapes.size() && i == shapes[next_shape].first_triangle) {
       i += shapes[next_shape++].num_triangles - 1;
       continue;
@@ -185,10 +207,10 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
         continue;
       }
     }
+    // Most triangles at 80x60 hold no pixel centre: the integer test first.
+    if (!box_holds_centre(centre_index[t[0]], centre_index[t[1]], centre_index[t[2]])) continue;
     const Eigen::Vector3f &a = screen[t[0]], &b = screen[t[1]], &c = screen[t[2]];
-    if (may_cover(a, b, c, depth.width, depth.height, options_.cull_back_faces)) {
-      raster_triangle(a, b, c, depth, drawn);
-    }
+    if (faces_camera(a, b, c, cull_back_faces)) raster_triangle(a, b, c, depth, drawn);
   }
   for (const RoundShape& shape : l.round_shapes)
     draw_round_shape(shape, T_camera_link, depth, drawn);
@@ -345,21 +367,6 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
   const int W = depth.width, H = depth.height;
   const int v_top = first_centre_from(std::min({a.y(), b.y(), c.y()}), H);
   const int v_bottom = first_centre_from(std::max({a.y(), b.y(), c.y()}), H);
-  const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-
-  // 1/z is affine in screen coordinates on a planar triangle:
-  // 1/z = o.z + gx (x - o.x) + gy (y - o.y), taken from the farthest corner o
-  // so that a corner just past the near plane (1/z huge) costs no precision
-  // at the far pixels.
-  const float dxb = b.x() - a.x(), dyb = b.y() - a.y(), dzb = b.z() - a.z();
-  const float dxc = c.x() - a.x(), dyc = c.y() - a.y(), dzc = c.z() - a.z();
-  const float inv_area = 1.f / area;
-  const float gx = (dzb * dyc - dzc * dyb) * inv_area;
-  const float gy = (dzc * dxb - dzb * dxc) * inv_area;
-  const Eigen::Vector3f& ab = a.z() <= b.z() ? a : b;
-  const Eigen::Vector3f& o = ab.z() <= c.z() ? ab : c;
-  // Rounding must not take a depth outside the triangle's own range.
-  const float iz_min = o.z(), iz_max = std::max({a.z(), b.z(), c.z()});
 
   // Corners from top to bottom: the long edge p0-p2 bounds one side of every
   // row, the short edges p0-p1 then p1-p2 the other.
@@ -376,6 +383,27 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
   const bool long_left =
       (p2->x() - p0->x()) * (p1->y() - p0->y()) - (p2->y() - p0->y()) * (p1->x() - p0->x()) < 0.f;
 
+  // 1/z is affine in screen coordinates on a planar triangle:
+  // 1/z = o.z + gx (x - o.x) + gy (y - o.y), taken from the farthest corner o
+  // so that a corner just past the near plane (1/z huge) costs no precision
+  // at the far pixels. Set up at the first covered row: at 80x60 many
+  // triangles whose bounding box holds a pixel centre cover none.
+  float gx = 0.f, gy = 0.f, iz_min = 0.f, iz_max = 0.f;
+  const Eigen::Vector3f* o = nullptr;
+  auto set_up_depth = [&] {
+    const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    const float dxb = b.x() - a.x(), dyb = b.y() - a.y(), dzb = b.z() - a.z();
+    const float dxc = c.x() - a.x(), dyc = c.y() - a.y(), dzc = c.z() - a.z();
+    const float inv_area = 1.f / area;
+    gx = (dzb * dyc - dzc * dyb) * inv_area;
+    gy = (dzc * dxb - dzb * dxc) * inv_area;
+    const Eigen::Vector3f& ab = a.z() <= b.z() ? a : b;
+    o = ab.z() <= c.z() ? &ab : &c;
+    // Rounding must not take a depth outside the triangle's own range.
+    iz_min = o->z();
+    iz_max = std::max({a.z(), b.z(), c.z()});
+  };
+
   float* rows = depth.depth_m.data();
   int u_min = W, u_max = 0, v_min = H, v_max = 0;
   for (int v = v_top; v < v_bottom; ++v) {
@@ -386,14 +414,15 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
     const int u_begin = first_centre_from(long_left ? x_long : x_short, W);
     const int u_end = first_centre_from(long_left ? x_short : x_long, W);
     if (u_begin >= u_end) continue;
+    if (!o) set_up_depth();
     u_min = std::min(u_min, u_begin);
     u_max = std::max(u_max, u_end);
     v_min = std::min(v_min, v);
     v_max = v + 1;
     float* row = rows + size_t(v) * W;
-    const float iz_row = o.z() + gy * (py - o.y());
+    const float iz_row = o->z() + gy * (py - o->y());
     for (int u = u_begin; u < u_end; ++u) {
-      const float iz = std::clamp(iz_row + gx * (float(u) + 0.5f - o.x()), iz_min, iz_max);
+      const float iz = std::clamp(iz_row + gx * (float(u) + 0.5f - o->x()), iz_min, iz_max);
       const float z = 1.f / iz;
       const float d = row[u];
       row[u] = (d == 0.f) | (z < d) ? z : d;

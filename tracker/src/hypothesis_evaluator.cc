@@ -53,7 +53,6 @@ struct HypothesisEvaluator::BlockPlan {
   bool full = false;        // render and score every particle from scratch
   bool keep_cache = false;  // a later block is cached: keep rectangles and ratios up to date
   std::vector<int> moving, per_particle, common;  // group indices
-  LinkSet common_links;
 };
 
 // Per-worker scratch (the renderer holds per-vertex buffers).
@@ -108,7 +107,6 @@ HypothesisEvaluator::HypothesisEvaluator(const RobotModel& model,
                          std::to_string(c) + " outside the model's " + std::to_string(n) +
                          " joints");
     BlockPlan plan;
-    plan.common_links.assign(model.num_links(), false);
     long long moving_triangles = 0;
     for (int g = 0; g < int(groups_.size()); ++g) {
       bool moves = false, differs = false;
@@ -121,8 +119,6 @@ HypothesisEvaluator::HypothesisEvaluator(const RobotModel& model,
         plan.per_particle.push_back(g);
       } else {
         plan.common.push_back(g);
-        for (int l = 0; l < model.num_links(); ++l)
-          if (groups_[g].links[l]) plan.common_links[l] = true;
       }
     }
     // Drawing most of the robot over a cache and scoring the changes costs
@@ -157,6 +153,7 @@ void HypothesisEvaluator::begin_run(const CameraIntrinsics& camera,
   likelihood_ = &likelihood;
   for (int j = 0; j < prior_mean_.size(); ++j) prior_mean_[j] = prior_mean[j];
   next_block_ = 0;
+  prior_groups_rendered_ = false;
 }
 
 void HypothesisEvaluator::allocate(int num_particles, int num_workers) {
@@ -170,6 +167,9 @@ void HypothesisEvaluator::allocate(int num_particles, int num_workers) {
   rects_.assign(std::size_t(slots) * groups_.size(), PixelRect{});
   score_.assign(slots, 0.0);
   common_ = DepthImage(W, H);
+  prior_group_depth_.assign(groups_.size(), DepthImage(W, H));
+  prior_group_rect_.assign(groups_.size(), PixelRect{});
+  prior_groups_rendered_ = false;
   workspaces_.clear();
   for (int w = 0; w < num_workers; ++w) {
     auto ws = std::make_unique<Workspace>();
@@ -206,20 +206,29 @@ double HypothesisEvaluator::score_image(const DepthImage& depth, const PixelRect
   return product.log();
 }
 
+// Every group alone at the prior mean.
+void HypothesisEvaluator::render_prior_groups() {
+  Workspace& w = *workspaces_[0];
+  forward_kinematics(*model_, prior_mean_, w.kinematics);
+  for (std::size_t g = 0; g < groups_.size(); ++g)
+    prior_group_rect_[g] =
+        w.renderer->render_links(w.kinematics, groups_[g].links, prior_group_depth_[g]);
+  prior_groups_rendered_ = true;
+}
+
 // The prior mean's image, rectangles and ratios in slot 2L: the parent of
 // every particle at block 0.
 void HypothesisEvaluator::render_reference_slot() {
   Workspace& w = *workspaces_[0];
   const int slot = 2 * num_particles_;
   const int G = int(groups_.size());
-  forward_kinematics(*model_, prior_mean_, w.kinematics);
   DepthImage& image = depth_[slot];
   std::fill(image.depth_m.begin(), image.depth_m.end(), 0.f);
   PixelRect all;
   for (int g = 0; g < G; ++g) {
-    rects_[std::size_t(slot) * G + g] =
-        w.renderer->draw_links(w.kinematics, groups_[g].links, image);
-    all = all.united(rects_[std::size_t(slot) * G + g]);
+    merge_nearer(prior_group_depth_[g], prior_group_rect_[g], image);
+    rects_[std::size_t(slot) * G + g] = prior_group_rect_[g];
+    all = all.united(prior_group_rect_[g]);
   }
   score_[slot] = score_image(image, all, ratio_[slot].data(), w);
 }
@@ -354,14 +363,12 @@ void HypothesisEvaluator::evaluate(const ParticleBatch& batch, std::span<double>
     const int source_base = base_;
     const int new_base = batch.block == 0 ? 0 : (resampled ? L - base_ : base_);
     if (!plan.full) {
+      if (!prior_groups_rendered_) render_prior_groups();
       if (batch.block == 0) render_reference_slot();
-      // The common groups: their coordinates are unsampled, so particle 0's
-      // state shows them as every particle has them.
-      Workspace& w = *workspaces_[0];
-      const auto x = batch.particle(0);
-      for (int j = 0; j < w.q.size(); ++j) w.q[j] = x[j];
-      forward_kinematics(*model_, w.q, w.kinematics);
-      w.renderer->render_links(w.kinematics, plan.common_links, common_);
+      // The common groups: their coordinates are unsampled, so every
+      // particle has them at the prior mean.
+      std::fill(common_.depth_m.begin(), common_.depth_m.end(), 0.f);
+      for (int g : plan.common) merge_nearer(prior_group_depth_[g], prior_group_rect_[g], common_);
     }
     const int G = int(groups_.size());
     pool.parallel_for(L, [&](int begin, int end, int worker) {

@@ -97,6 +97,9 @@ class DepthRenderer {
   // Per-vertex workspace, sized for the largest link mesh:
   std::vector<Eigen::Vector3f> hom_;     // (fx x + cx z, fy y + cy z, z), camera frame
   std::vector<Eigen::Vector3f> screen_;  // (u, v, 1/z) for vertices in front of the near plane
+  // Per vertex of screen_: the first pixel column and row whose centre is at
+  // or after it (first_centre_from), for the triangles' integer bounding boxes.
+  std::vector<Eigen::Vector2i> first_centre_;
 };
 
 // Keeps per pixel the nearer of `depth` and `src` within `rect` (0 = empty).

@@ -9,6 +9,8 @@
 //   per-particle: on coordinates sampled by earlier blocks of this run;
 //   common:       on neither, so identical for all particles (all unsampled
 //                 coordinates sit at the prior mean); drawn once per block.
+// The groups are rendered one by one at the prior mean once per run, and a
+// block's common image is the nearest depth of its common groups' images.
 // Each particle keeps its last full image, per-pixel ratios p(z|r)/p(z|inf)
 // and per-group bounding rectangles (copied from its parent on resampling).
 // Evaluating block k redraws, in the rectangle the moving groups covered, the
@@ -87,6 +89,7 @@ class HypothesisEvaluator final : public LogLikelihoodEvaluator {
   struct Workspace;
 
   void allocate(int num_particles, int num_workers);
+  void render_prior_groups();
   void render_reference_slot();
   double evaluate_full(const BlockPlan& plan, int slot, std::span<const double> x, Workspace& w);
   double evaluate_cached(const BlockPlan& plan, int slot, std::span<const double> x, Workspace& w);
@@ -112,7 +115,12 @@ class HypothesisEvaluator final : public LogLikelihoodEvaluator {
   std::vector<std::vector<float>> ratio_;  // per slot: p(z|r)/p(z|inf) where depth > 0
   std::vector<PixelRect> rects_;           // per slot x group: the group's pixels
   std::vector<double> score_;              // per slot
-  DepthImage common_;                      // the current block's common groups
+  // Each group alone at the prior mean (the common groups of every block are
+  // there), rendered once per run, and the rectangle it covers.
+  std::vector<DepthImage> prior_group_depth_;
+  std::vector<PixelRect> prior_group_rect_;
+  bool prior_groups_rendered_ = false;
+  DepthImage common_;  // the current block's common groups: the nearest of their prior images
   std::vector<std::unique_ptr<Workspace>> workspaces_;
   HypothesisEvaluatorStats stats_;
 };
