@@ -42,6 +42,24 @@ TEST_F(YamlConfigTest, ExtendsMergesMapsDeeplyAndChildWins) {
   EXPECT_NO_THROW(root.finish());
 }
 
+TEST_F(YamlConfigTest, ExtendsAListMergesInOrder) {
+  write("common.yaml", "a: {x: 0, z: 0}\n");
+  write("first.yaml", "extends: common.yaml\na: {x: 1, y: 1}\n");
+  write("second.yaml", "extends: common.yaml\na: {y: 2}\n");
+  const auto f = write("child.yaml", "extends: [first.yaml, second.yaml]\na: {z: 3}\n");
+  // common.yaml under both bases is no cycle.
+  const YamlDocument doc = load_yaml_file(f);
+  ConfigNode root = ConfigNode::root(doc);
+  // second.yaml comes with its base, which sets x again over first.yaml's.
+  EXPECT_EQ(root.child("a").required<int>("x"), 0);
+  EXPECT_EQ(root.child("a").required<int>("y"), 2);
+  EXPECT_EQ(root.child("a").required<int>("z"), 3);
+  EXPECT_NO_THROW(root.finish());
+  const auto empty = write("empty.yaml", "extends: []\n");
+  EXPECT_NE(message_of([&] { load_yaml_file(empty); }).find("empty.yaml: key 'extends' must be"),
+            std::string::npos);
+}
+
 TEST_F(YamlConfigTest, ExtendsCycleIsAnError) {
   write("a.yaml", "extends: b.yaml\n");
   const auto b = write("b.yaml", "extends: a.yaml\n");

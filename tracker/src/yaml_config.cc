@@ -82,13 +82,32 @@ YAML::Node load_with_extends(const std::string& path, std::vector<std::string>& 
   YAML::Node node = parse_file(path);
   if (node.IsNull()) node = YAML::Node(YAML::NodeType::Map);
   if (!node.IsMap()) throw InputError(path + ": the top level must be a map of keys");
-  if (!node["extends"]) return node;
+  if (!node["extends"]) {
+    chain.pop_back();
+    return node;
+  }
+  // One base, or a list merged in order (each later one over the earlier).
   const YAML::Node ext = node["extends"];
-  if (!ext.IsScalar()) throw InputError(path + ": key 'extends' must be a file name");
-  fs::path base_path = ext.as<std::string>();
-  if (base_path.is_relative()) base_path = fs::path(path).parent_path() / base_path;
-  YAML::Node base = load_with_extends(base_path.string(), chain);
+  std::vector<std::string> names;
+  if (ext.IsScalar()) {
+    names.push_back(ext.as<std::string>());
+  } else if (ext.IsSequence() && ext.size() > 0) {
+    for (const YAML::Node& item : ext) {
+      if (!item.IsScalar()) throw InputError(path + ": key 'extends' must list file names");
+      names.push_back(item.as<std::string>());
+    }
+  } else {
+    throw InputError(path + ": key 'extends' must be a file name or a list of them");
+  }
+  YAML::Node base;
+  for (const std::string& name : names) {
+    fs::path base_path = name;
+    if (base_path.is_relative()) base_path = fs::path(path).parent_path() / base_path;
+    YAML::Node next = load_with_extends(base_path.string(), chain);
+    base = base ? merge(base, next) : next;
+  }
   node.remove("extends");
+  chain.pop_back();  // the files above this one: a base two lists share is no cycle
   return merge(base, node);
 }
 
