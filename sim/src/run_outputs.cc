@@ -192,7 +192,8 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
       << ",cam_true_x_m,cam_true_y_m,cam_true_z_m,cam_true_roll_rad,cam_true_pitch_rad,"
          "cam_true_yaw_rad,health_state,health_explained_fraction,"
          "health_contradicted_fraction,health_abandoned_fraction,"
-         "health_weakest_part_explained_fraction,health_unconfirmed_chains\n";
+         "health_weakest_part_explained_fraction,health_unconfirmed_chains,"
+         "health_model_error_std_m\n";
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const RunResult& run : r.runs) {
     for (std::size_t i = 0; i < run.truth.size(); ++i) {
@@ -220,7 +221,7 @@ void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
             << text::csv_number(s.health.whole.contradicted_fraction) << ','
             << text::csv_number(s.health.whole.abandoned_fraction) << ','
             << text::csv_number(s.health.weakest_part_explained_fraction()) << ','
-            << s.health.unconfirmed_chains();
+            << s.health.unconfirmed_chains() << ',' << text::csv_number(s.health.model_error_std_m);
         out << '\n';
       }
     }
@@ -307,12 +308,14 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   text("truth within 2 sigma (all samples)", 36);
   text("camera frame error: mm", 26);
   text("deg", 16);
+  text("model error", 14);
   out << "\n";
   left("method", 20);
   text("angles", 12);
   text("biases", 12);
   text("camera", 12);
   for (int k = 0; k < 2; ++k) text("p50", 10), text("p99", k ? 8 : 14);
+  text("p50 mm", 14);
   out << "\n";
   for (const MethodResult& m : r.method_results) {
     const ErrorStats& s = m.summary.all;
@@ -324,9 +327,26 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     cell(s.camera_translation_m.p99, mm, 14, 1);
     cell(s.camera_rotation_rad.p50, deg, 10, 2);
     cell(s.camera_rotation_rad.p99, deg, 8, 2);
+    // The link shifts the residuals show (TrackingHealth::model_error_std_m),
+    // over the samples after the first image.
+    std::vector<double> model_error;
+    for (const RunResult& run : r.runs)
+      for (const MethodRun& mr : run.methods)
+        if (mr.method == m.method)
+          for (const EstimateSample& e : mr.samples)
+            if (e.health.state != TrackingHealth::State::kNoImage)
+              model_error.push_back(e.health.model_error_std_m);
+    if (model_error.empty()) {
+      text("-", 14);
+    } else {
+      std::nth_element(model_error.begin(), model_error.begin() + model_error.size() / 2,
+                       model_error.end());
+      cell(model_error[model_error.size() / 2], mm, 14, 1);
+    }
     out << "\n";
   }
-  out << "(-: not estimated, or no truth)\n";
+  out << "(-: not estimated, or no truth; model error: the links' surface shift the depth\n"
+         "residuals show, uncertainty.model_error)\n";
 
   // Which runs are lost.
   for (const MethodResult& m : r.method_results) {

@@ -54,6 +54,66 @@ TEST(PosteriorCovariance, UpdateIsTheInformationFormProduct) {
   EXPECT_EQ(cov.covariance()(0, 0), 0.5);
 }
 
+// With consider parameters the reported covariance is that of the error of
+// a mean fitted as if they were zero: brute force with an explicit
+// measurement y = H_x x + H_c c + noise (R = Id / s), the nominal filter's
+// gain K = P+ H_x^T R^-1, and the augmented error (e, c) propagated in
+// Joseph form. Repeated images of one pose then leave the least-squares
+// fit's error from c, (H_x^+ H_c)(H_x^+ H_c)^T, where the filter's own
+// covariance goes to zero.
+TEST(PosteriorCovariance, ConsiderParametersLeaveTheFitsErrorFloor) {
+  const int m = 2, c = 3;
+  const std::vector<PosteriorCovariance::State> states = {{3, Kind::kBias, 0.05, 0.003},
+                                                          {7, Kind::kAngle, 0, 1e-4}};
+  PosteriorCovariance cov(states, c);
+  ASSERT_EQ(cov.num_consider(), c);
+  Eigen::MatrixXd H(4, m + c);  // four measurements of the angles and the consider parameters
+  H << 3, 1, 0.5, 0, 0.2,       //
+      -1, 4, 0, 0.7, 0,         //
+      2, 2, 0.1, 0.1, 0.6,      //
+      0, 5, 0, 0.3, 0.3;
+  const double s = 0.5;
+  const Eigen::MatrixXd info = H.transpose() * H;  // about (angles, consider)
+  const Eigen::MatrixXd I_xx = info.topLeftCorner(m, m), I_xc = info.topRightCorner(m, c);
+  // The states are (bias, angle): the bias's column flips sign.
+  Eigen::MatrixXd Hx = H.leftCols(m), Hc = H.rightCols(c);
+  Hx.col(0) *= -1;
+  cov.reset(Eigen::Vector2d(0.04, 0.09), 0.0);
+  Eigen::MatrixXd P = Eigen::Vector2d(0.04, 0.09).asDiagonal();  // the nominal filter
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(m + c, m + c);   // (e, c)
+  Q.topLeftCorner(m, m) = P;
+  for (int image = 0; image < 3; ++image) {
+    cov.update(I_xx, I_xc, s);
+    P = (P.inverse() + s * Hx.transpose() * Hx).inverse();
+    const Eigen::MatrixXd K = P * Hx.transpose() * s;  // R^-1 = s Id
+    Eigen::MatrixXd A = Eigen::MatrixXd::Identity(m + c, m + c);
+    A.topRows(m) -= K * H;  // e <- e - K (H_x e + H_c c) - K noise
+    A.topLeftCorner(m, m) = Eigen::MatrixXd::Identity(m, m) - K * Hx;
+    Q = A * Q * A.transpose();
+    Q.topLeftCorner(m, m) += K * K.transpose() / s;
+    EXPECT_TRUE(cov.nominal_covariance().isApprox(P, 1e-12));
+    EXPECT_TRUE(cov.covariance().isApprox(Q.topLeftCorner(m, m), 1e-10)) << image << "\n"
+                                                                         << cov.covariance() << "\n"
+                                                                         << Q.topLeftCorner(m, m);
+  }
+  // Many images of the same pose: the reported covariance levels off at the
+  // least-squares fit's error, the filter's own goes to zero.
+  for (int image = 0; image < 5000; ++image) cov.update(I_xx, I_xc, s);
+  const Eigen::MatrixXd regression = I_xx.inverse() * I_xc;  // the fit's shift per consider unit
+  const Eigen::MatrixXd floor = regression * regression.transpose();
+  EXPECT_TRUE(cov.angle_covariance().isApprox(floor, 0.01)) << cov.angle_covariance() << "\n"
+                                                            << floor;
+  EXPECT_LT(cov.nominal_angle_covariance().trace(), 0.01 * floor.trace());
+  // Without consider information the update is the plain one.
+  PosteriorCovariance plain(states), with(states, c);
+  plain.reset(Eigen::Vector2d(0.04, 0.09), 0.0);
+  with.reset(Eigen::Vector2d(0.04, 0.09), 0.0);
+  plain.update(I_xx, s);
+  with.update(I_xx, s);
+  EXPECT_EQ(plain.covariance(), with.nominal_covariance());
+  EXPECT_TRUE(with.covariance().isApprox(plain.covariance(), 1e-12));
+}
+
 TEST(PosteriorCovariance, RejectsBadInput) {
   EXPECT_THROW(PosteriorCovariance({{0, Kind::kBias, -1, 0.1}}), InputError);
   PosteriorCovariance cov({{0, Kind::kAngle, 0, 0.1}});

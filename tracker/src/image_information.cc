@@ -1,11 +1,19 @@
 #include "arttrack/tracker/image_information.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
+namespace {
+
+// A shift counts in the model-error estimate when one image pins it to
+// within 3 mm (standard deviation).
+constexpr double kMaxShiftNoiseVar_m2 = 0.003 * 0.003;
+
+}  // namespace
 
 ImageInformation::ImageInformation(std::vector<int> dofs, const ImageInformationParams& params)
     : dofs_(std::move(dofs)), params_(params) {
@@ -32,7 +40,11 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   residuals_.setZero(num_pixels);
 
   forward_kinematics(model, q_, kinematics_);
-  renderer.render(kinematics_, base_);
+  if (params_.link_shifts) {
+    render_labelled(renderer);
+  } else {
+    renderer.render(kinematics_, base_);
+  }
   // Pixels the robot at q covers and the image explains.
   for (int p = 0; p < num_pixels; ++p) {
     const double r = base_.depth_m[std::size_t(p)];
@@ -86,7 +98,145 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
   estimate_effective_pixel_fraction(likelihood.width());
+  if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
   return information_;
+}
+
+// base_ as the nearest of the links drawn one by one (the same depths as
+// drawing them together), and which link each pixel shows.
+void ImageInformation::render_labelled(DepthRenderer& renderer) {
+  const RobotModel& model = renderer.model();
+  if (shift_links_.empty()) {
+    shift_links_ = model.links_with_geometry();
+    std::vector<int> index(std::size_t(model.num_links()), -1);
+    for (int k = 0; k < int(shift_links_.size()); ++k) index[std::size_t(shift_links_[k])] = k;
+    for (int l : shift_links_) {
+      shift_link_sets_.emplace_back(std::size_t(model.num_links()), false);
+      shift_link_sets_.back()[std::size_t(l)] = true;
+      shift_above_.emplace_back();
+      for (int a = l; a >= 0; a = model.link(a).parent)
+        if (index[std::size_t(a)] >= 0) shift_above_.back().push_back(index[std::size_t(a)]);
+    }
+  }
+  const int W = renderer.camera().width, H = renderer.camera().height;
+  if (base_.width != W || base_.height != H) {
+    base_ = DepthImage(W, H);
+  } else {
+    std::fill(base_.depth_m.begin(), base_.depth_m.end(), 0.f);
+  }
+  label_.assign(std::size_t(W) * H, -1);
+  for (int k = 0; k < int(shift_links_.size()); ++k) {
+    const PixelRect rect = renderer.render_links(kinematics_, shift_link_sets_[k], single_);
+    for (int v = rect.v0; v < rect.v1; ++v) {
+      for (int u = rect.u0; u < rect.u1; ++u) {
+        const std::size_t i = std::size_t(v) * W + u;
+        const float d = single_.depth_m[i];
+        if (d > 0.f && (base_.depth_m[i] == 0.f || d < base_.depth_m[i])) {
+          base_.depth_m[i] = d;
+          label_[i] = k;
+        }
+      }
+    }
+  }
+}
+
+void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
+                                           const DepthLikelihood& likelihood) {
+  const int n = int(dofs_.size()), L = int(shift_links_.size());
+  const int W = likelihood.width(), H = likelihood.height();
+  shift_cross_.setZero(n, 3 * L);
+  shift_information_.setZero(3 * L, 3 * L);
+  shift_gradient_.setZero(3 * L);
+  shift_pixels_.assign(std::size_t(L), 0);
+  residual_sum_sq_ = 0;
+  for (int p = 0; p < W * H; ++p) {
+    if (!used_[std::size_t(p)]) continue;
+    const int l = label_[std::size_t(p)];
+    if (l < 0) continue;
+    const int u = p % W, v = p / W;
+    const double r = base_.depth_m[std::size_t(p)];
+    const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
+    // A neighbour's depth when it shows the same surface: the same link, and
+    // no jump (a surface up to 76 degrees from facing the camera changes by
+    // at most 4 pixel footprints r / f between neighbours).
+    const double max_step_m =
+        4 * r / std::min(camera.fx, camera.fy) + params_.inlier_sigmas * sigma;
+    auto neighbour = [&](int uu, int vv, double& d) {
+      if (uu < 0 || uu >= W || vv < 0 || vv >= H) return false;
+      const std::size_t i = std::size_t(vv) * W + uu;
+      if (label_[i] != l) return false;
+      d = base_.depth_m[i];
+      return std::abs(d - r) < max_step_m;
+    };
+    auto slope = [&](int du, int dv) {
+      double next = 0, prev = 0;
+      const bool has_next = neighbour(u + du, v + dv, next);
+      const bool has_prev = neighbour(u - du, v - dv, prev);
+      if (has_next && has_prev) return 0.5 * (next - prev);
+      if (has_next) return next - r;
+      if (has_prev) return r - prev;
+      return 0.0;
+    };
+    const double r_u = slope(1, 0), r_v = slope(0, 1);
+    const double x = (u + 0.5 - camera.cx) / camera.fx, y = (v + 0.5 - camera.cy) / camera.fy;
+    const Eigen::Vector3d j = Eigen::Vector3d(-camera.fx * r_u / r, -camera.fy * r_v / r,
+                                              1 + (x * camera.fx * r_u + y * camera.fy * r_v) / r) /
+                              sigma;
+    // The pixel moves with the shift of its link and of every link above it.
+    const Eigen::Matrix3d jj = j * j.transpose();
+    const Eigen::RowVectorXd g = gradients_.row(p).cast<double>();
+    for (int a : shift_above_[std::size_t(l)]) {
+      shift_cross_.middleCols<3>(3 * a).noalias() += g.transpose() * j.transpose();
+      shift_gradient_.segment<3>(3 * a) += double(residuals_[p]) * j;
+      ++shift_pixels_[std::size_t(a)];
+      for (int b : shift_above_[std::size_t(l)]) shift_information_.block<3, 3>(3 * a, 3 * b) += jj;
+    }
+  }
+  for (int p = 0; p < W * H; ++p) residual_sum_sq_ += double(residuals_[p]) * residuals_[p];
+}
+
+double ImageInformation::link_shift_variance_m2(int min_pixels) const {
+  if (!params_.link_shifts || pixels_used_ == 0) return 0;
+  const int n = int(dofs_.size());
+  std::vector<int> columns;
+  for (int l = 0; l < int(shift_links_.size()); ++l)
+    if (shift_pixels_[std::size_t(l)] >= min_pixels)
+      for (int a = 0; a < 3; ++a) columns.push_back(3 * l + a);
+  const int k = int(columns.size());
+  if (k == 0) return 0;
+  // The DOFs projected out; a small ridge keeps DOFs the image does not see solvable.
+  Eigen::MatrixXd I_xx = information_;
+  const double ridge = 1e-9 * std::max(1.0, I_xx.diagonal().maxCoeff());
+  I_xx.diagonal().array() += ridge;
+  const Eigen::LDLT<Eigen::MatrixXd> dofs(I_xx);
+  Eigen::MatrixXd C(n, k), A(k, k);
+  Eigen::VectorXd b(k);
+  for (int c = 0; c < k; ++c) {
+    C.col(c) = shift_cross_.col(columns[std::size_t(c)]);
+    b[c] = shift_gradient_[columns[std::size_t(c)]];
+    for (int d = 0; d < k; ++d)
+      A(c, d) = shift_information_(columns[std::size_t(c)], columns[std::size_t(d)]);
+  }
+  A -= C.transpose() * dofs.solve(C);
+  b -= C.transpose() * dofs.solve(gradient_);
+  A.diagonal().array() += 1e-9 * std::max(1.0, A.diagonal().maxCoeff());
+  const Eigen::LDLT<Eigen::MatrixXd> shifts(A);
+  const Eigen::VectorXd estimate = shifts.solve(b);  // the shifts' least-squares fit, m
+  const double chi2 = b.dot(estimate);
+  const double fitted = gradient_.dot(dofs.solve(gradient_));
+  const int left = pixels_used_ - n - k;
+  const double c = left > 0 ? std::max(1.0, (residual_sum_sq_ - fitted - chi2) / left) : 1.0;
+  // Each shift's square less its noise variance c (A^-1)_ii, averaged over
+  // the shifts: every link counts the same, however many pixels it has.
+  const Eigen::MatrixXd noise = shifts.solve(Eigen::MatrixXd::Identity(k, k));
+  double sum = 0;
+  int counted = 0;
+  for (int i = 0; i < k; ++i) {
+    if (!(c * noise(i, i) < kMaxShiftNoiseVar_m2)) continue;  // the image hardly sees it
+    sum += estimate[i] * estimate[i] - c * noise(i, i);
+    ++counted;
+  }
+  return counted > 0 ? std::max(0.0, sum / counted) : 0.0;
 }
 
 void ImageInformation::estimate_effective_pixel_fraction(int width) {

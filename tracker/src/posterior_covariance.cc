@@ -23,7 +23,10 @@ void transition(const PosteriorCovariance::State& s, double dt_s, double& phi, d
 
 }  // namespace
 
-PosteriorCovariance::PosteriorCovariance(std::vector<State> states) : states_(std::move(states)) {
+PosteriorCovariance::PosteriorCovariance(std::vector<State> states, int num_consider)
+    : states_(std::move(states)), num_consider_(num_consider) {
+  if (num_consider < 0)
+    throw InputError("posterior covariance: negative number of consider parameters");
   const int m = size();
   sign_.resize(m);
   for (int i = 0; i < m; ++i) {
@@ -37,6 +40,11 @@ PosteriorCovariance::PosteriorCovariance(std::vector<State> states) : states_(st
   P_ = Eigen::MatrixXd::Zero(m, m);
   scratch_ = Eigen::MatrixXd::Zero(m, m);
   identity_ = Eigen::MatrixXd::Identity(m, m);
+  J_ = Eigen::MatrixXd::Zero(m, m);
+  if (num_consider_ > 0) {
+    Q_ee_ = A_ = PJ_ = Eigen::MatrixXd::Zero(m, m);
+    Q_ec_ = B_ = AQ_ = Eigen::MatrixXd::Zero(m, num_consider_);
+  }
 }
 
 void PosteriorCovariance::reset(const Eigen::VectorXd& variances, double time_s) {
@@ -44,6 +52,10 @@ void PosteriorCovariance::reset(const Eigen::VectorXd& variances, double time_s)
     throw InputError("posterior covariance: " + std::to_string(variances.size()) +
                      " variances for " + std::to_string(size()) + " states");
   P_ = variances.cwiseMax(0.0).asDiagonal();
+  if (num_consider_ > 0) {
+    Q_ee_ = P_;
+    Q_ec_.setZero();
+  }
   time_s_ = time_s;
   started_ = true;
 }
@@ -52,6 +64,12 @@ void PosteriorCovariance::restart_state(int i, double variance) {
   P_.row(i).setZero();
   P_.col(i).setZero();
   P_(i, i) = std::max(0.0, variance);
+  if (num_consider_ > 0) {
+    Q_ee_.row(i).setZero();
+    Q_ee_.col(i).setZero();
+    Q_ee_(i, i) = P_(i, i);
+    Q_ec_.row(i).setZero();
+  }
 }
 
 void PosteriorCovariance::predict_to(double time_s) {
@@ -64,6 +82,12 @@ void PosteriorCovariance::predict_to(double time_s) {
     P_.row(i) *= phi_i;
     P_.col(i) *= phi_i;
     P_(i, i) += added;
+    if (num_consider_ > 0) {
+      Q_ee_.row(i) *= phi_i;
+      Q_ee_.col(i) *= phi_i;
+      Q_ee_(i, i) += added;
+      Q_ec_.row(i) *= phi_i;
+    }
   }
   time_s_ = time_s;
 }
@@ -72,21 +96,68 @@ void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  double information_scale) {
   if (angle_information.rows() != size() || angle_information.cols() != size())
     throw InputError("posterior covariance: information matrix of the wrong size");
+  update_nominal(angle_information, information_scale);
+  if (num_consider_ > 0) propagate_error(nullptr, information_scale);
+}
+
+void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
+                                 const Eigen::MatrixXd& consider_cross, double information_scale) {
+  if (angle_information.rows() != size() || angle_information.cols() != size() ||
+      consider_cross.rows() != size() || consider_cross.cols() != num_consider_)
+    throw InputError("posterior covariance: information matrices of the wrong size");
+  update_nominal(angle_information, information_scale);
+  if (num_consider_ > 0) propagate_error(&consider_cross, information_scale);
+}
+
+void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_information,
+                                         double information_scale) {
   // Id + P s D I D, solved against P: (P^-1 + s D I D)^-1 without inverting P.
-  scratch_.noalias() = P_ * (sign_.asDiagonal() * angle_information * sign_.asDiagonal());
+  J_.noalias() = sign_.asDiagonal() * angle_information * sign_.asDiagonal();
+  scratch_.noalias() = P_ * J_;
   scratch_ *= information_scale;
   scratch_ += identity_;
+  J_ *= information_scale;  // J_xx, for propagate_error()
   P_ = scratch_.partialPivLu().solve(P_);
   P_ = 0.5 * (P_ + P_.transpose()).eval();
+}
+
+// The error's covariance after the update that gave P_ (P+), with J_ = J_xx.
+void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
+                                          double information_scale) {
+  PJ_.noalias() = P_ * J_;  // P+ J_xx
+  A_ = identity_ - PJ_;
+  if (consider_cross) {
+    B_.noalias() = P_ * (sign_.asDiagonal() * *consider_cross);
+    B_ *= -information_scale;
+  } else {
+    B_.setZero();
+  }
+  // Q_ee <- A Q_ee A^T + A Q_ec B^T + B Q_ce A^T + B B^T + P+ J_xx P+.
+  scratch_.noalias() = A_ * Q_ee_;
+  Q_ee_.noalias() = scratch_ * A_.transpose();
+  AQ_.noalias() = A_ * Q_ec_;  // m x c
+  scratch_.noalias() = AQ_ * B_.transpose();
+  Q_ee_ += scratch_ + scratch_.transpose();
+  Q_ee_.noalias() += B_ * B_.transpose();
+  Q_ee_.noalias() += PJ_ * P_;
+  Q_ee_ = 0.5 * (Q_ee_ + Q_ee_.transpose()).eval();
+  // Q_ec <- A Q_ec + B.
+  Q_ec_ = AQ_ + B_;
 }
 
 double PosteriorCovariance::variance_at(int i, double time_s) const {
   double phi, added;
   transition(states_[std::size_t(i)], std::max(0.0, time_s - time_s_), phi, added);
-  return phi * phi * P_(i, i) + added;
+  return phi * phi * (num_consider_ > 0 ? Q_ee_(i, i) : P_(i, i)) + added;
 }
 
+Eigen::MatrixXd PosteriorCovariance::covariance() const { return num_consider_ > 0 ? Q_ee_ : P_; }
+
 Eigen::MatrixXd PosteriorCovariance::angle_covariance() const {
+  return sign_.asDiagonal() * covariance() * sign_.asDiagonal();
+}
+
+Eigen::MatrixXd PosteriorCovariance::nominal_angle_covariance() const {
   return sign_.asDiagonal() * P_ * sign_.asDiagonal();
 }
 

@@ -197,6 +197,10 @@ struct Tracker::Impl {
   // and the copy estimate() reads (guarded by mutex).
   PosteriorCovariance covariance, published_covariance;
   std::unique_ptr<ImageInformation> information;
+  // uncertainty.model_error: the link shifts' variance averaged over images.
+  double model_error_var_m2 = 0, model_error_time_s = 0;
+  bool model_error_started = false;
+  Eigen::MatrixXd consider_cross;
   Eigen::VectorXd covariance_start;
   std::vector<char> reopened;      // per DOF: re-acquisition moved it at this image
   bool refine_on = false;          // the Gauss-Newton refinement of the mean (full fusion)
@@ -388,9 +392,12 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
       }
       dofs.push_back(j);
     }
-    covariance = PosteriorCovariance(std::move(states));
+    ImageInformationParams information_params;
+    information_params.link_shifts = config.model_error;
+    const int num_consider = config.model_error ? 3 * int(model->links_with_geometry().size()) : 0;
+    covariance = PosteriorCovariance(std::move(states), num_consider);
     published_covariance = covariance;
-    information = std::make_unique<ImageInformation>(std::move(dofs));
+    information = std::make_unique<ImageInformation>(std::move(dofs), information_params);
     covariance_start.resize(covariance.size());
     reopened.assign(n, 0);
     refine_on = config.method == TrackingMethod::kFullFusion && config.refine_mean;
@@ -762,7 +769,23 @@ void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
     health.refinements_accepted += refine(belief, info, information->gradient());
   const double discount =
       config.discount_correlated_residuals ? information->effective_pixel_fraction() : 1.0;
-  covariance.update(info, config.image_information_scale * discount);
+  if (!config.model_error) {
+    covariance.update(info, config.image_information_scale * discount);
+    return;
+  }
+  // The link shifts' variance, averaged over time (one image's estimate is noisy).
+  const double sample = information->link_shift_variance_m2();
+  // From 0, so that the first images (the estimate still converging, its
+  // residuals large) weigh one image's share each.
+  const double dt = model_error_started ? std::max(0.0, time_s - model_error_time_s) : 1.0 / 30;
+  const double keep = std::exp(-dt / config.model_error_time_constant_s);
+  model_error_var_m2 = keep * model_error_var_m2 + (1 - keep) * sample;
+  model_error_time_s = time_s;
+  model_error_started = true;
+  const double std_m = std::max(std::sqrt(model_error_var_m2), config.model_error_min_std_m);
+  health.model_error_std_m = std::sqrt(model_error_var_m2);
+  consider_cross = information->shift_cross_information() * std_m;
+  covariance.update(info, consider_cross, config.image_information_scale * discount);
 }
 
 // One Gauss-Newton step on the particle filter's target, prior x
@@ -783,7 +806,7 @@ bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& informati
   const auto& states = covariance.states();
   const int m = covariance.size();
   const double beta = config.likelihood_exponent;
-  refine_prior = covariance.angle_covariance();
+  refine_prior = covariance.nominal_angle_covariance();  // the filter's own weights
   refine_prior.diagonal() += refine_var_q;
   refine_x.resize(m);
   for (int i = 0; i < m; ++i) {

@@ -41,6 +41,9 @@ struct ImageInformationParams {
   double prismatic_step_m = 1e-3;
   // A pixel counts when |z - r| is below this many noise sigmas.
   double inlier_sigmas = 3;
+  // Also compute how the image depends on a shift of each link's surface
+  // (link shifts, below).
+  bool link_shifts = false;
 };
 
 class ImageInformation {
@@ -82,6 +85,40 @@ class ImageInformation {
   // pixel was used.
   double effective_pixel_fraction() const { return effective_pixel_fraction_; }
 
+  // Link shifts (with params.link_shifts): the real robot's links are not
+  // the model's (lengths, shapes, simplified meshes), and the error is the
+  // same in every image. Its first-order effect is modelled as a shift t_l
+  // of each link's surface, in camera axes: the rendered depth at pixel
+  // (u, v) of link l becomes r(u - du, v - dv) + t_z with du = fx (t_x - x
+  // t_z) / r, dv = fy (t_y - y t_z) / r, x = (u - cx) / fx, y = (v - cy) /
+  // fy, so
+  //   d r / d t = (-fx r_u / r, -fy r_v / r, 1 + (x fx r_u + y fy r_v) / r),
+  // r_u, r_v the rendered depth's slopes per pixel between neighbours of the
+  // same link (interior pixels; none across a depth jump). Each used pixel
+  // is labelled with the link it shows (the links drawn one by one). Over
+  // the same pixels as the information, normalised by sigma:
+  //   shift_cross_information()  G_dof^T G_shift   (dofs x 3 links)
+  //   shift_information()        G_shift^T G_shift (3 links square, 3x3 blocks)
+  //   shift_gradient()           G_shift^T u       (u the normalised residuals)
+  // Column 3 k + a is axis a of shift_links()[k] (the model's links with geometry).
+  const std::vector<int>& shift_links() const { return shift_links_; }
+  const Eigen::MatrixXd& shift_cross_information() const { return shift_cross_; }
+  const Eigen::MatrixXd& shift_information() const { return shift_information_; }
+  const Eigen::VectorXd& shift_gradient() const { return shift_gradient_; }
+  // A moment estimate of the links' shift variance, m^2, from the last
+  // compute(): the shifts' least-squares fit p to the residuals with the
+  // DOFs projected out (the tracker's estimate is their fit), over the links
+  // at least `min_pixels` pixels show, has noise covariance c A^-1 (A the
+  // shift information with the DOFs projected out, c the residuals' variance
+  // left after fitting both, at least 1). When each shift is N(0, sigma_t^2),
+  // E[p_i^2] = sigma_t^2 + c (A^-1)_ii, so the estimate is the mean over
+  // the shifts one image pins to within 3 mm of p_i^2 - c (A^-1)_ii, every
+  // link weighing the same (a weighting by pixels let the big, well-fitted
+  // links hide the small ones' error: half the standard deviation on
+  // scenarios/realistic/both.yaml). 0 when the links fit; noisy from one
+  // image (the tracker averages it over time).
+  double link_shift_variance_m2(int min_pixels = 20) const;
+
  private:
   std::vector<int> dofs_;
   ImageInformationParams params_;
@@ -96,7 +133,19 @@ class ImageInformation {
   int pixels_used_ = 0;
   std::vector<int> pixels_per_dof_;
   double effective_pixel_fraction_ = 1;
+  // Link shifts.
+  std::vector<int> shift_links_;
+  std::vector<std::vector<bool>> shift_link_sets_;  // per shift link: it alone
+  std::vector<std::vector<int>> shift_above_;       // per shift link: it and those above it
+  std::vector<int> label_;                          // per pixel: shift link index, -1 none
+  std::vector<int> shift_pixels_;                   // per shift link: used pixels
+  DepthImage single_;
+  Eigen::MatrixXd shift_cross_, shift_information_;
+  Eigen::VectorXd shift_gradient_;
+  double residual_sum_sq_ = 0;
 
+  void render_labelled(DepthRenderer& renderer);
+  void compute_link_shifts(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
   void estimate_effective_pixel_fraction(int width);
 };
 

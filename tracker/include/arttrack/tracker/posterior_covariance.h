@@ -23,6 +23,22 @@
 // Encoder readings between images are taken to carry no information about
 // the bias (the angle's diffusion is orders of magnitude faster), which errs
 // on the side of a larger variance.
+//
+// Consider parameters: errors every image shares that the mean does not
+// estimate, such as how far each real link is from the model's
+// (image_information.h, link shifts), normalised to unit variance and
+// constant in time. The tracker's mean is fitted as if they were zero, with
+// the gain of the filter above (P, the nominal covariance); with them, an
+// image's update moves the error e of the states as
+//   e <- (Id - P+ J_xx) e - P+ J_xc c - (the gain times the pixel noise),
+// J_xx, J_xc the image's information about the states and between them and
+// the consider parameters c (signed by D, times s). The reported covariance
+// is the covariance of that error (consider analysis, Joseph form):
+//   Q_ee <- A Q_ee A^T + A Q_ec B^T + B Q_ce A^T + B B^T + P+ J_xx P+,
+//   Q_ec <- A Q_ec + B,   with A = Id - P+ J_xx, B = -P+ J_xc,
+// predicted like P. N images of one pose then leave the error the shared
+// model error gives the fit, where P alone goes to zero as 1/N. P stays the
+// filter's own weights (the refinement's prior).
 #pragma once
 
 #include <Eigen/Core>
@@ -41,10 +57,11 @@ class PosteriorCovariance {
   };
 
   PosteriorCovariance() = default;
-  explicit PosteriorCovariance(std::vector<State> states);
+  explicit PosteriorCovariance(std::vector<State> states, int num_consider = 0);
 
   const std::vector<State>& states() const { return states_; }
   int size() const { return int(states_.size()); }
+  int num_consider() const { return num_consider_; }
   bool started() const { return started_; }
   double time_s() const { return time_s_; }
 
@@ -56,19 +73,36 @@ class PosteriorCovariance {
   // Moves the covariance to time_s (>= time_s()).
   void predict_to(double time_s);
   // Folds in an image's information about the states' DOFs (their angles),
-  // in states() order, times `information_scale`.
+  // in states() order, times `information_scale` (with consider parameters:
+  // an image that says nothing about them).
   void update(const Eigen::MatrixXd& angle_information, double information_scale);
-  // Variance of state i after predicting to time_s (>= time_s()), without
-  // changing the covariance.
+  // The same with the image's information between the DOFs' angles and the
+  // consider parameters (size() x num_consider(), in their units).
+  void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd& consider_cross,
+              double information_scale);
+  // Variance of state i in the reported covariance after predicting to
+  // time_s (>= time_s()), without changing the covariance.
   double variance_at(int i, double time_s) const;
-  // The covariance of the states' DOFs' angle errors (D P D), without encoder noise.
+  // The reported covariance of the states' DOFs' angle errors (D Q_ee D, or
+  // D P D without consider parameters), without encoder noise.
   Eigen::MatrixXd angle_covariance() const;
-  const Eigen::MatrixXd& covariance() const { return P_; }
+  // The same from the filter's own covariance P (its weights).
+  Eigen::MatrixXd nominal_angle_covariance() const;
+  // The reported covariance of the states (Q_ee, or P).
+  Eigen::MatrixXd covariance() const;
+  const Eigen::MatrixXd& nominal_covariance() const { return P_; }
 
  private:
   std::vector<State> states_;
   Eigen::VectorXd sign_;  // D's diagonal
+  int num_consider_ = 0;
   Eigen::MatrixXd P_, scratch_, identity_;
+  Eigen::MatrixXd J_;  // the last image's J_xx
+  // With consider parameters: the error's covariance with them, and scratch.
+  Eigen::MatrixXd Q_ee_, Q_ec_, A_, B_, AQ_, PJ_;
+
+  void update_nominal(const Eigen::MatrixXd& angle_information, double information_scale);
+  void propagate_error(const Eigen::MatrixXd* consider_cross, double information_scale);
   double time_s_ = 0;
   bool started_ = false;
 };

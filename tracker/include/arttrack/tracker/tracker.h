@@ -123,6 +123,10 @@ struct TrackingHealth {
   int chains_reacquired = 0;        // chains that took a search's result
   int refinements_accepted = 0;     // Gauss-Newton steps taken (tracker.h)
   double last_acquisition_ms = 0;   // wall time of the newest search
+  // How far the robot's links seem to be from the model's: the standard
+  // deviation of a link's surface shift the residuals show (uncertainty.
+  // model_error), metres; 0 when the model fits the images (or it is off).
+  double model_error_std_m = 0;
 
   // The lowest ChainHealth::weakest_part_explained_fraction over the chains
   // (NaN when no chain has a part with a verdict), and how many chains are

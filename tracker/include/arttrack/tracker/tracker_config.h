@@ -111,6 +111,15 @@ struct TrackerConfig {
   // Also scale each image's information by how many independent pixels its
   // residuals are worth (ImageInformation::effective_pixel_fraction).
   bool discount_correlated_residuals = true;
+  // The real robot is not its model: treat a shift of each link's surface
+  // as an error shared by every image (consider states of the reported
+  // covariance, posterior_covariance.h; link shifts, image_information.h),
+  // with a standard deviation estimated from the images' residuals,
+  // averaged over model_error_time_constant_s, and at least
+  // model_error_min_std_m (a user who knows their URDF is off by about that).
+  bool model_error = true;
+  double model_error_time_constant_s = 2.0;
+  double model_error_min_std_m = 0.0;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = true;
