@@ -184,9 +184,9 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
                               sigma;
     // The pixel moves with the shift of its link and of every link above it.
     const Eigen::Matrix3d jj = j * j.transpose();
-    const Eigen::RowVectorXd g = gradients_.row(p).cast<double>();
+    pixel_gradient_ = gradients_.row(p).transpose().cast<double>();  // sized once: no allocation
     for (int a : shift_above_[std::size_t(l)]) {
-      shift_cross_.middleCols<3>(3 * a).noalias() += g.transpose() * j.transpose();
+      shift_cross_.middleCols<3>(3 * a).noalias() += pixel_gradient_ * j.transpose();
       shift_gradient_.segment<3>(3 * a) += double(residuals_[p]) * j;
       ++shift_pixels_[std::size_t(a)];
       for (int b : shift_above_[std::size_t(l)]) shift_information_.block<3, 3>(3 * a, 3 * b) += jj;

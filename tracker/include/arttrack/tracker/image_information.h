@@ -116,7 +116,8 @@ class ImageInformation {
   // link weighing the same (a weighting by pixels let the big, well-fitted
   // links hide the small ones' error: half the standard deviation on
   // scenarios/realistic/both.yaml). 0 when the links fit; noisy from one
-  // image (the tracker averages it over time).
+  // image (the tracker averages it over time). Allocates its k x k
+  // matrices (k up to 3 x links) once per image.
   double link_shift_variance_m2(int min_pixels = 20) const;
 
  private:
@@ -141,7 +142,7 @@ class ImageInformation {
   std::vector<int> shift_pixels_;                   // per shift link: used pixels
   DepthImage single_;
   Eigen::MatrixXd shift_cross_, shift_information_;
-  Eigen::VectorXd shift_gradient_;
+  Eigen::VectorXd shift_gradient_, pixel_gradient_;
   double residual_sum_sq_ = 0;
 
   void render_labelled(DepthRenderer& renderer);
