@@ -164,7 +164,8 @@ void register_run(CLI::App& app) {
   add_seed_option(cmd, args->seed, "Scenario seed; run k uses a seed mixed from it and k");
   cmd->add_option("--methods", args->methods,
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "
-                  "vision_only (default: the scenario's)");
+                  "vision_only (default: the scenario's)")
+      ->check(comma_list());
   cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)")

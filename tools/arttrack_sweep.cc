@@ -185,7 +185,8 @@ void register_sweep(CLI::App& app) {
   cmd->add_option("--runs", args->runs, "Runs (seeds) per cell (default: the scenario's)");
   add_seed_option(cmd, args->seed,
                   "Scenario seed; each cell's seed is mixed from it and the cell's overrides");
-  cmd->add_option("--methods", args->methods, "Comma-separated methods (default: the scenario's)");
+  cmd->add_option("--methods", args->methods, "Comma-separated methods (default: the scenario's)")
+      ->check(comma_list());
   cmd->add_option("--set", args->overrides, "Fixed override of a scenario key, e.g. duration_s=5")
       ->allow_extra_args(false);
   cmd->add_option("--shard", args->shard,

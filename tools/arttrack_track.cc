@@ -89,7 +89,8 @@ void register_track(CLI::App& app) {
   cmd->add_option("--urdf", args->urdf, "Nominal robot URDF (default: the dataset's)");
   cmd->add_option("--methods", args->methods,
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "
-                  "vision_only (default: the dataset's, else all it allows)");
+                  "vision_only (default: the dataset's, else all it allows)")
+      ->check(comma_list());
   cmd->add_option("--every", args->every,
                   "Also write an estimate.csv row every N joint readings (default 0)");
   cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());

@@ -56,17 +56,37 @@ inline void check_fresh_output(const std::filesystem::path& dir,
 // --seed of every command that simulates (run, export, sweep, tune, bench):
 // the scenario seed its runs' seeds derive from; -1 (the default) keeps the
 // scenario's `seed`. `help` says what the seed drives in that command.
+// --seed: any negative value is a usage error when given (the commands use
+// -1 inside for "not given", which a user cannot type).
 inline void add_seed_option(CLI::App* cmd, long long& seed, const std::string& help) {
-  cmd->add_option("--seed", seed, help + " (default: the scenario's)");
+  cmd->add_option("--seed", seed, help + " (default: the scenario's)")
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            return !s.empty() && s.front() == '-' ? "must be >= 0" : "";
+          },
+          "SEED >= 0"));
 }
 
-// A --seed below -1 is a usage error.
+// A --seed below -1 is a usage error (the validator above refuses -1 too).
 inline void check_seed(long long seed) {
   if (seed < -1) throw UsageError("--seed must be >= 0");
 }
 
+// Check for comma-separated lists (--methods a,b): an empty value or an
+// empty item (",a", "a,,b", "a,") is a usage error, not "the default".
+inline CLI::Validator comma_list() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        if (s.empty()) return "must not be empty (leave the option out for the default)";
+        if (s.front() == ',' || s.back() == ',' || s.find(",,") != std::string::npos)
+          return "has an empty item in '" + s + "'";
+        return "";
+      },
+      "LIST");
+}
+
 // The items of a comma-separated option value (--methods a,b), in order;
-// empty items (",a,,b,") are skipped and nothing is trimmed.
+// nothing is trimmed (comma_list() has refused empty items).
 inline std::vector<std::string> split_commas(const std::string& text) {
   std::vector<std::string> out;
   for (std::size_t begin = 0; begin <= text.size();) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
 #include "config_geometry.h"
@@ -50,6 +51,11 @@ fs::path resolve(const ConfigNode& n, const std::string& key, const fs::path& sc
 
 void read_robot(const ConfigNode& n, const fs::path& dir, SceneDescription& s) {
   s.urdf_path = resolve(n, "urdf", dir, true);
+  try {
+    check_not_xacro(s.urdf_path.string());
+  } catch (const InputError& e) {
+    n.fail("urdf", std::string("names ") + e.what());
+  }
   const ConfigNode packages = n.child("packages");
   for (const std::string& name : packages.keys()) {
     const fs::path root = resolve(packages, name, dir, true);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/robot_model.h"
 #include "config_geometry.h"
 #include "urdf_prepare.h"
 
@@ -112,6 +113,7 @@ int UrdfSummary::movable_index(const std::string& name) const {
 
 UrdfSummary read_urdf_summary(const fs::path& urdf) {
   const std::string where = urdf.string();
+  check_not_xacro(where);
   if (!fs::is_regular_file(urdf)) throw InputError(where + ": URDF file not found");
   XMLDocument doc;
   if (doc.LoadFile(where.c_str()) != tinyxml2::XML_SUCCESS)

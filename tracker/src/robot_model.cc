@@ -182,7 +182,14 @@ TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& li
 
 }  // namespace
 
+void check_not_xacro(const std::string& path) {
+  if (fs::path(path).extension() != ".xacro") return;
+  throw InputError(path + ": a xacro file, not a URDF: expand it first, e.g. `xacro " + path +
+                   " > robot.urdf` (ROS's xacro package), and give arttrack the URDF");
+}
+
 RobotModel RobotModel::from_urdf_file(const std::string& path, const RobotModelOptions& options) {
+  check_not_xacro(path);
   const std::string source = "URDF file '" + path + "'";
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {

@@ -106,6 +106,11 @@ struct Link {
 };
 
 // The kinematic tree and shapes of a robot. Immutable after construction.
+// Throws InputError when `path` names a xacro file (.xacro): macros that
+// ROS's xacro expands into a URDF; arttrack reads URDF only and says how to
+// expand it.
+void check_not_xacro(const std::string& path);
+
 class RobotModel {
  public:
   // Parses a URDF file. Throws InputError naming the file (missing,
