@@ -45,7 +45,8 @@ DatasetCamera read_camera_yaml(const fs::path& path) {
   const ConfigNode n = ConfigNode::root(doc);
   DatasetCamera c;
   for (const char* key : {"width", "height"}) {
-    const double v = n.required_number(key, 1, 1e5);
+    // The frames are depth PNGs, which are read up to kMaxDepthPngSide.
+    const double v = n.required_number(key, 1, kMaxDepthPngSide);
     if (v != std::floor(v)) n.fail(key, "must be a whole number of pixels");
     (std::string(key) == "width" ? c.intrinsics.width : c.intrinsics.height) = int(v);
   }

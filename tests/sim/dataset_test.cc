@@ -450,7 +450,11 @@ TEST_F(DatasetTest, BadIndexTruthAndCameraFilesAreNamed) {
     return text;
   };
   for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
-           {"fx", "1e-6"}, {"fy", "1e9"}, {"cx", "1e9"}, {"cy", "-5"}}) {
+           {"fx", "1e-6"},
+           {"fy", "1e9"},
+           {"cx", "1e9"},
+           {"cy", "-5"},
+           {"width", "100000"}}) {  // larger than any depth PNG read (kMaxDepthPngSide)
     write_text(camera, with_value(key, value));
     e = error_of([&] { load_dataset(d); });
     EXPECT_ERROR_HAS(e, camera.string());
