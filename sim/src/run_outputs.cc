@@ -336,13 +336,7 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
           for (const EstimateSample& e : mr.samples)
             if (e.health.state != TrackingHealth::State::kNoImage)
               model_error.push_back(e.health.model_error_std_m);
-    if (model_error.empty()) {
-      text("-", 14);
-    } else {
-      std::nth_element(model_error.begin(), model_error.begin() + model_error.size() / 2,
-                       model_error.end());
-      cell(model_error[model_error.size() / 2], mm, 14, 1);
-    }
+    cell(percentiles(model_error).p50, mm, 14, 1);  // "-" when there is none
     out << "\n";
   }
   out << "(-: not estimated, or no truth; model error: the links' surface shift the depth\n"

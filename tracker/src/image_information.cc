@@ -83,11 +83,13 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     }
   }
   pixels_used_ = 0;
+  residual_sum_sq_ = 0;
   for (int p = 0; p < num_pixels; ++p) {
     if (used_[std::size_t(p)]) {
       ++pixels_used_;
       const double z = likelihood.observed_depth_m(p);
       residuals_[p] = float((z - base_.depth_m[std::size_t(p)]) / likelihood.noise_std_at_m(z));
+      residual_sum_sq_ += double(residuals_[p]) * residuals_[p];
     } else {
       gradients_.row(p).setZero();
     }
@@ -148,7 +150,6 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   shift_information_.setZero(3 * L, 3 * L);
   shift_gradient_.setZero(3 * L);
   shift_pixels_.assign(std::size_t(L), 0);
-  residual_sum_sq_ = 0;
   for (int p = 0; p < W * H; ++p) {
     if (!used_[std::size_t(p)]) continue;
     const int l = label_[std::size_t(p)];
@@ -192,7 +193,6 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
       for (int b : shift_above_[std::size_t(l)]) shift_information_.block<3, 3>(3 * a, 3 * b) += jj;
     }
   }
-  for (int p = 0; p < W * H; ++p) residual_sum_sq_ += double(residuals_[p]) * residuals_[p];
 }
 
 double ImageInformation::link_shift_variance_m2(int min_pixels) const {
@@ -243,9 +243,6 @@ void ImageInformation::estimate_effective_pixel_fraction(int width) {
   const int num_pixels = int(used_.size());
   effective_pixel_fraction_ = 1;
   if (pixels_used_ == 0) return;
-  double sum_sq = 0;
-  for (int p = 0; p < num_pixels; ++p)
-    if (used_[std::size_t(p)]) sum_sq += double(residuals_[p]) * residuals_[p];
   // Correlation of the residuals of used pixels `step` apart (1: the next
   // column, width: the next row), without removing the mean: a shared
   // offset is exactly the correlated part that must not count N times.
@@ -264,7 +261,7 @@ void ImageInformation::estimate_effective_pixel_fraction(int width) {
   };
   const double rho_x = neighbour_correlation(1, true);
   const double rho_y = neighbour_correlation(width, false);
-  const double mean_square = sum_sq / pixels_used_;
+  const double mean_square = residual_sum_sq_ / pixels_used_;
   effective_pixel_fraction_ =
       (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / std::max(1.0, mean_square);
 }

@@ -151,8 +151,8 @@ std::vector<Eigen::Vector3d> surface_samples(const TriangleMesh& mesh, bool with
 double signed_volume(const TriangleMesh& mesh) {
   double volume = 0;
   for (const Eigen::Vector3i& t : mesh.triangles)
-    volume += mesh.vertices_m[t[0]].cast<double>().dot(
-                  mesh.vertices_m[t[1]].cast<double>().cross(mesh.vertices_m[t[2]].cast<double>())) /
+    volume += mesh.vertices_m[t[0]].cast<double>().dot(mesh.vertices_m[t[1]].cast<double>().cross(
+                  mesh.vertices_m[t[2]].cast<double>())) /
               6;
   return volume;
 }

@@ -782,8 +782,8 @@ void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
   model_error_var_m2 = keep * model_error_var_m2 + (1 - keep) * sample;
   model_error_time_s = time_s;
   model_error_started = true;
-  const double std_m = std::max(std::sqrt(model_error_var_m2), config.model_error_min_std_m);
   health.model_error_std_m = std::sqrt(model_error_var_m2);
+  const double std_m = std::max(health.model_error_std_m, config.model_error_min_std_m);
   consider_cross = information->shift_cross_information() * std_m;
   covariance.update(info, consider_cross, config.image_information_scale * discount);
 }

@@ -143,7 +143,7 @@ class ImageInformation {
   DepthImage single_;
   Eigen::MatrixXd shift_cross_, shift_information_;
   Eigen::VectorXd shift_gradient_, pixel_gradient_;
-  double residual_sum_sq_ = 0;
+  double residual_sum_sq_ = 0;  // of the used pixels' residuals u
 
   void render_labelled(DepthRenderer& renderer);
   void compute_link_shifts(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);

@@ -105,12 +105,12 @@ struct Link {
   std::vector<MeshLevel> coarser_meshes;
 };
 
-// The kinematic tree and shapes of a robot. Immutable after construction.
 // Throws InputError when `path` names a xacro file (.xacro): macros that
 // ROS's xacro expands into a URDF; arttrack reads URDF only and says how to
 // expand it.
 void check_not_xacro(const std::string& path);
 
+// The kinematic tree and shapes of a robot. Immutable after construction.
 class RobotModel {
  public:
   // Parses a URDF file. Throws InputError naming the file (missing,
