@@ -151,7 +151,6 @@ void run_bench(const BenchArgs& args) {
   const fs::path path =
       args.scenario.empty() ? sim::default_scenario_path() : fs::path(args.scenario);
   sim::Scenario scenario = sim::load_scenario(path, args.overrides);
-  check_seed(args.seed);
   if (args.evaluations < 0) throw UsageError("--evaluations must be >= 1");
   if (args.evaluations > kMaxEvaluations)
     throw UsageError("--evaluations must be at most " + std::to_string(kMaxEvaluations));

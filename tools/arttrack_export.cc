@@ -31,7 +31,6 @@ struct ExportArgs {
 };
 
 void run_export(const ExportArgs& args) {
-  check_seed(args.seed);
   check_fresh_output(args.out_dir, {"dataset.yaml", "joints.csv"}, args.force);
   const auto start = std::chrono::steady_clock::now();
   const sim::ExportSummary s =

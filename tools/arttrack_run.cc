@@ -88,7 +88,6 @@ void run(const RunArgs& args) {
   const sim::Scenario scenario = sim::load_scenario(path, args.overrides);
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
   if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
-  check_seed(args.seed);
 
   sim::RunOptions options;
   options.runs = args.runs;

@@ -72,7 +72,6 @@ void sweep(const SweepArgs& args) {
   if (args.runs < 0) throw UsageError("--runs must be >= 1");
   if (args.runs > kMaxRuns) throw UsageError("--runs must be at most " + std::to_string(kMaxRuns));
   spec.runs = args.runs;
-  check_seed(args.seed);
   spec.seed = args.seed;
   spec.fail_threshold_m = args.fail_threshold_m;
   spec.fail_statistic = args.fail_statistic;

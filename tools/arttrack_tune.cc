@@ -68,7 +68,6 @@ void tune(const TuneArgs& args) {
   }
   o.budget = args.budget;
   o.runs = args.runs;
-  check_seed(args.seed);
   o.seed = args.seed;
   o.out_dir = args.out_dir;
   o.log = [](const std::string& line) { std::cerr << "arttrack tune: " << line << "\n"; };

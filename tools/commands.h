@@ -67,11 +67,6 @@ inline void add_seed_option(CLI::App* cmd, long long& seed, const std::string& h
           "SEED >= 0"));
 }
 
-// A --seed below -1 is a usage error (the validator above refuses -1 too).
-inline void check_seed(long long seed) {
-  if (seed < -1) throw UsageError("--seed must be >= 0");
-}
-
 // Check for comma-separated lists (--methods a,b): an empty value or an
 // empty item (",a", "a,,b", "a,") is a usage error, not "the default".
 inline CLI::Validator comma_list() {
