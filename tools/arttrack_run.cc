@@ -9,10 +9,12 @@
 // DIR/frames/ (default DIR: out/<scenario name>), all named on the closing
 // line; a DIR holding a previous run's outputs is refused unless --force. summary.json records what
 // reproduces the run (arttrack rerun DIR).
-// Progress goes to stderr on long runs. --realtime paces the simulation at
-// wall-clock speed with asynchronous trackers (image updates on their own
-// threads, as on a robot) and prints, per method, the images dropped and the
-// latency from capture to the estimate that includes the image.
+// Progress goes to stderr on long runs. --realtime simulates each run first,
+// then replays its measurements at wall-clock speed to asynchronous trackers
+// (image updates on their own threads, as on a robot, with the cores to
+// themselves as a robot's camera leaves them) and prints, per method, the
+// images dropped and the latency from capture to the estimate that includes
+// the image.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -54,8 +56,9 @@ struct RunArgs {
 // image update or a search: they run on the caller's thread meanwhile).
 void print_realtime(std::ostream& os, const sim::ScenarioResult& result, double wall_s) {
   os << std::fixed << std::setprecision(1)
-     << "real time: " << result.duration_s * double(result.runs.size()) << " s simulated in "
-     << wall_s << " s, asynchronous trackers\n"
+     << "real time: " << result.duration_s * double(result.runs.size())
+     << " s of measurements replayed at the wall clock's pace to asynchronous trackers (" << wall_s
+     << " s with simulating them first)\n"
      << "  method              received  applied  dropped (too old, backlog, busy)"
      << "  latency ms: p50     p99  update ms: p50    p99  searches  joint us: p99    max\n";
   for (std::size_t i = 0; i < result.method_results.size(); ++i) {
@@ -171,8 +174,8 @@ void register_run(CLI::App& app) {
       ->check(non_empty_name());
   cmd->add_flag("--force", args->force, "Overwrite the outputs of a previous run in --out");
   cmd->add_flag("--realtime", args->realtime,
-                "Pace the simulation at wall-clock speed with asynchronous trackers; report "
-                "dropped images and capture-to-estimate latency");
+                "Simulate each run, then replay it at wall-clock speed to asynchronous "
+                "trackers; report dropped images and capture-to-estimate latency");
   cmd->callback([args] { run(*args); });
 }
 

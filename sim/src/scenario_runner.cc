@@ -57,6 +57,29 @@ struct InFlight {
   DepthImage image;
 };
 
+// Real time (RunOptions::realtime): a run's measurements and truth, recorded
+// by simulating the whole run first, then replayed at the wall clock's pace.
+// The camera is then an outside device, as on a robot: the trackers do not
+// share the cores with the simulator's physics and full-mesh rendering.
+struct Recording {
+  std::vector<double> readings_rad;  // per joint step, every simulated joint
+  struct Delivery {
+    long step;
+    InFlight frame;
+  };
+  struct Scored {
+    long step;
+    TruthSample truth;
+  };
+  std::vector<Delivery> deliveries;  // in order
+  std::vector<Scored> scored;        // in order
+};
+
+// What a Recording may hold, MB: a 640x480 camera at 30 Hz takes 37 MB a
+// second (the shipped 60 s occlusion scenario 2.2 GB); a longer --realtime
+// run is refused before it starts.
+constexpr double kMaxRecording_MB = 4096;
+
 // Everything fixed over the runs of a scenario.
 struct Setup {
   std::shared_ptr<const SimModel> sim_model;
@@ -173,13 +196,10 @@ class Run {
     std::size_t next_frame = 0;
     GroundTruth truth;
     DepthImage exact, robot_alone;
-    wall_start_ = Clock::now();
+    if (options_.realtime) begin_recording(steps, n_sim);
 
     for (long n = 0; n <= steps; ++n) {
       const double t = double(n) * period;
-      if (options_.realtime)
-        std::this_thread::sleep_until(wall_start_ + std::chrono::duration_cast<Clock::duration>(
-                                                        std::chrono::duration<double>(t)));
       if (n > 0) advance_physics(target);
       sim_.ground_truth(truth);
 
@@ -187,8 +207,11 @@ class Run {
       encoders_.corrupt(
           t, n == 0 ? 0.0 : period, std::span<const double>(truth.q.data(), std::size_t(n_sim)),
           std::span<const double>(truth.actuator_torque.data(), std::size_t(n_sim)), readings);
-      if (options_.sink) options_.sink->joints(result_.run, t, readings);
-      trackers_->joints(t, readings);
+      if (recording_)
+        recording_->readings_rad.insert(recording_->readings_rad.end(), readings.begin(),
+                                        readings.end());
+      else
+        joints(t, readings);
 
       // Camera captures at this step (the step nearest each capture time).
       bool frame_now = false;
@@ -215,15 +238,26 @@ class Run {
 
       // Deliveries: every frame that has arrived by now, in capture order.
       while (!in_flight_.empty() && in_flight_.front().arrival_s <= t + 1e-9) {
-        deliver(in_flight_.front(), t);
+        if (recording_)
+          recording_->deliveries.push_back({n, std::move(in_flight_.front())});
+        else
+          deliver(in_flight_.front(), t);
         in_flight_.pop_front();
       }
 
       const int every = sc_.scoring.every_n_joint_steps;
-      if (frame_now || (every > 0 && n % every == 0)) score(t, truth, frame_now, occluded);
-      if (options_.progress && n % progress_every == 0 && n > 0)
+      if (frame_now || (every > 0 && n % every == 0)) {
+        TruthSample sample = truth_sample(t, truth, frame_now, occluded);
+        if (recording_)
+          recording_->scored.push_back({n, std::move(sample)});
+        else
+          score(std::move(sample));
+      }
+      // Real time reports its progress as it replays.
+      if (options_.progress && !recording_ && n % progress_every == 0 && n > 0)
         options_.progress({result_.run, 0, t, sc_.duration_s});
     }
+    if (recording_) replay(steps, n_sim);
     trackers_->finish();
     for (std::size_t i = 0; i < result_.methods.size() && options_.realtime; ++i) {
       // End to end: from capture to delivery (the scenario's latency, and any
@@ -273,6 +307,55 @@ class Run {
     }
   }
 
+  // Reserves the recording of a real-time run, or refuses one that would
+  // not fit in kMaxRecording_MB.
+  void begin_recording(long steps, int n_sim) {
+    const double pixels = double(camera_.intrinsics().width) * camera_.intrinsics().height;
+    const double MB =
+        (double(steps + 1) * n_sim * sizeof(double) +
+         double(frames_timing_.size()) * (pixels * sizeof(float) + sizeof(InFlight))) /
+        1e6;
+    if (MB > kMaxRecording_MB)
+      throw InputError(sc_.source + ": --realtime simulates a run before replaying it at the " +
+                       "wall clock's pace, and this run's measurements would take " +
+                       std::to_string(std::lround(MB)) + " MB (at most " +
+                       std::to_string(std::lround(kMaxRecording_MB)) +
+                       "): shorten duration_s or lower the camera's resolution");
+    recording_.emplace();
+    recording_->readings_rad.reserve(std::size_t(steps + 1) * std::size_t(n_sim));
+  }
+
+  // Feeds the recorded run to the trackers, each joint step when its
+  // simulated time has passed on the wall clock since the replay began.
+  void replay(long steps, int n_sim) {
+    const double period = setup_.joint_period_s;
+    const long progress_every = std::max(1L, std::lround(sc_.joint_rate_hz));
+    std::size_t next_delivery = 0, next_scored = 0;
+    wall_start_ = Clock::now();
+    for (long n = 0; n <= steps; ++n) {
+      const double t = double(n) * period;
+      std::this_thread::sleep_until(wall_start_ + std::chrono::duration_cast<Clock::duration>(
+                                                      std::chrono::duration<double>(t)));
+      joints(t, std::span<const double>(recording_->readings_rad.data() + n * n_sim,
+                                        std::size_t(n_sim)));
+      for (; next_delivery < recording_->deliveries.size() &&
+             recording_->deliveries[next_delivery].step == n;
+           ++next_delivery)
+        deliver(recording_->deliveries[next_delivery].frame, t);
+      for (; next_scored < recording_->scored.size() && recording_->scored[next_scored].step == n;
+           ++next_scored)
+        score(std::move(recording_->scored[next_scored].truth));
+      if (options_.progress && n % progress_every == 0 && n > 0)
+        options_.progress({result_.run, 0, t, sc_.duration_s});
+    }
+    recording_.reset();
+  }
+
+  void joints(double t, std::span<const double> readings) {
+    if (options_.sink) options_.sink->joints(result_.run, t, readings);
+    trackers_->joints(t, readings);
+  }
+
   void deliver(const InFlight& frame, double now) {
     if (options_.realtime)
       delivered_.emplace_back(frame.stamp_s,
@@ -281,7 +364,7 @@ class Run {
     if (options_.sink) options_.sink->image(result_.run, frame.stamp_s, now, frame.image);
   }
 
-  void score(double t, const GroundTruth& g, bool camera_frame, double occluded) {
+  TruthSample truth_sample(double t, const GroundTruth& g, bool camera_frame, double occluded) {
     const std::size_t nj = setup_.joint_names.size(), ne = setup_.sim_ee.size();
     TruthSample truth;
     truth.time_s = t;
@@ -299,7 +382,10 @@ class Run {
     // The world frame is the robot's root link (simulator.h).
     truth.T_base_camera = g.T_world_camera;
     truth.camera_offset = camera_poses_.offset_to(truth.angle_rad, g.T_world_camera);
+    return truth;
+  }
 
+  void score(TruthSample truth) {
     const TruthSample& scored = trackers_->score(std::move(truth), &camera_poses_, true, true);
     if (options_.sink) options_.sink->truth(result_.run, scored);
   }
@@ -319,6 +405,7 @@ class Run {
   // Fills result_; after it, as it refers to it.
   std::optional<MethodTrackers> trackers_;
   std::deque<InFlight> in_flight_;
+  std::optional<Recording> recording_;  // real time only, until replayed
   Clock::time_point wall_start_;
   // Real time: (stamp, wall time of delivery since wall_start_) per delivered image, in order.
   std::vector<std::pair<double, double>> delivered_;

@@ -1,5 +1,5 @@
-// RunOptions::realtime: the simulation is paced by the wall clock, the
-// trackers run asynchronously, and every applied image gets an end-to-end
+// RunOptions::realtime: the run is simulated first, then replayed at the
+// wall clock's pace to trackers that run asynchronously, and every applied image gets an end-to-end
 // latency (capture to estimate) that covers its delivery delay and its
 // update. Timing assertions are lower bounds only (a loaded machine can be
 // slower, never faster).
@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "arttrack/sim/scenario_runner.h"
+#include "arttrack/tracker/error.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
@@ -76,6 +78,47 @@ TEST(RealtimeRun, OffByDefaultWithoutLatencies) {
   EXPECT_EQ(r.method("full_fusion")->timing.image_latency_ms.count, 0u);
   // The tracker's own per-image figures are there in either mode.
   EXPECT_EQ(fusion.stats.images.size(), std::size_t(fusion.stats.images_applied));
+}
+
+// The replay hands over what the simulation made: encoders only (no images,
+// so no timing in its estimates) scores exactly as in a run that is not
+// real time, sample for sample.
+TEST(RealtimeRun, ReplaysTheSimulatedMeasurementsAndTruth) {
+  const test::TestDir dir("realtime_replay");
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario));
+  RunOptions options;
+  options.methods = {"encoders_only"};
+  const ScenarioResult at_once = run_scenario(scenario, options);
+  options.realtime = true;
+  const ScenarioResult replayed = run_scenario(scenario, options);
+  const ErrorTrace& a = at_once.method_results.at(0).scores.runs().at(0);
+  const ErrorTrace& b = replayed.method_results.at(0).scores.runs().at(0);
+  ASSERT_GT(a.size(), 40u);
+  EXPECT_EQ(a.time_s(), b.time_s());
+  EXPECT_EQ(a.translation_m(), b.translation_m());
+  EXPECT_EQ(a.rotation_rad(), b.rotation_rad());
+  EXPECT_EQ(at_once.runs.at(0).frames_delivered, replayed.runs.at(0).frames_delivered);
+}
+
+// What the replay keeps is bounded: a run too long to keep is refused before
+// it is simulated, naming the scenario and what to change.
+TEST(RealtimeRun, RefusesARunTooLongToKeep) {
+  const test::TestDir dir("realtime_too_long");
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario), {"duration_s=30000"});
+  RunOptions options;
+  options.realtime = true;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    run_scenario(scenario, options);
+    FAIL() << "a 30000 s real-time run was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("rt.yaml"), std::string::npos) << what;
+    EXPECT_NE(what.find("--realtime"), std::string::npos) << what;
+    EXPECT_NE(what.find("duration_s"), std::string::npos) << what;
+    EXPECT_NE(what.find("MB"), std::string::npos) << what;
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
 }
 
 }  // namespace
