@@ -217,6 +217,8 @@ struct Tracker::Impl {
   void reacquire(JointBelief& belief, std::span<const double> reading,
                  const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
   void update_health(const JointBelief& belief, const DepthImage& observed, double stamp_s);
+  void assess_chain_parts(std::size_t c, const DepthImage& observed, ChainHealth& out);
+  bool confirms_chain(std::span<const double> q, std::size_t c, const DepthImage& observed);
   void update_covariance(JointBelief& belief, double time_s);
   bool refine(JointBelief& belief, const Eigen::MatrixXd& information,
               const Eigen::VectorXd& gradient);
@@ -712,7 +714,15 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     if (!differs) continue;
     const double candidate_score = score(candidate);
     gain += candidate_score - current_score;
-    if (gain > config.acquisition.accept_margin_nats) {
+    // A chain that nothing contradicts (only unconfirmed: part of it
+    // unexplained, as behind a panel close in front of it) takes only a
+    // result that the image confirms. Else the search trades the arm's
+    // visible pixels for another surface (the panel's) or hides it behind
+    // the occluder, and the arm leaves where the encoders and its learned
+    // biases put it.
+    const bool confirmed =
+        chain_poor[c] || periodic_search || confirms_chain(candidate, c, observed);
+    if (gain > config.acquisition.accept_margin_nats && confirmed) {
       current_score = candidate_score;  // the next chain is compared with this one taken
       for (int j : chains[c]) {
         if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
@@ -872,6 +882,61 @@ bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& informati
   return true;
 }
 
+// ChainHealth::weakest_part_* and unconfirmed of chain c, whose robot is in
+// check_kinematics and rendered whole in check_full_image, and whose
+// rendered_pixels out has (render_links() overwrites check_image).
+void Tracker::Impl::assess_chain_parts(std::size_t c, const DepthImage& observed,
+                                       ChainHealth& out) {
+  const TrackerConfig::Health& h = config.health;
+  const float max_range = float(config.depth_model.max_range_m);
+  out.weakest_part_joint = -1;
+  out.weakest_part_explained_fraction = std::numeric_limits<double>::quiet_NaN();
+  // A part's visible pixels are a subset of its chain's rendered ones: with
+  // fewer than min_pixels of those (an arm out of view) no part can have a
+  // verdict, and its renders are skipped.
+  if (out.rendered_pixels < h.min_pixels) {
+    out.unconfirmed = false;
+    return;
+  }
+  for (const auto& [dof, links] : chain_parts[c]) {
+    check_renderer->render_links(check_kinematics, links, check_image);
+    int visible = 0, explained = 0;
+    for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
+      const float r = check_image.depth_m[i], z = observed.depth_m[i];
+      if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
+      if (check_full_image.depth_m[i] < r - 1e-4f) continue;  // behind another link
+      if (z < r - h.occluder_gap_m) continue;                 // behind an occluder
+      ++visible;
+      if (r > 0 && std::abs(z - r) <= h.explained_m) ++explained;
+    }
+    if (visible < h.min_pixels) continue;
+    const double fraction = double(explained) / visible;
+    if (out.weakest_part_joint < 0 || fraction < out.weakest_part_explained_fraction) {
+      out.weakest_part_joint = dof;
+      out.weakest_part_explained_fraction = fraction;
+    }
+  }
+  out.unconfirmed = out.weakest_part_explained_fraction < h.unconfirmed_explained_fraction;
+}
+
+// Whether the robot at q confirms chain c (assess_chain_parts: a verdict, and
+// not unconfirmed).
+bool Tracker::Impl::confirms_chain(std::span<const double> q, std::size_t c,
+                                   const DepthImage& observed) {
+  const float max_range = float(config.depth_model.max_range_m);
+  for (int j = 0; j < n; ++j) check_q[j] = q[j];
+  forward_kinematics(*model, check_q, check_kinematics);
+  check_renderer->render(check_kinematics, check_full_image);
+  check_renderer->render_links(check_kinematics, chain_links[c], check_image);
+  ChainHealth chain;
+  for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
+    const float r = check_image.depth_m[i], z = observed.depth_m[i];
+    chain.rendered_pixels += r > 0 && z > 0 && z <= max_range;
+  }
+  assess_chain_parts(c, observed, chain);
+  return chain.weakest_part_joint >= 0 && !chain.unconfirmed;
+}
+
 // Health of the estimate (TrackingHealth): its robot rendered at the belief's
 // mean against the observed image, whole and per chain.
 void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& observed,
@@ -901,37 +966,6 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
   check_renderer->render(check_kinematics, check_image);
   assess(health.whole);
   std::swap(check_full_image, check_image);  // render_links() below overwrites check_image
-  // ChainHealth::weakest_part_explained_fraction of chain c.
-  auto assess_parts = [&](std::size_t c, ChainHealth& out) {
-    out.weakest_part_joint = -1;
-    out.weakest_part_explained_fraction = std::numeric_limits<double>::quiet_NaN();
-    // A part's visible pixels are a subset of its chain's rendered ones: with
-    // fewer than min_pixels of those (an arm out of view) no part can have a
-    // verdict, and its renders are skipped.
-    if (out.rendered_pixels < h.min_pixels) {
-      out.unconfirmed = false;
-      return;
-    }
-    for (const auto& [dof, links] : chain_parts[c]) {
-      check_renderer->render_links(check_kinematics, links, check_image);
-      int visible = 0, explained = 0;
-      for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
-        const float r = check_image.depth_m[i], z = observed.depth_m[i];
-        if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
-        if (check_full_image.depth_m[i] < r - 1e-4f) continue;  // behind another link
-        if (z < r - h.occluder_gap_m) continue;                 // behind an occluder
-        ++visible;
-        if (explains(r, z)) ++explained;
-      }
-      if (visible < h.min_pixels) continue;
-      const double fraction = double(explained) / visible;
-      if (out.weakest_part_joint < 0 || fraction < out.weakest_part_explained_fraction) {
-        out.weakest_part_joint = dof;
-        out.weakest_part_explained_fraction = fraction;
-      }
-    }
-    out.unconfirmed = out.weakest_part_explained_fraction < h.unconfirmed_explained_fraction;
-  };
   bool poor = health.whole.contradicted_fraction > h.lost_contradicted_fraction;
   int kept_pixels = 0, abandoned_pixels = 0;
   for (std::size_t c = 0; c < chains.size(); ++c) {
@@ -966,7 +1000,7 @@ void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& o
         kept[i] = z <= max_range && explains(r, z) ? z : 0.0f;
       }
     }
-    assess_parts(c, chain);
+    assess_chain_parts(c, observed, chain);
     unconfirmed_images[c] = chain.unconfirmed ? unconfirmed_images[c] + 1 : 0;
   }
   if (std::none_of(unconfirmed_images.begin(), unconfirmed_images.end(),

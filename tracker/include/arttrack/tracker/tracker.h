@@ -106,7 +106,8 @@ struct ChainHealth {
   // the chain as a whole is still 95% explained, but its hand is explained
   // nowhere. Below Health::unconfirmed_explained_fraction the chain is
   // unconfirmed: it is searched again (not "lost": an occluded hand is
-  // unconfirmed too, and the search only takes what the image prefers).
+  // unconfirmed too, and the search only takes what the image prefers and
+  // confirms).
   // weakest_part_joint: the model's DOF index of the part's first joint,
   // -1 with a NaN fraction when no part has enough visible pixels.
   int weakest_part_joint = -1;

@@ -162,7 +162,9 @@ struct TrackerConfig {
     double lost_abandoned_fraction = 0.25;  // ChainHealth::abandoned_fraction
     // A chain part whose visible pixels are explained below this share is
     // unconfirmed, and its chain searched again after lost_after_images
-    // such images (ChainHealth::weakest_part_explained_fraction). 0: off.
+    // such images (ChainHealth::weakest_part_explained_fraction); a chain
+    // nothing contradicts takes the search's result only if this check
+    // then confirms it. 0: off.
     double unconfirmed_explained_fraction = 0.5;
     // A part's pixel whose observed depth is more than this in front of
     // its render shows an occluder, not the robot (a panel held before the
