@@ -7,6 +7,7 @@
 #include <deque>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -24,6 +25,7 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/posterior_covariance.h"
+#include "health_check.h"
 
 namespace arttrack {
 namespace {
@@ -160,24 +162,13 @@ struct Tracker::Impl {
   std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
   std::vector<double> search_mean, search_std, open_mean, open_std, candidate;
   std::vector<double> found_mean, found_variance;  // acquire()'s best search
-  std::vector<double> reading_at_t;      // encoder readings at the image's time (DOF order)
-  std::vector<std::vector<int>> chains;  // physical DOFs per kinematic chain
-  std::vector<LinkSet> chain_links;
+  std::vector<double> reading_at_t;  // encoder readings at the image's time (DOF order)
   double last_acquisition_s = kNoTime;
   int images_seen = 0;
-  int poor_images = 0;
-  int failed_reacquisitions = 0;  // in a row, without a good image between
-  std::vector<char> chain_poor;   // per chain: poor (ChainHealth thresholds) at the last image
-  // Per chain: its parts (the subtree after each joint but the first, with
-  // that joint) and how many images in a row it has been unconfirmed.
-  std::vector<std::vector<std::pair<int, LinkSet>>> chain_parts;
-  std::vector<int> unconfirmed_images;
-  int failed_confirmations = 0;    // searches of unconfirmed chains, in a row
-  bool confirming_search = false;  // the current reacquire() is for unconfirmed chains
-  std::vector<char> part_open;     // per DOF: searched by the current confirming search
-  // Per chain: the observed depth where its render was explained at its last
-  // good image (0 elsewhere), at the likelihood's resolution (ChainHealth).
-  std::vector<std::vector<float>> explained_depth_m;
+  // The health check and the counts that trigger the searches (images only).
+  std::optional<HealthCheck> health_check;
+  bool confirming_search = false;   // the current reacquire() is for unconfirmed chains
+  std::vector<char> part_open;      // per DOF: searched by the current confirming search
   bool periodic_search = false;     // the current reacquire() is the periodic one
   TrackingHealth health;            // the image thread's
   TrackingHealth published_health;  // guarded by mutex
@@ -191,7 +182,7 @@ struct Tracker::Impl {
   CameraIntrinsics check_camera;
   KinematicsState check_kinematics;
   Eigen::VectorXd check_q;
-  DepthImage check_image, check_full_image;
+  DepthImage check_image;
 
   // The reported uncertainty (posterior_covariance.h): the image thread's,
   // and the copy estimate() reads (guarded by mutex).
@@ -216,9 +207,6 @@ struct Tracker::Impl {
   double score(std::span<const double> q);
   void reacquire(JointBelief& belief, std::span<const double> reading,
                  const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
-  void update_health(const JointBelief& belief, const DepthImage& observed, double stamp_s);
-  void assess_chain_parts(std::size_t c, const DepthImage& observed, ChainHealth& out);
-  bool confirms_chain(std::span<const double> q, std::size_t c, const DepthImage& observed);
   void update_covariance(JointBelief& belief, double time_s);
   bool refine(JointBelief& belief, const Eigen::MatrixXd& information,
               const Eigen::VectorXd& gradient);
@@ -312,35 +300,8 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), cpf_params);
     prior_std.assign(n, 0.0);
 
-    // Kinematic chains: physical DOFs grouped by their top-most physical
-    // ancestor DOF (for the dual-arm robot: head, left arm, right arm).
-    std::vector<int> chain_root(n_phys);
-    for (int j = 0; j < n_phys; ++j) {
-      int root = j;
-      for (int l = model->link(model->joint_child_link(j)).parent; l >= 0;
-           l = model->link(l).parent) {
-        const int d = model->link(l).dof;
-        if (d >= 0 && !model->is_virtual_joint(d)) root = d;
-      }
-      chain_root[j] = root;
-    }
-    for (int j = 0; j < n_phys; ++j) {
-      if (chain_root[j] != j) continue;
-      std::vector<int> members;
-      for (int k = 0; k < n_phys; ++k)
-        if (chain_root[k] == j) members.push_back(k);
-      chains.push_back(std::move(members));
-      chain_links.push_back(model->links_moved_by(j));
-      std::vector<std::pair<int, LinkSet>> parts;
-      for (int k : chains.back())
-        if (k != j) parts.emplace_back(k, model->links_moved_by(k));
-      chain_parts.push_back(std::move(parts));
-      unconfirmed_images.push_back(0);
-      health.chains.push_back({model->joint_name(j)});
-      chain_poor.push_back(0);
-      explained_depth_m.emplace_back();
-    }
-    health.whole.name = "all";
+    health_check.emplace(*model, n_phys, config.health, config.depth_model.max_range_m);
+    health = health_check->initial_health();
     part_open.assign(n, 0);
     check_kinematics = KinematicsState(*model);
     check_q = Eigen::VectorXd::Zero(n);
@@ -499,6 +460,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     cpf->run(prior.mean_a, prior_std, prior.mean_a, prior_std, beta, *evaluator, rng, *pool);
     fold_angle_posteriors(cpf->mean(), cpf->variance(), prior);
   }
+  HealthCheck& check = *health_check;
   if (acquisition_on && !first && !reading_at_t.empty()) {
     const bool periodic =
         config.acquisition.period_s > 0 && t - last_acquisition_s >= config.acquisition.period_s;
@@ -506,23 +468,27 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     // after twice as many poor images each time, up to 16 times as many: a
     // tracker that stays lost (a wrong model, images that do not match the
     // joints) must not spend every image on searches.
-    const int due = config.health.lost_after_images << std::min(failed_reacquisitions, 4);
+    const int due = config.health.lost_after_images << std::min(check.failed_reacquisitions(), 4);
     // Unconfirmed chains (ChainHealth::unconfirmed) are searched with a
     // back-off of their own: an occluded hand stays unconfirmed, and the
     // search must not run at every image while it is hidden.
     const int due_unconfirmed = config.health.lost_after_images
-                                << std::min(failed_confirmations, 5);
+                                << std::min(check.failed_confirmations(), 5);
     bool confirm = false;
-    for (int u : unconfirmed_images) confirm = confirm || u >= due_unconfirmed;
-    if (periodic || poor_images >= due || confirm) {
-      periodic_search = periodic && poor_images < due && !confirm;
-      confirming_search = confirm && poor_images < due;
+    for (std::size_t c = 0; c < check.chains().size(); ++c)
+      confirm = confirm || check.unconfirmed_images(c) >= due_unconfirmed;
+    const bool poor = check.poor_images() >= due;
+    if (periodic || poor || confirm) {
+      periodic_search = periodic && !poor && !confirm;
+      confirming_search = confirm && !poor;
       reacquire(prior, reading_at_t, camera, image.image, t);
       search_ms = health.last_acquisition_ms;
     }
   }
   update_covariance(prior, t);
-  update_health(prior, image.image, image.stamp_s);
+  for (int j = 0; j < n; ++j) check_q[j] = prior.mean_a[j];
+  check.update({check_q.data(), std::size_t(n)}, image.image, image.stamp_s, *check_renderer,
+               health);
   if (config.asynchronous) lock.lock();
   published_health = health;
   published_covariance = covariance;
@@ -646,6 +612,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
                               const CameraIntrinsics& camera, const DepthImage& observed,
                               double time_s) {
   const auto start = Clock::now();
+  HealthCheck& check = *health_check;
   const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
   const auto var_q = filter_model->encoder_var_rad2();
   for (int j = 0; j < n; ++j) {
@@ -660,11 +627,12 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     // the first one did; with the arm held, the hand's few DOFs are searched
     // with every particle.
     std::fill(part_open.begin(), part_open.end(), 0);
-    for (std::size_t c = 0; c < chains.size(); ++c) {
-      if (unconfirmed_images[c] == 0) continue;
-      for (const auto& [dof, links] : chain_parts[c]) {
+    for (std::size_t c = 0; c < check.chains().size(); ++c) {
+      if (check.unconfirmed_images(c) == 0) continue;
+      const std::vector<int>& chain = check.chains()[c];
+      for (const auto& [dof, links] : check.parts(c)) {
         if (dof != health.chains[c].weakest_part_joint) continue;
-        for (int k : chains[c])
+        for (int k : chain)
           if (links[std::size_t(model->joint_child_link(k))]) part_open[k] = 1;
         // And the joint above it: the wrong hand measured came with the two
         // wrist joints off in opposite senses (15 and 17 degrees). Each
@@ -672,12 +640,12 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
         // more up the chain: after an encoder slip of three wrist joints
         // the part and the joint above it were searched for 1.5 s with the
         // third joint held 30 degrees off.
-        int above = 1 + failed_confirmations;
+        int above = 1 + check.failed_confirmations();
         for (int l = model->link(model->joint_child_link(dof)).parent; l >= 0 && above > 0;
              l = model->link(l).parent) {
           const int up = model->link(l).dof;
           if (up < 0 || model->is_virtual_joint(up)) continue;
-          if (std::find(chains[c].begin(), chains[c].end(), up) == chains[c].end()) break;
+          if (std::find(chain.begin(), chain.end(), up) == chain.end()) break;
           part_open[up] = 1;
           --above;
         }
@@ -697,15 +665,16 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
   const std::vector<double>& found_var = found_variance;
   std::copy(belief.mean_a.begin(), belief.mean_a.end(), candidate.begin());
   double current_score = score(candidate);
-  for (std::size_t c = 0; c < chains.size(); ++c) {
+  for (std::size_t c = 0; c < check.chains().size(); ++c) {
+    const std::vector<int>& chain = check.chains()[c];
     // Triggered by the health check, only the chains it found poor may
     // change: a chain out of view (no verdict) keeps what the encoders say,
     // rather than a search placing it over some other surface.
-    const bool unconfirmed = unconfirmed_images[c] > 0;
-    if (!periodic_search && !chain_poor[c] && !unconfirmed) continue;
+    const bool unconfirmed = check.unconfirmed_images(c) > 0;
+    if (!periodic_search && !check.chain_poor(c) && !unconfirmed) continue;
     double gain = 0;
     bool differs = false;
-    for (int j : chains[c]) {
+    for (int j : chain) {
       if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
       gain += log_prior(j, found[j]) - log_prior(j, belief.mean_a[j]);
       candidate[j] = found[j];
@@ -720,11 +689,11 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     // visible pixels for another surface (the panel's) or hides it behind
     // the occluder, and the arm leaves where the encoders and its learned
     // biases put it.
-    const bool confirmed =
-        chain_poor[c] || periodic_search || confirms_chain(candidate, c, observed);
+    const bool confirmed = check.chain_poor(c) || periodic_search ||
+                           check.confirms_chain(candidate, c, observed, *check_renderer);
     if (gain > config.acquisition.accept_margin_nats && confirmed) {
       current_score = candidate_score;  // the next chain is compared with this one taken
-      for (int j : chains[c]) {
+      for (int j : chain) {
         if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
         const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};
         belief.set_joint(j, fold_angle_marginal(reopened, found[j], found_var[j]));
@@ -732,20 +701,18 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
       }
       ++health.chains_reacquired;
     } else {
-      for (int j : chains[c]) candidate[j] = belief.mean_a[j];
+      for (int j : chain) candidate[j] = belief.mean_a[j];
     }
   }
   ++health.acquisitions;
   health.last_acquisition_ms = ms_since(start);
   last_acquisition_s = time_s;
   if (confirming_search) {
-    ++failed_confirmations;  // until no chain is unconfirmed
-    std::fill(unconfirmed_images.begin(), unconfirmed_images.end(), 0);
+    check.confirming_search_ran();
     confirming_search = false;
     return;
   }
-  poor_images = 0;
-  ++failed_reacquisitions;  // until the health check finds a good image
+  check.reacquisition_ran();
 }
 
 // The reported covariance after an image at time_s (belief: after its
@@ -880,139 +847,6 @@ bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& informati
                                               belief.var_a[dof]));
   }
   return true;
-}
-
-// ChainHealth::weakest_part_* and unconfirmed of chain c, whose robot is in
-// check_kinematics and rendered whole in check_full_image, and whose
-// rendered_pixels out has (render_links() overwrites check_image).
-void Tracker::Impl::assess_chain_parts(std::size_t c, const DepthImage& observed,
-                                       ChainHealth& out) {
-  const TrackerConfig::Health& h = config.health;
-  const float max_range = float(config.depth_model.max_range_m);
-  out.weakest_part_joint = -1;
-  out.weakest_part_explained_fraction = std::numeric_limits<double>::quiet_NaN();
-  // A part's visible pixels are a subset of its chain's rendered ones: with
-  // fewer than min_pixels of those (an arm out of view) no part can have a
-  // verdict, and its renders are skipped.
-  if (out.rendered_pixels < h.min_pixels) {
-    out.unconfirmed = false;
-    return;
-  }
-  for (const auto& [dof, links] : chain_parts[c]) {
-    check_renderer->render_links(check_kinematics, links, check_image);
-    int visible = 0, explained = 0;
-    for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
-      const float r = check_image.depth_m[i], z = observed.depth_m[i];
-      if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
-      if (check_full_image.depth_m[i] < r - 1e-4f) continue;  // behind another link
-      if (z < r - h.occluder_gap_m) continue;                 // behind an occluder
-      ++visible;
-      if (r > 0 && std::abs(z - r) <= h.explained_m) ++explained;
-    }
-    if (visible < h.min_pixels) continue;
-    const double fraction = double(explained) / visible;
-    if (out.weakest_part_joint < 0 || fraction < out.weakest_part_explained_fraction) {
-      out.weakest_part_joint = dof;
-      out.weakest_part_explained_fraction = fraction;
-    }
-  }
-  out.unconfirmed = out.weakest_part_explained_fraction < h.unconfirmed_explained_fraction;
-}
-
-// Whether the robot at q confirms chain c (assess_chain_parts: a verdict, and
-// not unconfirmed).
-bool Tracker::Impl::confirms_chain(std::span<const double> q, std::size_t c,
-                                   const DepthImage& observed) {
-  const float max_range = float(config.depth_model.max_range_m);
-  for (int j = 0; j < n; ++j) check_q[j] = q[j];
-  forward_kinematics(*model, check_q, check_kinematics);
-  check_renderer->render(check_kinematics, check_full_image);
-  check_renderer->render_links(check_kinematics, chain_links[c], check_image);
-  ChainHealth chain;
-  for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
-    const float r = check_image.depth_m[i], z = observed.depth_m[i];
-    chain.rendered_pixels += r > 0 && z > 0 && z <= max_range;
-  }
-  assess_chain_parts(c, observed, chain);
-  return chain.weakest_part_joint >= 0 && !chain.unconfirmed;
-}
-
-// Health of the estimate (TrackingHealth): its robot rendered at the belief's
-// mean against the observed image, whole and per chain.
-void Tracker::Impl::update_health(const JointBelief& belief, const DepthImage& observed,
-                                  double stamp_s) {
-  const TrackerConfig::Health& h = config.health;
-  for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
-  forward_kinematics(*model, check_q, check_kinematics);
-  const float max_range = float(config.depth_model.max_range_m);
-  // A rendered depth r explains an observed z within explained_m.
-  auto explains = [&](float r, float z) {
-    return r > 0 && z > 0 && std::abs(z - r) <= h.explained_m;
-  };
-  auto assess = [&](ChainHealth& out) {
-    int rendered = 0, explained = 0, contradicted = 0;
-    for (std::size_t i = 0; i < check_image.depth_m.size(); ++i) {
-      const float r = check_image.depth_m[i], z = observed.depth_m[i];
-      if (!(r > 0) || !(z > 0) || !(z <= max_range)) continue;
-      ++rendered;
-      if (explains(r, z)) ++explained;
-      if (z > r + h.contradicted_m) ++contradicted;
-    }
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    out.rendered_pixels = rendered;
-    out.explained_fraction = rendered >= h.min_pixels ? double(explained) / rendered : nan;
-    out.contradicted_fraction = rendered >= h.min_pixels ? double(contradicted) / rendered : nan;
-  };
-  check_renderer->render(check_kinematics, check_image);
-  assess(health.whole);
-  std::swap(check_full_image, check_image);  // render_links() below overwrites check_image
-  bool poor = health.whole.contradicted_fraction > h.lost_contradicted_fraction;
-  int kept_pixels = 0, abandoned_pixels = 0;
-  for (std::size_t c = 0; c < chains.size(); ++c) {
-    check_renderer->render_links(check_kinematics, chain_links[c], check_image);
-    ChainHealth& chain = health.chains[c];
-    assess(chain);
-    // ChainHealth: the pixels this chain explained at its last good image,
-    // where the image still shows the same depth, but the render does not.
-    std::vector<float>& kept = explained_depth_m[c];
-    int kept_count = 0, abandoned = 0;
-    if (kept.size() != check_image.depth_m.size()) kept.assign(check_image.depth_m.size(), 0.0f);
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      if (!(kept[i] > 0)) continue;
-      ++kept_count;
-      const float z = observed.depth_m[i], r = check_image.depth_m[i];
-      if (!explains(kept[i], z)) continue;  // the scene moved
-      if (!explains(r, z)) ++abandoned;
-    }
-    chain.abandoned_fraction = kept_count >= h.min_pixels
-                                   ? double(abandoned) / kept_count
-                                   : std::numeric_limits<double>::quiet_NaN();
-    if (kept_count >= h.min_pixels) {
-      kept_pixels += kept_count;
-      abandoned_pixels += abandoned;
-    }
-    chain_poor[c] = chain.contradicted_fraction > h.lost_contradicted_fraction ||
-                    chain.abandoned_fraction > h.lost_abandoned_fraction;
-    poor = poor || chain_poor[c];
-    if (!chain_poor[c]) {  // else keep the evidence of its last good image
-      for (std::size_t i = 0; i < kept.size(); ++i) {
-        const float r = check_image.depth_m[i], z = observed.depth_m[i];
-        kept[i] = z <= max_range && explains(r, z) ? z : 0.0f;
-      }
-    }
-    assess_chain_parts(c, observed, chain);
-    unconfirmed_images[c] = chain.unconfirmed ? unconfirmed_images[c] + 1 : 0;
-  }
-  if (std::none_of(unconfirmed_images.begin(), unconfirmed_images.end(),
-                   [](int u) { return u > 0; }))
-    failed_confirmations = 0;
-  health.whole.abandoned_fraction = kept_pixels > 0 ? double(abandoned_pixels) / kept_pixels
-                                                    : std::numeric_limits<double>::quiet_NaN();
-  poor_images = poor ? poor_images + 1 : 0;
-  if (!poor) failed_reacquisitions = 0;
-  health.state = poor_images >= h.lost_after_images ? TrackingHealth::State::kLost
-                                                    : TrackingHealth::State::kTracking;
-  health.image_stamp_s = stamp_s;
 }
 
 void Tracker::Impl::worker_loop() {
