@@ -26,6 +26,7 @@
 #include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/posterior_covariance.h"
 #include "health_check.h"
+#include "mean_refinement.h"
 
 namespace arttrack {
 namespace {
@@ -196,8 +197,9 @@ struct Tracker::Impl {
   std::vector<char> reopened;      // per DOF: re-acquisition moved it at this image
   bool refine_on = false;          // the Gauss-Newton refinement of the mean (full fusion)
   std::vector<double> prior_mean;  // the image's prior mean, before the particle filter
-  Eigen::VectorXd refine_x, refine_delta, refine_rhs, refine_var_q;
-  Eigen::MatrixXd refine_prior, refine_system;
+  std::optional<MeanRefinement> refinement;
+  Eigen::VectorXd refine_x;
+  std::vector<double> refine_spread;
 
   void use_camera(const CameraIntrinsics& camera);
   void search(std::span<const double> mean, std::span<const double> stddev,
@@ -365,12 +367,16 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     reopened.assign(n, 0);
     refine_on = config.method == TrackingMethod::kFullFusion && config.refine_mean;
     prior_mean.assign(n, 0.0);
-    refine_var_q = Eigen::VectorXd::Zero(covariance.size());
+    Eigen::VectorXd refine_var_q = Eigen::VectorXd::Zero(covariance.size());
     for (int i = 0; i < covariance.size(); ++i) {
       const auto& st = covariance.states()[std::size_t(i)];
       if (st.kind == PosteriorCovariance::Kind::kBias)
         refine_var_q[i] = filter_model->encoder_var_rad2()[st.dof];
     }
+    refinement.emplace(std::move(refine_var_q), config.refinement_min_pixels,
+                       config.likelihood_exponent);
+    refine_x.resize(covariance.size());
+    refine_spread.resize(std::size_t(covariance.size()));
     if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
 }
@@ -765,70 +771,25 @@ void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
   covariance.update(info, consider_cross, config.image_information_scale * discount);
 }
 
-// One Gauss-Newton step on the particle filter's target, prior x
-// likelihood^beta, linearised at its mean (DART's local refinement on the
-// depth residuals, with the full prior covariance): the coordinate-wise
-// particles cannot move along a narrow diagonal ridge (the camera turning
-// while every arm turns back), and were seen to lag along it by a degree
-// while the image's gradient pointed at the truth. With theta the mean, mu
-// the prior's, P its angle covariance, I and g the image's information and
-// gradient (image_information.h):
-//   delta = (P^-1 + beta I)^-1 (beta g - P^-1 (theta - mu)),
-// over the DOFs at least refinement.min_pixels explained pixels depend on
-// (the others held), shortened to the particles' spread. The full step
-// or its half is taken when it raises the target with the exact pixel model
-// (occlusion, outliers and edges included); otherwise the mean stays.
+// The mean refinement (mean_refinement.h): the full step or its half when
+// it raises the target, prior x likelihood^beta, with the exact pixel model.
 bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& information,
                            const Eigen::VectorXd& gradient) {
   const auto& states = covariance.states();
   const int m = covariance.size();
-  const double beta = config.likelihood_exponent;
-  refine_prior = covariance.nominal_angle_covariance();  // the filter's own weights
-  refine_prior.diagonal() += refine_var_q;
-  refine_x.resize(m);
   for (int i = 0; i < m; ++i) {
     const int dof = states[std::size_t(i)].dof;
     refine_x[i] = belief.mean_a[dof] - prior_mean[dof];  // theta - mu
+    refine_spread[std::size_t(i)] = prior_std[dof];
   }
-  // Only DOFs that enough explained pixels depend on move; the others (an
-  // arm out of view, with a few pixels that happen to match the table) keep
-  // the particles' mean: a broad prior would let those few pixels drag them.
-  // The step is the MAP over the moving ones with the others held.
-  const auto prior_ldlt = refine_prior.ldlt();
-  refine_system = prior_ldlt.solve(Eigen::MatrixXd::Identity(m, m));  // P^-1
-  refine_rhs = beta * gradient - refine_system * refine_x;
-  refine_system += beta * information;
-  const std::vector<int>& pixels = this->information->pixels_per_dof();
-  int moving = 0;
-  for (int i = 0; i < m; ++i) {
-    if (pixels[std::size_t(i)] >= config.refinement_min_pixels) {
-      ++moving;
-      continue;
-    }
-    refine_system.row(i).setZero();
-    refine_system.col(i).setZero();
-    refine_system(i, i) = 1;
-    refine_rhs[i] = 0;
-  }
-  if (moving == 0) return false;
-  refine_delta = refine_system.partialPivLu().solve(refine_rhs);
-  if (!refine_delta.allFinite()) return false;
-  // Trust region: no DOF moves further than the particles' own spread (the
-  // prior's standard deviation at this image); a longer step is shortened
-  // along its direction. A step beyond where the particles looked is a
-  // linearisation far from its point, and could cross into another mode.
-  double longest = 0;
-  for (int i = 0; i < m; ++i) {
-    const double spread = prior_std[states[std::size_t(i)].dof];
-    if (refine_delta[i] != 0) longest = std::max(longest, std::abs(refine_delta[i]) / spread);
-  }
-  if (!std::isfinite(longest)) return false;
-  if (longest > 1) refine_delta /= longest;
+  if (!refinement->solve(covariance.nominal_angle_covariance(), refine_x, information, gradient,
+                         this->information->pixels_per_dof(), refine_spread))
+    return false;
+  const Eigen::VectorXd& step = refinement->step();
   auto target = [&](double fraction) {
     for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
-    for (int i = 0; i < m; ++i) check_q[states[std::size_t(i)].dof] += fraction * refine_delta[i];
-    const Eigen::VectorXd d = refine_x + fraction * refine_delta;
-    return -0.5 * d.dot(prior_ldlt.solve(d)) + score({check_q.data(), std::size_t(n)});
+    for (int i = 0; i < m; ++i) check_q[states[std::size_t(i)].dof] += fraction * step[i];
+    return refinement->log_prior(fraction) + score({check_q.data(), std::size_t(n)});
   };
   const double current = target(0);
   double best = current, best_fraction = 0;
@@ -842,9 +803,9 @@ bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& informati
   if (best_fraction == 0) return false;
   for (int i = 0; i < m; ++i) {
     const int dof = states[std::size_t(i)].dof;
-    belief.set_joint(dof, fold_angle_marginal(belief.joint(dof),
-                                              belief.mean_a[dof] + best_fraction * refine_delta[i],
-                                              belief.var_a[dof]));
+    belief.set_joint(
+        dof, fold_angle_marginal(belief.joint(dof), belief.mean_a[dof] + best_fraction * step[i],
+                                 belief.var_a[dof]));
   }
   return true;
 }

@@ -1,0 +1,59 @@
+// One Gauss-Newton step on the particle filter's target, prior x
+// likelihood^beta, linearised at its mean (DART's local refinement on the
+// depth residuals, with the full prior covariance; docs/accuracy.md, "The
+// failure, and what the tracker does about it", item 5): the coordinate-wise
+// particles cannot move along a narrow diagonal ridge (the camera turning
+// while every arm turns back), and were seen to lag along it by a degree
+// while the image's gradient pointed at the truth. With theta the mean, mu
+// the prior's, P its angle covariance, I and g the image's information and
+// gradient (image_information.h):
+//   delta = (P^-1 + beta I)^-1 (beta g - P^-1 (theta - mu)),
+// over the states at least min_pixels explained pixels depend on (the
+// others held), shortened so that no state moves further than its spread
+// (the particles' prior standard deviation). The tracker then takes the
+// full step or its half when it raises the target with the exact pixel
+// model (occlusion, outliers and edges included); otherwise the mean stays.
+//
+// States are PosteriorCovariance's (posterior_covariance.h), in its order.
+// Internal to the tracker (not installed). solve() allocates only when the
+// number of states changes.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace arttrack {
+
+class MeanRefinement {
+ public:
+  // encoder_var_rad2: per state, the encoder variance added to the prior's
+  // diagonal (bias states: the encoders' noise), else 0. likelihood_exponent
+  // is beta.
+  MeanRefinement(Eigen::VectorXd encoder_var_rad2, int min_pixels, double likelihood_exponent);
+
+  // The step from x = theta - mu under the nominal angle covariance P (the
+  // filter's own weights), the image's information and gradient, the
+  // explained pixels per state and each state's spread. False when no state
+  // moves or the step is not finite.
+  bool solve(const Eigen::MatrixXd& nominal_covariance, const Eigen::VectorXd& x,
+             const Eigen::MatrixXd& information, const Eigen::VectorXd& gradient,
+             const std::vector<int>& pixels_per_state, std::span<const double> spread);
+
+  // After solve(): the step, and the log prior (up to a constant) of
+  // x + fraction * step.
+  const Eigen::VectorXd& step() const { return delta_; }
+  double log_prior(double fraction) const;
+
+ private:
+  Eigen::VectorXd encoder_var_rad2_;
+  int min_pixels_;
+  double beta_;
+  Eigen::VectorXd x_, delta_, rhs_;
+  Eigen::MatrixXd prior_, system_;
+  Eigen::LDLT<Eigen::MatrixXd> prior_ldlt_;
+};
+
+}  // namespace arttrack
