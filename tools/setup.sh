@@ -22,6 +22,7 @@ packages=(cmake g++ ninja-build pkg-config
   libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev nlohmann-json3-dev
   parallel
   pybind11-dev python3-dev python3-numpy python3-pytest
+  slurm-wlm munge
   chromium
   ${EXTRA_PACKAGES:-})
 
