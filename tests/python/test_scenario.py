@@ -51,8 +51,16 @@ def test_run_scenario_writes_the_outputs(tmp_path):
                           force=True)
 
 
-def test_render_scene():
-    r = arttrack.render_scene(str(SOURCE_DIR / "models" / "arm7_scene.yaml"))
+def test_render_scene(cli, tmp_path):
+    scene = SOURCE_DIR / "models" / "arm7_scene.yaml"
+    r = arttrack.render_scene(str(scene), time_s=0.2)
+    cli("render", scene, "--time", 0.2, "--out", tmp_path)
+    for key, png in (("scene_depth", "sim_depth.png"), ("model_depth", "model_depth.png")):
+        # The program's PNG: whole millimetres (rounded half away from zero), 0 = no return.
+        z = r[key].astype(np.float64)
+        mm = np.where(z > 0, np.minimum(np.floor(z * 1000 + 0.5), 65535), 0)
+        written = arttrack.read_depth_png(str(tmp_path / png))
+        assert np.array_equal(written, (mm * 1e-3).astype(np.float32)), key
     camera = r["camera"]
     for key in ("scene_depth", "robot_depth", "model_depth"):
         assert r[key].shape == (camera.height, camera.width) and r[key].dtype == np.float32
