@@ -21,6 +21,8 @@ packages=(cmake g++ ninja-build pkg-config
   libosmesa6-dev libegl-dev libyaml-cpp-dev libpng-dev libcli11-dev
   libgtest-dev libbenchmark-dev libnlopt-cxx-dev libtinyxml2-dev nlohmann-json3-dev
   parallel
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  slurm-wlm munge
   chromium
   ${EXTRA_PACKAGES:-})
 

@@ -179,52 +179,88 @@ std::string summary_json(const ScenarioResult& r) {
   return j.dump(2) + "\n";
 }
 
-void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
-  out << "time_s,run,method,camera_frame,occluded_fraction";
-  for (const std::string& e : r.end_effectors)
-    out << ",translation_m_" << e << ",rotation_rad_" << e;
+TimeseriesTable timeseries_table(const ScenarioResult& r) {
+  TimeseriesTable t;
+  const auto add = [&](const std::string& name) { t.columns.push_back({name, {}, {}}); };
+  add("time_s"), add("run");
+  t.columns.push_back({"method", {}, {}, true});
+  add("camera_frame"), add("occluded_fraction");
+  for (const std::string& e : r.end_effectors) add("translation_m_" + e), add("rotation_rad_" + e);
   for (const std::string& j : r.joint_names)
-    out << ',' << j << "_true_rad," << j << "_est_rad," << j << "_std_rad," << j
-        << "_true_bias_rad," << j << "_est_bias_rad," << j << "_bias_std_rad";
-  out << ",cam_x_m,cam_y_m,cam_z_m,cam_roll_rad,cam_pitch_rad,cam_yaw_rad"
-      << ",cam_x_std_m,cam_y_std_m,cam_z_std_m,cam_roll_std_rad,cam_pitch_std_rad,cam_yaw_std_rad"
-      << ",camera_translation_m,camera_rotation_rad"
-      << ",cam_true_x_m,cam_true_y_m,cam_true_z_m,cam_true_roll_rad,cam_true_pitch_rad,"
-         "cam_true_yaw_rad,health_state,health_explained_fraction,"
-         "health_contradicted_fraction,health_abandoned_fraction,"
-         "health_weakest_part_explained_fraction,health_unconfirmed_chains,"
-         "health_model_error_std_m\n";
+    for (const char* suffix :
+         {"_true_rad", "_est_rad", "_std_rad", "_true_bias_rad", "_est_bias_rad", "_bias_std_rad"})
+      add(j + suffix);
+  for (const char* name : {"cam_x_m",
+                           "cam_y_m",
+                           "cam_z_m",
+                           "cam_roll_rad",
+                           "cam_pitch_rad",
+                           "cam_yaw_rad",
+                           "cam_x_std_m",
+                           "cam_y_std_m",
+                           "cam_z_std_m",
+                           "cam_roll_std_rad",
+                           "cam_pitch_std_rad",
+                           "cam_yaw_std_rad",
+                           "camera_translation_m",
+                           "camera_rotation_rad",
+                           "cam_true_x_m",
+                           "cam_true_y_m",
+                           "cam_true_z_m",
+                           "cam_true_roll_rad",
+                           "cam_true_pitch_rad",
+                           "cam_true_yaw_rad"})
+    add(name);
+  t.columns.push_back({"health_state", {}, {}, true});
+  for (const char* name : {"health_explained_fraction", "health_contradicted_fraction",
+                           "health_abandoned_fraction", "health_weakest_part_explained_fraction",
+                           "health_unconfirmed_chains", "health_model_error_std_m"})
+    add(name);
+
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const RunResult& run : r.runs) {
     for (std::size_t i = 0; i < run.truth.size(); ++i) {
       const TruthSample& truth = run.truth[i];
       for (const MethodRun& m : run.methods) {
         const EstimateSample& s = m.samples[i];
-        out << text::csv_number(truth.time_s) << ',' << run.run << ',' << m.method << ','
-            << (truth.camera_frame ? 1 : 0) << ',' << text::csv_number(truth.occluded_fraction);
-        for (const PoseError& e : s.ee_error)
-          out << ',' << text::csv_number(e.translation_m) << ','
-              << text::csv_number(e.rotation_rad);
+        auto column = t.columns.begin();
+        const auto put = [&](double v) { (column++)->numbers.push_back(v); };
+        put(truth.time_s), put(run.run);
+        (column++)->text.push_back(m.method);
+        put(truth.camera_frame ? 1 : 0), put(truth.occluded_fraction);
+        for (const PoseError& e : s.ee_error) put(e.translation_m), put(e.rotation_rad);
         for (Eigen::Index j = 0; j < truth.angle_rad.size(); ++j)
-          out << ',' << text::csv_number(truth.angle_rad[j]) << ','
-              << text::csv_number(s.angle_rad[j]) << ',' << text::csv_number(s.angle_std_rad[j])
-              << ',' << text::csv_number(truth.bias_rad[j]) << ','
-              << text::csv_number(s.bias_rad[j]) << ',' << text::csv_number(s.bias_std_rad[j]);
-        for (int k = 0; k < 6; ++k) out << ',' << text::csv_number(s.camera_offset[k]);
-        for (int k = 0; k < 6; ++k) out << ',' << text::csv_number(s.camera_offset_std[k]);
-        out << ',' << text::csv_number(s.camera_error.translation_m) << ','
-            << text::csv_number(s.camera_error.rotation_rad);
-        for (int k = 0; k < 6; ++k)
-          out << ',' << text::csv_number(truth.T_base_camera ? truth.camera_offset[k] : nan);
-        out << ',' << health_state_name(s.health.state) << ','
-            << text::csv_number(s.health.whole.explained_fraction) << ','
-            << text::csv_number(s.health.whole.contradicted_fraction) << ','
-            << text::csv_number(s.health.whole.abandoned_fraction) << ','
-            << text::csv_number(s.health.weakest_part_explained_fraction()) << ','
-            << s.health.unconfirmed_chains() << ',' << text::csv_number(s.health.model_error_std_m);
-        out << '\n';
+          put(truth.angle_rad[j]), put(s.angle_rad[j]), put(s.angle_std_rad[j]),
+              put(truth.bias_rad[j]), put(s.bias_rad[j]), put(s.bias_std_rad[j]);
+        for (int k = 0; k < 6; ++k) put(s.camera_offset[k]);
+        for (int k = 0; k < 6; ++k) put(s.camera_offset_std[k]);
+        put(s.camera_error.translation_m), put(s.camera_error.rotation_rad);
+        for (int k = 0; k < 6; ++k) put(truth.T_base_camera ? truth.camera_offset[k] : nan);
+        (column++)->text.push_back(health_state_name(s.health.state));
+        put(s.health.whole.explained_fraction), put(s.health.whole.contradicted_fraction),
+            put(s.health.whole.abandoned_fraction), put(s.health.weakest_part_explained_fraction()),
+            put(s.health.unconfirmed_chains()), put(s.health.model_error_std_m);
       }
     }
+  }
+  t.rows = t.columns.front().numbers.size();
+  return t;
+}
+
+void write_timeseries_csv(std::ostream& out, const ScenarioResult& r) {
+  const TimeseriesTable t = timeseries_table(r);
+  for (std::size_t c = 0; c < t.columns.size(); ++c) out << (c ? "," : "") << t.columns[c].name;
+  out << '\n';
+  for (std::size_t row = 0; row < t.rows; ++row) {
+    for (std::size_t c = 0; c < t.columns.size(); ++c) {
+      const TimeseriesColumn& column = t.columns[c];
+      if (c) out << ',';
+      if (column.is_text)
+        out << column.text[row];
+      else
+        out << text::csv_number(column.numbers[row]);
+    }
+    out << '\n';
   }
 }
 

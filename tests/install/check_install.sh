@@ -6,7 +6,9 @@
 #      source tree in the installed libraries;
 #   3. examples/ configured as its own project against the installed package
 #      (find_package(arttrack)), linked shared and static, built and run;
-#   4. the same example compiled with `pkg-config --cflags --libs arttrack`.
+#   4. the same example compiled with `pkg-config --cflags --libs arttrack`;
+#   5. when the build has the Python module (ARTTRACK_PYTHON), the installed
+#      package imports from the prefix's site folder and help() works.
 # Usage: check_install.sh SOURCE_DIR BUILD_DIR [CMAKE_GENERATOR]
 # (the generator of the build, so that no other build tool is needed).
 set -euo pipefail
@@ -82,4 +84,17 @@ echo "== pkg-config --cflags --libs arttrack: $flags"
 c++ -std=c++20 -O1 "$src/examples/track_arm.cc" $flags -o "$tmp/track_arm_pc" ||
   fail "the example does not compile with pkg-config's flags"
 LD_LIBRARY_PATH="$libdir" "$tmp/track_arm_pc" > /dev/null || fail "track_arm (pkg-config) failed"
+
+# 5. The Python package in the prefix's site folder.
+cache="$build/CMakeCache.txt"
+if grep -q "^ARTTRACK_PYTHON:BOOL=ON" "$cache"; then
+  python=$(sed -n 's/^Python3_EXECUTABLE:FILEPATH=//p' "$cache")
+  site="$prefix/$(sed -n 's/^ARTTRACK_PYTHON_INSTALL_DIR:STRING=//p' "$cache")"
+  [ -f "$site/arttrack/__init__.py" ] || fail "the Python package is not installed in $site"
+  where=$(cd "$tmp" && PYTHONPATH="$site" "$python" -c \
+    "import arttrack; help(arttrack.Tracker); print(arttrack.__file__)" | tail -1) ||
+    fail "the installed Python package does not import"
+  [ "$where" -ef "$site/arttrack/__init__.py" ] || fail "python imported arttrack from $where"
+  echo "== python: import arttrack from $site"
+fi
 echo "check_install: ok"

@@ -82,6 +82,23 @@ std::string summary_json(const ScenarioResult& result);
 // as "nan" (also where there is no camera truth).
 void write_timeseries_csv(std::ostream& out, const ScenarioResult& result);
 
+// timeseries.csv as columns, in its order and with its names: what
+// write_timeseries_csv writes (it writes this table) and what the Python
+// bindings return as arrays. `method` and `health_state` hold text; every
+// other column numbers (run, camera_frame and health_unconfirmed_chains are
+// whole numbers).
+struct TimeseriesColumn {
+  std::string name;
+  std::vector<double> numbers;    // one per row, unless is_text
+  std::vector<std::string> text;  // one per row, if is_text
+  bool is_text = false;
+};
+struct TimeseriesTable {
+  std::vector<TimeseriesColumn> columns;
+  std::size_t rows = 0;
+};
+TimeseriesTable timeseries_table(const ScenarioResult& result);
+
 // A compact table: per method and end effector (and the worst when there are
 // several), p1/p25/p50/p75/p99 of translation (mm) and rotation (degrees)
 // over all samples, the median after convergence, the convergence time and
