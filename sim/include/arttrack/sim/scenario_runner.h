@@ -38,6 +38,7 @@
 #include "arttrack/sim/scoring.h"
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/tracker.h"
+#include "arttrack/tracker/version.h"
 
 namespace arttrack::sim {
 
