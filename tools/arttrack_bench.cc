@@ -48,6 +48,7 @@
 #include "arttrack/sim/scoring.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker.h"
+#include "arttrack/tracker/worker_pool.h"
 #include "arttrack_bench_soak.h"
 #include "commands.h"
 

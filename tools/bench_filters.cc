@@ -12,6 +12,7 @@
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

@@ -28,6 +28,7 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/units.h"
+#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

@@ -17,6 +17,7 @@
 
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

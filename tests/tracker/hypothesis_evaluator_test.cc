@@ -3,6 +3,7 @@
 // scratch and scored with the exact likelihood.
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/units.h"
+#include "arttrack/tracker/worker_pool.h"
 
 #include <gtest/gtest.h>
 

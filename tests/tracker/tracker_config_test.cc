@@ -11,6 +11,7 @@
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
+#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

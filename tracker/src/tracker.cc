@@ -25,6 +25,7 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/posterior_covariance.h"
+#include "arttrack/tracker/worker_pool.h"
 #include "health_check.h"
 #include "mean_refinement.h"
 

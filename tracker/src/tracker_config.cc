@@ -8,6 +8,7 @@
 #include "arttrack/tracker/mesh_simplify.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/units.h"
+#include "arttrack/tracker/worker_pool.h"
 #include "config_range.h"
 
 namespace arttrack {
