@@ -107,13 +107,7 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
   s.substeps = std::max(1, int(std::ceil(s.joint_period_s / scene.timestep_s - 1e-9)));
   scene.timestep_s = s.joint_period_s / s.substeps;
   scene.urdf_path = sc.simulated_urdf();
-  std::optional<PerturbedUrdf> perturbed;
-  if (!sc.perturbation.empty()) {
-    perturbed.emplace(scene.urdf_path, sc.scene.package_paths, sc.perturbation);
-    scene.urdf_path = perturbed->path();
-    scene.camera_mount.reset();  // the perturbed copy has it
-  }
-  s.sim_model = build_sim_model(scene);
+  s.sim_model = build_sim_model(scene, sc.perturbation);
   const SimModel& m = *s.sim_model;
 
   for (int j = 0; j < s.robot->num_joints(); ++j) {

@@ -1,0 +1,90 @@
+#include "arttrack/tracker/model_limits.h"
+
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <vector>
+
+#include "arttrack/tracker/error.h"
+
+namespace arttrack {
+
+void check_model_count(const std::string& source, std::uint64_t count, std::uint64_t limit,
+                       const std::string& what) {
+  if (count <= limit) return;
+  throw InputError(source + ": " + std::to_string(count) + " " + what + ", more than the " +
+                   std::to_string(limit) +
+                   " arttrack takes (docs/robots.md, 'Limits'); simplify the description");
+}
+
+int chain_depth(const std::map<std::string, std::string>& parent_of, std::string* deepest) {
+  std::map<std::string, int> depth;  // joints from the root, once known
+  int best = 0;
+  for (const auto& entry : parent_of) {
+    // Up to a link of known depth, the root or around a loop; then the
+    // depths on the way back down.
+    std::vector<std::string> path;
+    std::set<std::string> visited;
+    std::string link = entry.first;
+    int d = 0;
+    for (;;) {
+      if (const auto known = depth.find(link); known != depth.end()) {
+        d = known->second;
+        break;
+      }
+      const auto up = parent_of.find(link);
+      if (up == parent_of.end()) {  // the root
+        depth[link] = 0;
+        break;
+      }
+      if (!visited.insert(link).second) break;  // a loop: counted from here
+      path.push_back(link);
+      link = up->second;
+    }
+    for (auto it = path.rbegin(); it != path.rend(); ++it) {
+      depth[*it] = ++d;
+      if (d > best) {
+        best = d;
+        if (deepest) *deepest = *it;
+      }
+    }
+  }
+  return best;
+}
+
+void check_chain_depth(const std::string& source,
+                       const std::map<std::string, std::string>& parent_of) {
+  std::string deepest;
+  const int depth = chain_depth(parent_of, &deepest);
+  if (depth <= ModelLimits::kMaxChainDepth) return;
+  throw InputError(source + ": link '" + deepest + "' is " + std::to_string(depth) +
+                   " joints from the root, more than the " +
+                   std::to_string(ModelLimits::kMaxChainDepth) +
+                   " arttrack takes (docs/robots.md, 'Limits'); simplify the description");
+}
+
+void check_urdf_file_size(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes <= ModelLimits::kMaxUrdfBytes) return;
+  throw InputError(path.string() + ": " + std::to_string(bytes) + " bytes, more than the " +
+                   std::to_string(ModelLimits::kMaxUrdfBytes) +
+                   " a URDF may have in arttrack (docs/robots.md, 'Limits')");
+}
+
+std::optional<std::uint64_t> binary_stl_triangle_count(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  in.seekg(0, std::ios::end);
+  const auto size = std::uint64_t(in.tellg());
+  if (size < 84) return std::nullopt;
+  in.seekg(80);
+  char count[4];
+  if (!in.read(count, 4)) return std::nullopt;
+  std::uint32_t n = 0;
+  std::memcpy(&n, count, 4);
+  if (size != 84 + 50 * std::uint64_t(n)) return std::nullopt;
+  return n;
+}
+
+}  // namespace arttrack
