@@ -161,7 +161,11 @@ ConvertedMesh convert_mesh_to_binary_stl(const fs::path& source, const fs::path&
     }
     const std::size_t part = first / kMaxStlTriangles;
     fs::path target = target_stem;
-    target += part == 0 ? ".stl" : "_" + std::to_string(part) + ".stl";
+    if (part > 0) {
+      target += '_';
+      target += std::to_string(part);
+    }
+    target += ".stl";
     std::ofstream out(target, std::ios::binary);
     out.write(buf.data(), std::streamsize(buf.size()));
     if (!out)

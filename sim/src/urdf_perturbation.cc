@@ -114,14 +114,8 @@ int UrdfSummary::movable_index(const std::string& name) const {
 
 UrdfSummary read_urdf_summary(const fs::path& urdf) {
   const std::string where = urdf.string();
-  check_not_xacro(where);
-  if (!fs::is_regular_file(urdf)) throw InputError(where + ": URDF file not found");
-  check_urdf_file_size(urdf);
   XMLDocument doc;
-  if (doc.LoadFile(where.c_str()) != tinyxml2::XML_SUCCESS)
-    throw InputError(where + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
-  const XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) throw InputError(where + ": no <robot> element");
+  const XMLElement* robot = load_urdf_document(urdf, doc);
   UrdfSummary s;
   s.path = urdf;
   for (const XMLElement* l = robot->FirstChildElement("link"); l;

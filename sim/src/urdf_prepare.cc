@@ -275,8 +275,10 @@ void normalise_urdf(XMLElement* robot) {
 std::string UrdfInfo::retell(const std::string& mujoco_error) const {
   const MujocoError e = parse_mujoco_error(mujoco_error);
   std::string out = source.string();
-  if (const auto it = source_line.find(e.line); e.line > 0 && it != source_line.end())
-    out += ":" + std::to_string(it->second);
+  if (const auto it = source_line.find(e.line); e.line > 0 && it != source_line.end()) {
+    out += ':';
+    out += std::to_string(it->second);
+  }
   out += ": MuJoCo 2.2 cannot load it: " + e.what;
   if (!e.element.empty()) out += " (element <" + e.element + ">)";
   if (!e.object.empty()) out += " ('" + e.object + "')";
@@ -330,17 +332,28 @@ std::map<int, int> line_map(const tinyxml2::XMLDocument& doc, const fs::path& sa
 
 }  // namespace
 
-UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path>& package_paths,
-                      const fs::path& work_dir, const UrdfPerturbation& perturbation) {
+XMLElement* load_urdf_document(const fs::path& urdf, tinyxml2::XMLDocument& doc) {
   const std::string where = urdf.string();
   check_not_xacro(where);
   if (!fs::is_regular_file(urdf)) throw InputError(where + ": URDF file not found");
   check_urdf_file_size(urdf);
-  tinyxml2::XMLDocument doc;
-  if (doc.LoadFile(urdf.string().c_str()) != tinyxml2::XML_SUCCESS)
+  std::ifstream in(urdf, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(where + ": cannot read the URDF file");
+  check_no_xml_entities(text.str(), where);
+  if (doc.Parse(text.str().c_str(), text.str().size()) != tinyxml2::XML_SUCCESS)
     throw InputError(where + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
   XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw InputError(where + ": no <robot> element");
+  return robot;
+}
+
+UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path>& package_paths,
+                      const fs::path& work_dir, const UrdfPerturbation& perturbation) {
+  const std::string where = urdf.string();
+  tinyxml2::XMLDocument doc;
+  XMLElement* robot = load_urdf_document(urdf, doc);
   normalise_urdf(robot);
   perturb_urdf_document(doc, where, perturbation);
 

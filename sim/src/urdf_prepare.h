@@ -105,6 +105,13 @@ void normalise_urdf(tinyxml2::XMLElement* robot);
 void perturb_urdf_document(tinyxml2::XMLDocument& doc, const std::string& source,
                            const UrdfPerturbation& perturbation);
 
+// Reads the URDF file `urdf` into `doc` and returns its <robot> element. A
+// xacro file, a missing file, one past ModelLimits::kMaxUrdfBytes, XML
+// entity declarations, malformed XML or no <robot>: InputError naming the
+// file.
+tinyxml2::XMLElement* load_urdf_document(const std::filesystem::path& urdf,
+                                         tinyxml2::XMLDocument& doc);
+
 // Parses `urdf`, normalises it (normalise_urdf), applies `perturbation`
 // (the scene's camera mount, a scenario's miscalibration), checks its size
 // (model_limits.h), resolves every mesh (package://NAME/... through

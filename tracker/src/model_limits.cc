@@ -1,5 +1,6 @@
 #include "arttrack/tracker/model_limits.h"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -70,6 +71,16 @@ void check_urdf_file_size(const std::filesystem::path& path) {
   throw InputError(path.string() + ": " + std::to_string(bytes) + " bytes, more than the " +
                    std::to_string(ModelLimits::kMaxUrdfBytes) +
                    " a URDF may have in arttrack (docs/robots.md, 'Limits')");
+}
+
+void check_no_xml_entities(const std::string& xml, const std::string& source) {
+  const std::size_t at = xml.find("<!ENTITY");
+  if (at == std::string::npos) return;
+  const auto line = 1 + std::count(xml.begin(), xml.begin() + std::ptrdiff_t(at), '\n');
+  throw InputError(source + ": line " + std::to_string(line) +
+                   ": an XML entity declaration (<!ENTITY ...>): URDF uses none, and arttrack "
+                   "expands none (nested entities can expand a small file to gigabytes); write "
+                   "the values out");
 }
 
 std::optional<std::uint64_t> binary_stl_triangle_count(const std::filesystem::path& path) {

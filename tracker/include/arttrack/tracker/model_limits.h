@@ -56,6 +56,12 @@ void check_chain_depth(const std::string& source,
 // InputError naming it. A missing file passes (the caller reports it).
 void check_urdf_file_size(const std::filesystem::path& path);
 
+// URDF text declares no XML entities (<!ENTITY ...>, in a DOCTYPE): URDF
+// uses none, and a few nested ones expand a small file to gigabytes (the
+// "billion laughs"); urdfdom then reported only that it found no <robot>.
+// Throws InputError "<source>: line <n>: ..." saying what to do.
+void check_no_xml_entities(const std::string& xml, const std::string& source);
+
 // The triangle count a binary STL file declares (at byte 80), if the file is
 // a binary STL (exactly 84 + 50 n bytes); read before the file is, so that a
 // description's triangles are bounded before its meshes are loaded.
