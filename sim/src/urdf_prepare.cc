@@ -341,7 +341,7 @@ XMLElement* load_urdf_document(const fs::path& urdf, tinyxml2::XMLDocument& doc)
   std::stringstream text;
   text << in.rdbuf();
   if (!in) throw InputError(where + ": cannot read the URDF file");
-  check_no_xml_entities(text.str(), where);
+  check_urdf_text(text.str(), where);
   if (doc.Parse(text.str().c_str(), text.str().size()) != tinyxml2::XML_SUCCESS)
     throw InputError(where + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
   XMLElement* robot = doc.FirstChildElement("robot");

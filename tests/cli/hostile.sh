@@ -11,6 +11,8 @@
 #                past the triangles limit before it is read
 #   entity_bomb  nested XML entities (billion laughs): refused, naming the
 #                file and the line
+#   nested_xml   200 000 nested XML elements in a URDF (1.4 MB): urdfdom's
+#                reader overflowed the stack on them
 #   big_yaml     a 50 MB YAML value: past the YAML file limit, not parsed
 #   long_value   a 1 MB YAML value: quoted shortened in the message
 #   run_urdf     a URDF urdfdom refuses (a revolute joint without limits),
@@ -109,6 +111,18 @@ entity_bomb)
   } >bomb.urdf
   scene bomb.urdf
   expect 1 "bomb.urdf: line 3: an XML entity declaration" "$arttrack" render scene.yaml --out o
+  ;;
+nested_xml)
+  awk 'BEGIN {
+    print "<robot name=\"r\">"
+    print "<link name=\"base_link\"/>"
+    for (i = 0; i < 200000; ++i) printf "<a>"
+    for (i = 0; i < 200000; ++i) printf "</a>"
+    print "</robot>"
+  }' >nested.urdf
+  scene nested.urdf
+  expect 1 "nested.urdf: line 3: elements nested more than 100 deep" \
+    "$arttrack" render scene.yaml --out o
   ;;
 big_yaml)
   { printf 'methods: ['; head -c 52428800 /dev/zero | tr '\0' x; echo ']'; } >big.yaml

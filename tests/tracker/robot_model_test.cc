@@ -501,6 +501,27 @@ TEST(RobotModel, MeshTrianglesAreBoundedBeforeABinaryStlIsRead) {
       << msg;
 }
 
+// XML that urdfdom's reader would recurse into without end (it crashed at
+// 200 000 nested elements) or expand (entities) is refused first.
+TEST(RobotModel, DeepXmlAndEntitiesAreRefusedBeforeUrdfdom) {
+  std::string nested = "<robot name=\"r\">\n<link name=\"base_link\"/>\n";
+  for (int i = 0; i < 200000; ++i) nested += "<a x=\"1>2\">";
+  for (int i = 0; i < 200000; ++i) nested += "</a>";
+  std::string msg = error_of([&] { RobotModel::from_urdf_string(nested + "</robot>", ""); });
+  EXPECT_TRUE(contains(msg, "line 3: elements nested more than 100 deep")) << msg;
+  msg = error_of([&] {
+    RobotModel::from_urdf_string(
+        "<?xml version=\"1.0\"?>\n<!DOCTYPE r [\n<!ENTITY a \"aaaa\">\n]>\n<robot name=\"&a;\"/>",
+        "");
+  });
+  EXPECT_TRUE(contains(msg, "line 3: an XML entity declaration")) << msg;
+  // Comments, declarations, self-closing tags and '>' in values do not nest.
+  std::string flat = "<?xml version=\"1.0\"?>\n<!-- <a><a><a> -->\n<robot name=\"r\">";
+  for (int i = 0; i < 500; ++i) flat += "<link name=\"l" + std::to_string(i) + "\"/><!-- <x> -->";
+  const std::string why = error_of([&] { RobotModel::from_urdf_string(flat + "</robot>", ""); });
+  EXPECT_TRUE(!why.empty() && !contains(why, "nested")) << why;  // urdfdom's: 500 roots
+}
+
 // Text read from a file (e.g. with a camera mount added in memory) is named
 // as the file in messages.
 TEST(RobotModel, TextFromAFileIsNamedAsTheFile) {

@@ -73,14 +73,47 @@ void check_urdf_file_size(const std::filesystem::path& path) {
                    " a URDF may have in arttrack (docs/robots.md, 'Limits')");
 }
 
-void check_no_xml_entities(const std::string& xml, const std::string& source) {
-  const std::size_t at = xml.find("<!ENTITY");
-  if (at == std::string::npos) return;
-  const auto line = 1 + std::count(xml.begin(), xml.begin() + std::ptrdiff_t(at), '\n');
-  throw InputError(source + ": line " + std::to_string(line) +
-                   ": an XML entity declaration (<!ENTITY ...>): URDF uses none, and arttrack "
-                   "expands none (nested entities can expand a small file to gigabytes); write "
-                   "the values out");
+void check_urdf_text(const std::string& xml, const std::string& source) {
+  const auto line_at = [&](std::size_t at) {
+    return std::to_string(1 + std::count(xml.begin(), xml.begin() + std::ptrdiff_t(at), '\n'));
+  };
+  if (const std::size_t at = xml.find("<!ENTITY"); at != std::string::npos)
+    throw InputError(source + ": line " + line_at(at) +
+                     ": an XML entity declaration (<!ENTITY ...>): URDF uses none, and arttrack "
+                     "expands none (nested entities can expand a small file to gigabytes); write "
+                     "the values out");
+  // Element depth: start tags open, end tags close, "/>" opens nothing.
+  int depth = 0;
+  for (std::size_t at = xml.find('<'); at != std::string::npos; at = xml.find('<', at)) {
+    const auto skip_to = [&](const char* end) {
+      const std::size_t found = xml.find(end, at);
+      return found == std::string::npos ? xml.size() : found + std::strlen(end);
+    };
+    if (xml.compare(at, 4, "<!--") == 0) {
+      at = skip_to("-->");
+    } else if (xml.compare(at, 9, "<![CDATA[") == 0) {
+      at = skip_to("]]>");
+    } else if (xml.compare(at, 2, "<?") == 0) {
+      at = skip_to("?>");
+    } else if (xml.compare(at, 2, "<!") == 0 || xml.compare(at, 2, "</") == 0) {
+      depth -= xml[at + 1] == '/';
+      at = skip_to(">");
+    } else {  // a start tag, to its '>' outside quoted values
+      const std::size_t start = at;
+      char quote = 0;
+      for (++at; at < xml.size() && (quote || xml[at] != '>'); ++at) {
+        if (quote && xml[at] == quote)
+          quote = 0;
+        else if (!quote && (xml[at] == '"' || xml[at] == '\''))
+          quote = xml[at];
+      }
+      if (at < xml.size() && xml[at - 1] != '/' && ++depth > ModelLimits::kMaxXmlDepth)
+        throw InputError(source + ": line " + line_at(start) + ": elements nested more than " +
+                         std::to_string(ModelLimits::kMaxXmlDepth) +
+                         " deep (a URDF nests 5); arttrack reads at most " +
+                         std::to_string(ModelLimits::kMaxXmlDepth));
+    }
+  }
 }
 
 std::optional<std::uint64_t> binary_stl_triangle_count(const std::filesystem::path& path) {

@@ -37,7 +37,7 @@ class CollectErrors : public console_bridge::OutputHandler {
 };
 
 urdf::ModelInterfaceSharedPtr parse_urdf(const std::string& xml, const std::string& source) {
-  check_no_xml_entities(xml, source);
+  check_urdf_text(xml, source);
   // The handler is process-wide state: one parse at a time.
   static std::mutex mutex;
   std::lock_guard lock(mutex);

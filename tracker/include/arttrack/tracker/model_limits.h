@@ -33,6 +33,11 @@ struct ModelLimits {
   static constexpr std::uint64_t kMaxMeshTriangles = 5'000'000;
   // Bytes of the URDF file itself (a 1000-link description takes about 1 MB).
   static constexpr std::uintmax_t kMaxUrdfBytes = 64u << 20;
+  // Nesting of XML elements in the URDF (a URDF nests 5: robot, link,
+  // visual, geometry, mesh). urdfdom's XML reader recurses once per level
+  // without a bound: 200 000 nested elements (1.4 MB) overflowed the stack.
+  // tinyxml2, the simulator's reader, stops at 100 too.
+  static constexpr int kMaxXmlDepth = 100;
 };
 
 // Throws InputError "<source>: <n> <what> ..., more than the <limit> arttrack
@@ -59,8 +64,10 @@ void check_urdf_file_size(const std::filesystem::path& path);
 // URDF text declares no XML entities (<!ENTITY ...>, in a DOCTYPE): URDF
 // uses none, and a few nested ones expand a small file to gigabytes (the
 // "billion laughs"); urdfdom then reported only that it found no <robot>.
+// Its elements nest at most ModelLimits::kMaxXmlDepth deep (a light scan:
+// comments, CDATA, declarations and quoted attribute values skipped).
 // Throws InputError "<source>: line <n>: ..." saying what to do.
-void check_no_xml_entities(const std::string& xml, const std::string& source);
+void check_urdf_text(const std::string& xml, const std::string& source);
 
 // The triangle count a binary STL file declares (at byte 80), if the file is
 // a binary STL (exactly 84 + 50 n bytes); read before the file is, so that a
