@@ -43,10 +43,10 @@ int main(int argc, char** argv) {
     // Help and --version: CLI11's success; anything else is a usage error.
     return app.exit(e) == 0 ? arttrack::cli::kExitSuccess : arttrack::cli::kExitUsageError;
   } catch (const arttrack::cli::UsageError& e) {
-    std::cerr << "arttrack: usage error: " << e.what() << "\n";
+    std::cerr << "arttrack: usage error: " << arttrack::cli::shorten_long_words(e.what()) << "\n";
     return arttrack::cli::kExitUsageError;
   } catch (const std::exception& e) {
-    std::cerr << "arttrack: error: " << e.what() << "\n";
+    std::cerr << "arttrack: error: " << arttrack::cli::shorten_long_words(e.what()) << "\n";
     return arttrack::cli::kExitRuntimeError;
   }
   return arttrack::cli::kExitSuccess;

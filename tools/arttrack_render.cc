@@ -1,6 +1,6 @@
 // arttrack render [SCENE_OR_SCENARIO.yaml] [--time T] --out DIR
 //
-// Simulates the scene to time T holding the initial (home) pose, then writes
+// Simulates to time T, then writes
 //   DIR/sim_depth.png    MuJoCo's depth of the whole scene,
 //   DIR/model_depth.png  the tracker's own render of the robot at the true
 //                        state from the true camera, with the geometry the
@@ -8,10 +8,17 @@
 //                        likelihood's resolution: TrackerConfig::geometry,
 //                        from the scenario's tracker configuration, or the
 //                        default one for a scene),
-// (16-bit PNG, millimetres, 0 = no return) and a false-colour *_preview.png of
-// each, and prints the triangles of the model and of what the tracker draws,
-// and how well the tracker's render, with the full meshes and with the drawn
-// ones, agrees with MuJoCo's render of the robot alone.
+// (16-bit PNG, millimetres, 0 = no return) and a false-colour preview of
+// each (sim_depth_preview.png, model_depth_preview.png), and prints the
+// triangles of the model and of what the tracker draws, and how well the
+// tracker's render, with the full meshes and with the drawn ones, agrees
+// with MuJoCo's render of the robot alone.
+//
+// A scene holds the initial (home) pose. A scenario's robot follows the
+// motion of its first run (the scenario's seed, or --seed) and its
+// occluders their schedules, as `arttrack run` drives them: the way to see
+// the links over the motion. (The scene's nominal robot; a scenario's
+// simulated_urdf, miscalibration and loads are not applied.)
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -19,12 +26,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <span>
 #include <string>
 
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/depth_compare.h"
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/scenario.h"
+#include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/scene.h"
 #include "arttrack/sim/simulator.h"
 #include "arttrack/sim/urdf_perturbation.h"
@@ -46,6 +56,7 @@ constexpr double kMaxRenderTimeS = 3600;
 struct RenderArgs {
   std::string input;
   double time_s = 0;
+  long long seed = -1;  // -1: the scenario's
   std::string out_dir;
 };
 
@@ -69,9 +80,10 @@ void run(const RenderArgs& args) {
   const fs::path input = args.input.empty() ? sim::default_scene_path() : fs::path(args.input);
   const fs::path scene_file = sim::resolve_scene_file(input);
   const sim::SceneDescription scene = sim::load_scene(scene_file);
+  std::optional<sim::Scenario> scenario;
+  if (scene_file != input) scenario.emplace(sim::load_scenario(input));
   // The tracker configuration that decides the geometry it draws.
-  const TrackerConfig config =
-      scene_file != input ? sim::load_scenario(input).tracker : default_tracker_config();
+  const TrackerConfig config = scenario ? scenario->tracker : default_tracker_config();
   const fs::path out = args.out_dir;
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -79,8 +91,18 @@ void run(const RenderArgs& args) {
 
   const auto model = sim::build_sim_model(scene);
   sim::Simulator simulator(model);
-  const Eigen::VectorXd home = model->initial_joints;
-  simulator.run_until(args.time_s, [&](double, Eigen::VectorXd& q) { q = home; });
+  if (scenario) {
+    const std::uint64_t seed = args.seed >= 0 ? std::uint64_t(args.seed) : scenario->seed;
+    const sim::JointTrajectory motion = sim::run_trajectory(*scenario, *model, seed, 0);
+    simulator.run_until(args.time_s, [&](double t, Eigen::VectorXd& q) {
+      motion.position(t, std::span<double>(q.data(), std::size_t(q.size())));
+    });
+    for (const sim::OccluderSchedule& o : scenario->occluder_schedules)
+      simulator.set_occluder_pose(o.occluder, o.pose_at(simulator.time_s()));
+  } else {
+    const Eigen::VectorXd home = model->initial_joints;
+    simulator.run_until(args.time_s, [&](double, Eigen::VectorXd& q) { q = home; });
+  }
 
   sim::DepthCamera camera(model);
   DepthImage sim_depth, sim_robot_depth;
@@ -116,11 +138,16 @@ void run(const RenderArgs& args) {
   sim::write_depth_preview_png(out / "model_depth_preview.png", model_depth, lo, hi);
 
   const CameraIntrinsics& K = camera.intrinsics();
-  std::cout << "scene " << scene.source << " (robot " << scene.urdf_path.string() << ")\n"
-            << "time " << simulator.time_s() << " s, camera " << K.width << "x" << K.height
-            << " fx " << K.fx << " px, GL " << camera.gl_description() << "\n"
-            << "wrote " << (out / "sim_depth.png").string() << ", "
-            << (out / "model_depth.png").string() << " and their previews\n";
+  std::cout
+      << "scene " << scene.source << " (robot " << scene.urdf_path.string() << ")\n"
+      << "time " << simulator.time_s() << " s, camera " << K.width << "x" << K.height << " fx "
+      << K.fx << " px, GL " << camera.gl_description() << "\n"
+      << (scenario
+              ? "robot along the motion of the scenario's first run, occluders on their schedules\n"
+              : "robot at home\n")
+      << "wrote " << (out / "sim_depth.png").string() << ", " << (out / "model_depth.png").string()
+      << ", " << (out / "sim_depth_preview.png").string() << " and "
+      << (out / "model_depth_preview.png").string() << "\n";
   std::printf(
       "tracker geometry: %d triangles in the model, %d drawn (%g px of the %dx%d likelihood at "
       "%g m: at most %.2f mm; the simplifier reports %.2f mm)\n",
@@ -152,8 +179,11 @@ void register_render(CLI::App& app) {
       "render", "Render the simulator's depth and the tracker's robot render; compare them");
   cmd->add_option("scene", args->input,
                   "Scene or scenario YAML (default: models/scene_default.yaml)");
+  add_seed_option(cmd, args->seed,
+                  "Scenario seed, as for arttrack run: a scenario's robot follows its first run");
   cmd->add_option("--time", args->time_s,
-                  "Simulated time before rendering, seconds, at most " +
+                  "Simulated time before rendering, seconds (a scenario's robot follows its "
+                  "motion, a scene's holds the home pose), at most " +
                       std::to_string(int(kMaxRenderTimeS)) + " (default 0)")
       ->check(CLI::Validator(
           [](std::string& s) -> std::string {

@@ -34,6 +34,28 @@ class UsageError : public InputError {
   using InputError::InputError;
 };
 
+// A message as the program prints it: each word (a run without spaces)
+// longer than 400 characters, a value no message helper shortened
+// (quote_value(), error.h) such as a file name in a std::filesystem error, is cut
+// to its first kMaxQuoted characters, an ellipsis and its length. Paths of
+// up to 400 characters stay whole.
+inline std::string shorten_long_words(const std::string& message) {
+  constexpr std::size_t kMaxWord = 400;
+  std::string out;
+  std::size_t start = 0;
+  while (start < message.size()) {
+    const std::size_t end = std::min(message.find_first_of(" \n\t", start), message.size());
+    if (end - start > kMaxWord)
+      out += message.substr(start, kMaxQuoted) + "... (" + std::to_string(end - start) +
+             " characters)";
+    else
+      out += message.substr(start, end - start);
+    if (end < message.size()) out += message[end];
+    start = end + 1;
+  }
+  return out;
+}
+
 // Check for --out and other folder or file names: an empty one is a usage
 // error (it would silently mean the working directory).
 inline CLI::Validator non_empty_name() {
@@ -53,7 +75,8 @@ inline void check_fresh_output(const std::filesystem::path& dir,
                        "): choose another folder, or pass --force to overwrite them");
 }
 
-// --seed of every command that simulates (run, export, sweep, tune, bench):
+// --seed of every command that simulates (run, export, sweep, tune, bench,
+// render):
 // the scenario seed its runs' seeds derive from; -1 (the default) keeps the
 // scenario's `seed`. `help` says what the seed drives in that command.
 // --seed: any negative value is a usage error when given (the commands use

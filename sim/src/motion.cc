@@ -138,7 +138,7 @@ JointTrajectory::JointTrajectory(std::vector<std::string> joint_names, std::vect
 std::size_t JointTrajectory::joint_index(std::string_view name) const {
   for (std::size_t j = 0; j < joint_names_.size(); ++j)
     if (joint_names_[j] == name) return j;
-  fail("trajectory", "unknown joint '" + std::string(name) + "'");
+  fail("trajectory", "unknown joint " + quote_value(name));
 }
 
 std::vector<std::size_t> JointTrajectory::resolve(const std::vector<std::string>& joints,
@@ -146,7 +146,7 @@ std::vector<std::size_t> JointTrajectory::resolve(const std::vector<std::string>
   std::vector<std::size_t> idx;
   for (const std::string& name : joints) {
     const auto it = std::find(joint_names_.begin(), joint_names_.end(), name);
-    if (it == joint_names_.end()) fail(part, "unknown joint '" + name + "'");
+    if (it == joint_names_.end()) fail(part, "unknown joint " + quote_value(name));
     const std::size_t j = std::size_t(it - joint_names_.begin());
     if (std::find(idx.begin(), idx.end(), j) != idx.end())
       fail(part, "joint '" + name + "' listed twice");

@@ -67,15 +67,17 @@ Eigen::Isometry3d pose(const ConfigNode& n, const std::string& xyz_key) {
 // A path named in the scenario: relative to it, else to the repository.
 fs::path resolve_path(const ConfigNode& n, const std::string& key, const fs::path& fallback,
                       const fs::path& dir) {
+  std::error_code ec;  // a name too long for the system is no file, not an exception
   const fs::path p = n.has(key) ? fs::path(n.required<std::string>(key)) : fallback;
   if (p.is_absolute()) {
-    if (!fs::exists(p)) n.fail(key, "= '" + p.string() + "': no such file");
+    if (!fs::exists(p, ec)) n.fail(key, "= " + quote_value(p.string()) + ": no such file");
     return p;
   }
-  if (fs::exists(dir / p)) return fs::weakly_canonical(dir / p);
+  if (fs::exists(dir / p, ec)) return fs::weakly_canonical(dir / p);
   const fs::path in_repo = fs::path(ARTTRACK_SOURCE_DIR) / p;
-  if (fs::exists(in_repo)) return fs::weakly_canonical(in_repo);
-  n.fail(key, "= '" + p.string() + "': no such file next to the scenario or in the repository");
+  if (fs::exists(in_repo, ec)) return fs::weakly_canonical(in_repo);
+  n.fail(key, "= " + quote_value(p.string()) +
+                  ": no such file next to the scenario or in the repository");
 }
 
 // `joints: [names or groups]`, expanded. Empty when absent and !required.
@@ -98,7 +100,7 @@ std::vector<std::string> joint_list(const ConfigNode& n, const Scenario& s, bool
     if (joints.empty()) {
       std::string groups = "all";
       for (const auto& [group, members] : s.scene.joint_groups) groups += ", " + group;
-      n.fail("joints", "names '" + name + "', which is neither a movable joint of " +
+      n.fail("joints", "names " + quote_value(name) + ", which is neither a movable joint of " +
                            s.urdf.path.string() + " nor a group of them (" + groups +
                            "; groups are declared in the scene's robot.groups)");
     }
@@ -117,7 +119,7 @@ void check_joint_groups(const Scenario& s) {
                        ": give the group another name");
     for (const std::string& j : members)
       if (s.urdf.movable_index(j) < 0)
-        throw InputError(key + " names '" + j + "', which is not a movable joint of " +
+        throw InputError(key + " names " + quote_value(j) + ", which is not a movable joint of " +
                          s.urdf.path.string());
   }
 }
@@ -208,7 +210,7 @@ void read_loads(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s) {
     LinkLoad l;
     l.link = n.required<std::string>("link");
     if (!urdf.has_link(l.link))
-      n.fail("link", "= '" + l.link + "' is not a link of " + urdf.path.string());
+      n.fail("link", "= " + quote_value(l.link) + " is not a link of " + urdf.path.string());
     l.mass_kg = n.required_number("mass_kg", 1e-6, 1e4);
     l.start_s = n.required_number("start_s", 0, 1e6);
     l.end_s = n.required_number("end_s", 0, 1e6);
@@ -363,10 +365,12 @@ void read_occluders(const ConfigNode& root, Scenario& s) {
       if (s.scene.occluders[i].name == name) index = int(i);
     if (index >= 0 && (n.has("type") || n.has("size_m") || n.has("radius_m") || n.has("height_m") ||
                        n.has("rgba")))
-      n.fail("name", "= '" + name + "' is an occluder of the scene: give only its schedule");
+      n.fail("name",
+             "= " + quote_value(name) + " is an occluder of the scene: give only its schedule");
     if (index < 0) {
       for (const auto& shape : s.scene.shapes)
-        if (shape.name == name) n.fail("name", "= '" + name + "' is already a scene object");
+        if (shape.name == name)
+          n.fail("name", "= " + quote_value(name) + " is already a scene object");
       OccluderSpec o;
       o.name = name;
       o.type = occluder_type(n.choice("type", "box", {"box", "cylinder", "person"}));
@@ -408,7 +412,8 @@ void read_scoring(const ConfigNode& n, Scenario& s) {
   if (sc.end_effectors.empty()) n.fail("end_effectors", "must name at least one link");
   for (const std::string& ee : sc.end_effectors)
     if (!s.urdf.has_link(ee))
-      n.fail("end_effectors", "names '" + ee + "', which is not a link of " + s.urdf.path.string());
+      n.fail("end_effectors",
+             "names " + quote_value(ee) + ", which is not a link of " + s.urdf.path.string());
   // The simulator reports the scored end effectors too.
   for (const std::string& ee : sc.end_effectors)
     if (std::find(s.scene.end_effector_links.begin(), s.scene.end_effector_links.end(), ee) ==
@@ -596,7 +601,7 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir,
   std::set<std::string> seen;
   for (const std::string& m : s.methods) {
     parse_method(m, doc.file + ": key 'methods'");
-    if (!seen.insert(m).second) root.fail("methods", "lists '" + m + "' twice");
+    if (!seen.insert(m).second) root.fail("methods", "lists " + quote_value(m) + " twice");
   }
 
   read_camera(root.child("camera"), s);

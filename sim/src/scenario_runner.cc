@@ -33,6 +33,20 @@ std::uint64_t splitmix64(std::uint64_t x) {
 enum Stream : std::uint64_t { kMotion = 1, kEncoders, kDepth, kFrames, kTracker };
 std::uint64_t stream_seed(std::uint64_t run_seed, Stream s) { return splitmix64(run_seed + s); }
 
+// The joint targets of the run with seed `seed` for the simulator's joints:
+// the scenario's motion about the model's home configuration, within its
+// limits.
+JointTrajectory commanded_motion(const Scenario& sc, const SimModel& m, std::uint64_t seed) {
+  std::vector<JointLimit> limits;
+  std::vector<double> home;
+  for (std::size_t i = 0; i < m.joint_names.size(); ++i) {
+    limits.push_back({m.joint_lower[i], m.joint_upper[i]});
+    home.push_back(m.initial_joints[i]);
+  }
+  std::mt19937_64 rng(stream_seed(seed, kMotion));
+  return make_trajectory(sc, m.joint_names, limits, home, rng);
+}
+
 // Depth agreement below which a robot pixel of the full scene is the robot.
 constexpr float kSameSurface_m = 2e-3f;
 
@@ -87,8 +101,6 @@ struct Setup {
   std::vector<std::string> joint_names;     // tracker physical joints
   std::vector<int> sim_joint;               // per joint_names: SimModel index
   std::vector<int> sim_ee;                  // per scored end effector: GroundTruth index
-  std::vector<JointLimit> limits;           // per SimModel joint
-  std::vector<double> home;                 // per SimModel joint
   std::vector<TrackingMethod> methods;
   int substeps = 1;
   double joint_period_s = 1e-3;
@@ -107,13 +119,7 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
   s.substeps = std::max(1, int(std::ceil(s.joint_period_s / scene.timestep_s - 1e-9)));
   scene.timestep_s = s.joint_period_s / s.substeps;
   scene.urdf_path = sc.simulated_urdf();
-  std::optional<PerturbedUrdf> perturbed;
-  if (!sc.perturbation.empty()) {
-    perturbed.emplace(scene.urdf_path, sc.scene.package_paths, sc.perturbation);
-    scene.urdf_path = perturbed->path();
-    scene.camera_mount.reset();  // the perturbed copy has it
-  }
-  s.sim_model = build_sim_model(scene);
+  s.sim_model = build_sim_model(scene, sc.perturbation);
   const SimModel& m = *s.sim_model;
 
   for (int j = 0; j < s.robot->num_joints(); ++j) {
@@ -130,10 +136,6 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
     if (it == m.end_effector_names.end())
       throw InputError(sc.source + ": end effector '" + ee + "' is not simulated");
     s.sim_ee.push_back(int(it - m.end_effector_names.begin()));
-  }
-  for (std::size_t i = 0; i < m.joint_names.size(); ++i) {
-    s.limits.push_back({m.joint_lower[i], m.joint_upper[i]});
-    s.home.push_back(m.initial_joints[i]);
   }
   return s;
 }
@@ -153,9 +155,7 @@ class Run {
         camera_poses_(setup.robot) {
     result_.run = run;
     result_.seed = seed;
-    std::mt19937_64 rng(stream_seed(seed, kMotion));
-    trajectory_.emplace(
-        make_trajectory(sc, setup.sim_model->joint_names, setup.limits, setup.home, rng));
+    trajectory_.emplace(commanded_motion(sc, *setup.sim_model, seed));
     frames_timing_ = camera_frames(sc.camera_timing, sc.duration_s, stream_seed(seed, kFrames));
     sim_.reset();
     const SimModel& m = *setup.sim_model;
@@ -416,6 +416,11 @@ class Run {
 std::uint64_t run_seed(std::uint64_t seed, int run) {
   // 53 bits, so that JSON readers keep every digit.
   return splitmix64(splitmix64(seed) + std::uint64_t(run)) & ((std::uint64_t(1) << 53) - 1);
+}
+
+JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, std::uint64_t seed,
+                               int run) {
+  return commanded_motion(scenario, model, run_seed(seed, run));
 }
 
 const MethodResult* ScenarioResult::method(const std::string& name) const {

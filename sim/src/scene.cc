@@ -35,17 +35,20 @@ double length(const ConfigNode& n, const std::string& key) {
 // A path from the scene file: relative to the file, else to the repository.
 fs::path resolve(const ConfigNode& n, const std::string& key, const fs::path& scene_dir,
                  bool must_exist) {
+  std::error_code ec;  // a name too long for the system is no file, not an exception
   const fs::path p = n.required<std::string>(key);
   if (p.is_absolute()) {
-    if (must_exist && !fs::exists(p)) n.fail(key, "= '" + p.string() + "': no such file");
+    if (must_exist && !fs::exists(p, ec))
+      n.fail(key, "= " + quote_value(p.string()) + ": no such file");
     return p;
   }
   const fs::path next_to_scene = scene_dir / p;
-  if (fs::exists(next_to_scene)) return fs::weakly_canonical(next_to_scene);
+  if (fs::exists(next_to_scene, ec)) return fs::weakly_canonical(next_to_scene);
   const fs::path in_repo = fs::path(ARTTRACK_SOURCE_DIR) / p;
-  if (fs::exists(in_repo)) return fs::weakly_canonical(in_repo);
+  if (fs::exists(in_repo, ec)) return fs::weakly_canonical(in_repo);
   if (must_exist)
-    n.fail(key, "= '" + p.string() + "': no such file next to the scene or in the repository");
+    n.fail(key, "= " + quote_value(p.string()) +
+                    ": no such file next to the scene or in the repository");
   return next_to_scene;
 }
 
@@ -280,8 +283,10 @@ fs::path resolve_scene_file(const fs::path& scene_or_scenario) {
   if (!root.has("scene")) return scene_or_scenario;
   const fs::path scene = root.required<std::string>("scene");
   if (scene.is_absolute()) return scene;
+  std::error_code ec;
   const fs::path next_to = fs::absolute(scene_or_scenario).parent_path() / scene;
-  if (fs::exists(next_to) || !fs::exists(fs::path(ARTTRACK_SOURCE_DIR) / scene)) return next_to;
+  if (fs::exists(next_to, ec) || !fs::exists(fs::path(ARTTRACK_SOURCE_DIR) / scene, ec))
+    return next_to;
   return fs::path(ARTTRACK_SOURCE_DIR) / scene;
 }
 

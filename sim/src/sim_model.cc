@@ -305,7 +305,12 @@ void add_actuators(XMLDocument& doc, XMLElement* root, const UrdfInfo& urdf, con
 }
 
 void add_options(XMLDocument& doc, XMLElement* root, const SceneDescription& scene,
-                 const fs::path& mesh_dir) {
+                 const fs::path& mesh_dir, int nv) {
+  // MuJoCo's default stack (about 1.4 M + 20 nv^2 numbers) runs out in the
+  // compiler's first step past a few hundred degrees of freedom (the
+  // implicit integrator's dense nv x nv terms): 40 nv^2 is enough at
+  // ModelLimits::kMaxJoints (1000: 41 M numbers, 330 MB).
+  if (nv > 200) child(doc, root, "size")->SetAttribute("nstack", 1000000 + 40 * nv * nv);
   child(doc, root, "compiler", true)->SetAttribute("meshdir", mesh_dir.string().c_str());
   XMLElement* option = child(doc, root, "option");
   option->SetAttribute("timestep", nums({scene.timestep_s}).c_str());
@@ -395,54 +400,71 @@ CameraIntrinsics SimModel::intrinsics() const {
 
 namespace {
 
-// One line on stderr, once per URDF and process (sweeps build many models).
-void report_derived_inertia(const fs::path& urdf, const std::vector<std::string>& links) {
-  if (links.empty()) return;
+// The first few names of a list, then how many more.
+std::string some_names(const std::vector<std::string>& names) {
+  constexpr std::size_t kShown = 12;
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < kShown; ++i)
+    out += (out.empty() ? "" : ", ") + names[i];
+  if (names.size() > kShown) out += " and " + std::to_string(names.size() - kShown) + " more";
+  return out;
+}
+
+// Lines on stderr, once per URDF and process (sweeps build many models).
+void report_notices(const UrdfInfo& urdf) {
   static std::mutex mutex;
   static std::set<std::string> reported;
   std::lock_guard lock(mutex);
-  if (!reported.insert(urdf.string()).second) return;
-  std::string names;
-  for (const auto& l : links) names += (names.empty() ? "" : ", ") + l;
-  std::cerr << "notice: " << urdf.filename().string() << ": no <inertial> on " << links.size()
-            << " links (" << names
-            << "); mass and inertia derived from their geometry (solid, 1000 kg/m^3)\n";
+  if (!reported.insert(urdf.source.string()).second) return;
+  for (const std::string& notice : urdf.notices) std::cerr << "notice: " << notice << "\n";
+  if (urdf.links_with_derived_inertia.empty()) return;
+  std::vector<std::string> missing;
+  for (const auto& l : urdf.links_with_derived_inertia)
+    if (!urdf.unusable_inertials.count(l)) missing.push_back(l);
+  std::string what;
+  if (!missing.empty())
+    what = "no <inertial> on " + std::to_string(missing.size()) + " links (" + some_names(missing) +
+           ")";
+  for (const auto& [link, why] : urdf.unusable_inertials)
+    what +=
+        (what.empty() ? "" : "; ") + ("link '" + link + "': <inertial> with " + why +
+                                      " (MuJoCo needs positive mass and inertia on a moving link)");
+  std::cerr << "notice: " << urdf.source.filename().string() << ": " << what
+            << "; mass and inertia derived from their geometry (solid, 1000 kg/m^3)\n";
 }
 
 }  // namespace
 
-std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene) {
+std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene,
+                                                const UrdfPerturbation& perturbation) {
   const std::string where = scene.source.empty() ? scene.urdf_path.string() : scene.source;
   TempDir work;
-  std::optional<PerturbedUrdf> mounted;  // a copy with the scene's camera link
-  if (scene.camera_mount) {
-    UrdfPerturbation mount;
-    mount.camera_link = scene.camera_link;
-    mount.camera_mount = scene.camera_mount;
-    mounted.emplace(scene.urdf_path, scene.package_paths, mount);
-  }
-  const UrdfInfo urdf =
-      prepare_urdf(mounted ? mounted->path() : scene.urdf_path, scene.package_paths, work.path());
+  UrdfPerturbation changes = perturbation;  // with the scene's camera link
+  changes.camera_link = scene.camera_link;
+  changes.camera_mount = scene.camera_mount;
+  const UrdfInfo urdf = prepare_urdf(scene.urdf_path, scene.package_paths, work.path(), changes);
   check_names(scene, urdf);
-  report_derived_inertia(scene.urdf_path, urdf.links_with_derived_inertia);
+  report_notices(urdf);
 
   // Stage 1: the robot alone, through MuJoCo's URDF importer.
   char error[1024] = "";
   std::unique_ptr<mjModel, MjModelDeleter> m_urdf(
       mj_loadXML(urdf.prepared_urdf.c_str(), nullptr, error, sizeof(error)));
-  if (!m_urdf)
-    throw InputError(scene.urdf_path.string() + ": MuJoCo cannot load the URDF: " + error);
+  if (!m_urdf) throw InputError(urdf.retell(error));
+  // Read back below as XML (tinyxml2, at most 100 nested elements: the
+  // chain depth limit keeps the bodies within).
   const fs::path robot_xml = work.path() / "robot.xml";
+  const std::string in_urdf = scene.urdf_path.string() + ": ";
   if (!mj_saveLastXML(robot_xml.c_str(), m_urdf.get(), error, sizeof(error)))
-    throw InputError(scene.urdf_path.string() + ": MuJoCo cannot save it as MJCF: " + error);
+    throw InputError(in_urdf + "MuJoCo cannot write its model as MJCF: " + error);
 
   // Stage 2: the scene around it.
   XMLDocument doc;
   if (doc.LoadFile(robot_xml.c_str()) != tinyxml2::XML_SUCCESS)
-    throw InputError(robot_xml.string() + ": cannot read MuJoCo's MJCF: " + doc.ErrorStr());
+    throw InputError(in_urdf + "MuJoCo's MJCF of it cannot be read back: " + doc.ErrorName());
   XMLElement* root = doc.FirstChildElement("mujoco");
   XMLElement* world = root ? root->FirstChildElement("worldbody") : nullptr;
-  if (!world) throw InputError(robot_xml.string() + ": MuJoCo's MJCF has no worldbody");
+  if (!world) throw InputError(in_urdf + "MuJoCo's MJCF of it has no worldbody");
   std::map<std::string, XMLElement*> bodies;
   collect_bodies(world, bodies);
   if (!bodies.count(scene.camera_link))
@@ -451,16 +473,21 @@ std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene) {
   edit_robot(doc, bodies, urdf, m_urdf.get(), scene);
   add_scene(doc, world, scene);
   add_actuators(doc, root, urdf, m_urdf.get(), scene);
-  add_options(doc, root, scene, work.path());
+  add_options(doc, root, scene, work.path(), m_urdf->nv);
 
   auto model = std::make_shared<SimModel>();
   model->scene = scene;
   model->mjcf = to_string(doc);
   const fs::path scene_xml = work.path() / "scene.xml";
   if (doc.SaveFile(scene_xml.c_str()) != tinyxml2::XML_SUCCESS)
-    throw InputError(scene_xml.string() + ": cannot write the scene MJCF");
+    throw InputError(where + ": cannot write the simulator's model in the temporary folder " +
+                     work.path().string());
   model->mj.reset(mj_loadXML(scene_xml.c_str(), nullptr, error, sizeof(error)));
-  if (!model->mj) throw InputError(where + ": MuJoCo cannot compile the scene: " + error);
+  if (!model->mj) {  // the lines of the generated MJCF mean nothing to the user
+    const MujocoError e = parse_mujoco_error(error);
+    throw InputError(where + ": MuJoCo cannot compile the scene: " + e.what +
+                     (e.object.empty() ? "" : " ('" + e.object + "')"));
+  }
   const mjModel* m = model->mj.get();
 
   const int n = int(urdf.joint_names.size());

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/model_limits.h"
 #include "arttrack/tracker/robot_model.h"
 #include "config_geometry.h"
 #include "urdf_prepare.h"
@@ -113,13 +114,8 @@ int UrdfSummary::movable_index(const std::string& name) const {
 
 UrdfSummary read_urdf_summary(const fs::path& urdf) {
   const std::string where = urdf.string();
-  check_not_xacro(where);
-  if (!fs::is_regular_file(urdf)) throw InputError(where + ": URDF file not found");
   XMLDocument doc;
-  if (doc.LoadFile(where.c_str()) != tinyxml2::XML_SUCCESS)
-    throw InputError(where + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
-  const XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) throw InputError(where + ": no <robot> element");
+  const XMLElement* robot = load_urdf_document(urdf, doc);
   UrdfSummary s;
   s.path = urdf;
   for (const XMLElement* l = robot->FirstChildElement("link"); l;
@@ -145,6 +141,17 @@ UrdfSummary read_urdf_summary(const fs::path& urdf) {
     s.movable_joints.push_back(name);
     s.movable_limits.push_back(limit);
   }
+  check_model_count(where, s.link_names.size(), ModelLimits::kMaxLinks, "links");
+  check_model_count(where, s.joint_names.size(), ModelLimits::kMaxJoints, "joints");
+  std::map<std::string, std::string> parent_of;  // child link -> parent link
+  for (const XMLElement* j = robot->FirstChildElement("joint"); j;
+       j = j->NextSiblingElement("joint")) {
+    const XMLElement* parent = j->FirstChildElement("parent");
+    const XMLElement* child = j->FirstChildElement("child");
+    if (parent && child && parent->Attribute("link") && child->Attribute("link"))
+      parent_of.emplace(child->Attribute("link"), parent->Attribute("link"));
+  }
+  check_chain_depth(where, parent_of);
   return s;
 }
 
@@ -153,13 +160,7 @@ bool UrdfPerturbation::empty() const {
          joint_changes.empty() && origin_extension_m.empty() && link_scale.empty();
 }
 
-std::string perturb_urdf_text(const std::string& xml, const std::string& source,
-                              const fs::path& urdf_dir,
-                              const std::map<std::string, fs::path>& package_paths,
-                              const UrdfPerturbation& p) {
-  XMLDocument doc;
-  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
-    throw InputError(source + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
+void perturb_urdf_document(XMLDocument& doc, const std::string& source, const UrdfPerturbation& p) {
   XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw InputError(source + ": no <robot> element");
 
@@ -254,6 +255,18 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
                        number_text(scale));
     scale_link(l, scale, source + ": link '" + name + "'");
   }
+}
+
+std::string perturb_urdf_text(const std::string& xml, const std::string& source,
+                              const fs::path& urdf_dir,
+                              const std::map<std::string, fs::path>& package_paths,
+                              const UrdfPerturbation& p) {
+  XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+    throw InputError(source + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
+  XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) throw InputError(source + ": no <robot> element");
+  perturb_urdf_document(doc, source, p);
 
   // Absolute mesh paths: the copy lives elsewhere.
   for (XMLElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
@@ -297,7 +310,8 @@ PerturbedUrdf::PerturbedUrdf(const fs::path& urdf,
   if (!out) {
     std::error_code ec;
     fs::remove_all(dir_, ec);
-    throw InputError("cannot write the perturbed URDF '" + path_.string() + "'");
+    throw InputError(urdf.string() + ": cannot write its perturbed copy in the temporary folder " +
+                     dir_.string());
   }
 }
 
@@ -318,7 +332,8 @@ RobotModel tracker_robot_model(const SceneDescription& scene, const fs::path& ur
   options.camera_frame = scene.camera_link;
   for (const auto& [name, dir] : scene.package_paths) options.mesh_search_paths.push_back(dir);
   return RobotModel::from_urdf_string(mounted_urdf_text(scene, urdf),
-                                      fs::absolute(urdf).parent_path().string(), options);
+                                      fs::absolute(urdf).parent_path().string(), options,
+                                      urdf.string());
 }
 
 PerturbedUrdf::~PerturbedUrdf() {

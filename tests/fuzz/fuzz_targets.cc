@@ -13,6 +13,7 @@
 #include "arttrack/sim/scene.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/mesh_loader.h"
+#include "arttrack/tracker/model_limits.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker_config.h"
 #include "error_of.h"
@@ -92,7 +93,8 @@ std::string mesh_one(std::string_view data) {
   const Eigen::Vector3d scale(1, -2, 0.5);  // a mirroring scale takes the winding path too
   const std::string error = test_support::error_of([&] { load_mesh(file.string(), scale); });
   const std::string convert_error = test_support::error_of([&] {
-    sim::convert_mesh_to_binary_stl(file, scratch() / "fuzz_mesh_out.stl", scale, "fuzz mesh");
+    sim::convert_mesh_to_binary_stl(file, scratch() / "fuzz_mesh_out", scale, "fuzz mesh",
+                                    ModelLimits::kMaxMeshTriangles);
   });
   return error.empty() ? convert_error : error;
 }

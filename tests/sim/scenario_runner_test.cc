@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -245,6 +246,48 @@ camera: {latency_s: 0.04, jitter_s: 0.01, drop_probability: 0.1, noise_sigma0_m:
   const std::string a = numbers(5), b = numbers(5), c = numbers(6);
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
+}
+
+// run_trajectory (render --time) is the motion run k follows: the run's
+// true angles stay within the servos' lag of its targets, far closer than
+// to another run's.
+constexpr char kRandomMotion[] = R"(
+scene: scene.yaml
+duration_s: 3.0
+seed: 5
+methods: [encoders_only]
+motion:
+  random: [{joints: [left_arm], amplitude_deg: 20, fade_in_s: 0.5}]
+)";
+
+TEST(ScenarioRunner, RunTrajectoryIsTheMotionTheRunFollows) {
+  const test::TestDir dir("runner_trajectory");
+  const Scenario scenario = load_scenario(dir.write("random.yaml", kRandomMotion));
+  RunOptions options;
+  options.runs = 2;
+  const ScenarioResult r = run_scenario(scenario, options);
+  const auto model = build_sim_model(scenario.scene);
+  const auto mean_error = [&](const RunResult& run, const JointTrajectory& motion) {
+    std::vector<double> target(model->joint_names.size());
+    double sum = 0;
+    int n = 0;
+    for (const TruthSample& t : run.truth) {
+      motion.position(t.time_s, target);
+      for (std::size_t j = 0; j < r.joint_names.size(); ++j) {
+        if (r.joint_names[j].rfind("left_arm", 0) != 0) continue;  // the moving joints
+        sum += std::abs(t.angle_rad[j] - target[std::size_t(model->joint_index(r.joint_names[j]))]);
+        ++n;
+      }
+    }
+    return sum / n;
+  };
+  const JointTrajectory run0 = run_trajectory(scenario, *model, scenario.seed, 0);
+  const JointTrajectory run1 = run_trajectory(scenario, *model, scenario.seed, 1);
+  const double own = mean_error(r.runs[0], run0), other = mean_error(r.runs[0], run1);
+  std::printf("mean |true - target|: own motion %.4f rad, run 1's %.4f rad\n", own, other);
+  EXPECT_LT(own, 0.05);  // the servos lag their targets by about a degree
+  EXPECT_LT(4 * own, other);
+  EXPECT_LT(mean_error(r.runs[1], run1), 0.05);
 }
 
 // The tracker's seed comes from the run's seed, and the configured

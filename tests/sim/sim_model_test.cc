@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -446,6 +447,110 @@ TEST(SimModel, CameraMountAndMimicErrorsNameTheItem) {
   EXPECT_NE(e.find("'follower'"), std::string::npos) << e;
   EXPECT_NE(e.find("'ghost'"), std::string::npos) << e;
   EXPECT_NE(e.find("mimic_missing.urdf"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace arttrack::sim
+
+namespace arttrack::sim {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A joint MuJoCo 2.2 would take but the tracker cannot (floating, planar) is
+// refused before MuJoCo, naming the user's file and the joint's line there.
+TEST(SimModel, FloatingJointIsRefusedAtItsLineInTheUsersFile) {
+  const fs::path urdf = write_file("floating.urdf", R"(<robot name="r">
+  <link name="base_link"/>
+  <link name="l"/>
+  <joint name="free" type="floating"><parent link="base_link"/><child link="l"/></joint>
+</robot>)");
+  const std::string e = build_error(robot_scene(urdf));
+  EXPECT_NE(e.find(urdf.string() + ":4: joint 'free' is floating"), std::string::npos) << e;
+}
+
+// base_link and a chain of `links` links on fixed joints below it.
+std::string fixed_chain_urdf(int links) {
+  std::string text = "<robot name=\"chain\"><link name=\"base_link\"/>\n";
+  for (int i = 0; i < links; ++i)
+    text += "<link name=\"l" + std::to_string(i) + "\"/><joint name=\"j" + std::to_string(i) +
+            "\" type=\"fixed\"><parent link=\"" + (i ? "l" + std::to_string(i - 1) : "base_link") +
+            "\"/><child link=\"l" + std::to_string(i) + "\"/></joint>\n";
+  return text + "</robot>\n";
+}
+
+// Bounds before cost (model_limits.h): a 2000-link chain was a minute in
+// MuJoCo's compiler, then an error naming a temporary file.
+TEST(SimModel, SizeLimitsAreCheckedBeforeMuJoCo) {
+  const fs::path long_chain = write_file("long_chain.urdf", fixed_chain_urdf(2000));
+  auto start = std::chrono::steady_clock::now();
+  std::string e = build_error(robot_scene(long_chain));
+  EXPECT_LT(seconds_since(start), 1.0);
+  EXPECT_NE(e.find(long_chain.string() + ": 2001 links, more than the 1000"), std::string::npos)
+      << e;
+
+  // 100 links in one chain: within the count, past the depth.
+  const fs::path deep_chain = write_file("deep_chain.urdf", fixed_chain_urdf(100));
+  start = std::chrono::steady_clock::now();
+  e = build_error(robot_scene(deep_chain));
+  EXPECT_LT(seconds_since(start), 1.0);
+  EXPECT_NE(e.find(deep_chain.string() + ": link 'l99' is 100 joints from the root, more than the "
+                                         "90"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(e.rfind(deep_chain.string(), 0), 0u) << e;  // the user's file, no temporary copy
+}
+
+// A binary STL of 4 triangles repeated `copies` times (a tetrahedron 10 cm
+// across, `copies` layers on top of each other).
+std::string binary_stl_tetrahedra(std::uint32_t copies) {
+  const float v[4][3] = {{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const std::uint32_t n = 4 * copies;
+  std::string out(84 + 50 * std::size_t(n), '\0');
+  std::memcpy(out.data() + 80, &n, 4);
+  for (std::uint32_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k)
+      std::memcpy(out.data() + 84 + 50 * t + 12 + 12 * k, v[faces[t % 4][k]], 12);
+  return out;
+}
+
+// A mesh over MuJoCo 2.2's 200 000 triangles per STL file reaches it in
+// parts (one geom each); the tracker reads it whole. (Two massless visual
+// geoms on a welded link: the documented fallback mass.)
+TEST(SimModel, MeshOverMuJoCosLimitPerFileArrivesInParts) {
+  write_file("big.stl", binary_stl_tetrahedra(62500));  // 250 000 triangles
+  const auto model = build_sim_model(
+      robot_scene(write_file("big_mesh.urdf", "<robot name=\"m\"><link name=\"base_link\"/>" +
+                                                  mesh_link("big", 0, "big.stl") + "</robot>")));
+  const mjModel* m = model->mj.get();
+  const int b = mj_name2id(m, mjOBJ_BODY, "big");
+  int faces = 0;
+  for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    ASSERT_EQ(m->geom_type[g], mjGEOM_MESH);
+    faces += m->mesh_facenum[m->geom_dataid[g]];
+  }
+  EXPECT_EQ(m->body_geomnum[b], 2);
+  EXPECT_EQ(faces, 250000);
+}
+
+// Collision shapes without volume (a zero radius, a flat mesh) collide with
+// nothing in ROS; MuJoCo refuses them: left out, with a notice.
+TEST(SimModel, CollisionShapesWithoutVolumeAreLeftOut) {
+  write_file("plate.obj", "v 0 0 0\nv 0.1 0 0\nv 0.1 0.1 0\nv 0 0.1 0\nf 1 2 3\nf 1 3 4\n");
+  const auto model = build_sim_model(robot_scene(write_file("no_volume.urdf", R"(<robot name="r">
+  <link name="base_link">
+    <collision><geometry><sphere radius="0"/></geometry></collision>
+    <collision><geometry><mesh filename="plate.obj"/></geometry></collision>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+    <visual><geometry><mesh filename="plate.obj"/></geometry></visual>
+  </link></robot>)")));
+  const mjModel* m = model->mj.get();
+  const int b = model->link_body[model->link_index("base_link")];
+  ASSERT_EQ(m->body_geomnum[b], 2);  // the box and the visual plate
+  EXPECT_EQ(m->geom_type[m->body_geomadr[b]], mjGEOM_BOX);
 }
 
 }  // namespace

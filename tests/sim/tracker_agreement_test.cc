@@ -2,7 +2,8 @@
 // forward kinematics must agree with MuJoCo's body poses, and the tracker's
 // CPU depth render with MuJoCo's OpenGL depth of the robot alone. Run on the
 // real robot (primitive and mesh variants: the mesh variant also proves the
-// DAE/OBJ/STL conversion) and on a small inline robot.
+// DAE/OBJ/STL conversion), on a small inline robot and on a description
+// with what ROS tolerates (tests/sim/data/irregular_description).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -69,6 +70,17 @@ const fs::path kModels = fs::path(ARTTRACK_SOURCE_DIR) / "models";
 Robot dual_arm() { return {"dual_arm", kModels / "dual_arm.urdf", {{"arttrack_models", kModels}}}; }
 Robot dual_arm_meshes() {
   return {"dual_arm_meshes", kModels / "dual_arm_meshes.urdf", {{"arttrack_models", kModels}}};
+}
+
+// What ROS tolerates and MuJoCo 2.2 refuses or reads otherwise (repeated
+// elements, a missing <origin>, package:// found through package.xml, a
+// material by name only, Gazebo and transmission elements, a scaled mesh, a
+// massless moving link, ...: the file lists them).
+Robot irregular() {
+  return {
+      "irregular",
+      fs::path(ARTTRACK_SOURCE_DIR) / "tests/sim/data/irregular_description/urdf/irregular.urdf",
+      {}};
 }
 
 SceneDescription scene_for(const Robot& r, int width, int height) {
@@ -151,6 +163,7 @@ void check_kinematics(const Robot& r) {
 TEST(TrackerAgreement, KinematicsInlineRobot) { check_kinematics(inline_robot()); }
 TEST(TrackerAgreement, KinematicsDualArm) { check_kinematics(dual_arm()); }
 TEST(TrackerAgreement, KinematicsDualArmMeshes) { check_kinematics(dual_arm_meshes()); }
+TEST(TrackerAgreement, KinematicsIrregularDescription) { check_kinematics(irregular()); }
 
 // Renders at 160x120 for the scene's initial pose (if any) and perturbed
 // poses around it, and compares the tracker's render with MuJoCo's. With
@@ -274,6 +287,10 @@ TEST(TrackerAgreement, RenderDefaultSceneWithTheTrackersDefaults) {
     EXPECT_GE(a.silhouette_iou(), 0.98);
   }
 }
+
+// The tracker (urdfdom) and the simulator read the first of each repeated
+// element alike: the same shapes in the same places.
+TEST(TrackerAgreement, RenderIrregularDescription) { check_render(irregular(), {{"elbow", 0.3}}); }
 
 TEST(TrackerAgreement, RenderInlineRobot) {
   check_render(inline_robot(), {{"shoulder", 0.3}, {"elbow", 0.4}, {"head_tilt_joint", 0.75}});

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -12,6 +14,7 @@
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/model_limits.h"
 
 namespace arttrack {
 namespace {
@@ -427,6 +430,122 @@ TEST(RobotModel, LoadsTheProjectRobots) {
     const int lm = meshes.link_index(primitives.link_name(l));
     EXPECT_TRUE(a.T_root_link[l].isApprox(b.T_root_link[lm], 1e-12)) << primitives.link_name(l);
   }
+}
+
+}  // namespace
+}  // namespace arttrack
+
+namespace arttrack {
+namespace {
+
+// A URDF of `links` links below base_link, in chains of `depth` joints.
+std::string chain_urdf(int links, int depth) {
+  std::string text =
+      "<robot name=\"chain\"><link name=\"base_link\"/><link "
+      "name=\"camera_optical_frame\"/><joint name=\"camera\" type=\"fixed\"><parent "
+      "link=\"base_link\"/><child link=\"camera_optical_frame\"/></joint>\n";
+  for (int i = 0; i < links; ++i) {
+    const std::string name = "l" + std::to_string(i);
+    const std::string parent = i % depth == 0 ? "base_link" : "l" + std::to_string(i - 1);
+    text += "<link name=\"" + name + "\"/><joint name=\"j" + std::to_string(i) +
+            "\" type=\"revolute\"><parent link=\"" + parent + "\"/><child link=\"" + name +
+            "\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" "
+            "velocity=\"1\"/></joint>\n";
+  }
+  return text + "</robot>\n";
+}
+
+// Bounds before cost (model_limits.h): links, joints and chain depth are
+// checked right after parsing, naming the file, the count and the limit.
+TEST(RobotModel, SizeLimitsAreCheckedRightAfterParsing) {
+  const fs::path dir = test_dir();
+  write_file(dir / "long_chain.urdf", chain_urdf(2000, 2000));
+  const auto start = std::chrono::steady_clock::now();
+  std::string msg =
+      error_of([&] { RobotModel::from_urdf_file((dir / "long_chain.urdf").string()); });
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(contains(msg, "long_chain.urdf") && contains(msg, "2002 links, more than the 1000"))
+      << msg;
+  EXPECT_LT(seconds, 1.0);
+
+  write_file(dir / "deep.urdf", chain_urdf(ModelLimits::kMaxChainDepth + 1, 1000));
+  msg = error_of([&] { RobotModel::from_urdf_file((dir / "deep.urdf").string()); });
+  EXPECT_TRUE(contains(msg, "deep.urdf") && contains(msg, "link 'l90' is 91 joints from the root"))
+      << msg;
+  EXPECT_NO_THROW(RobotModel::from_urdf_string(chain_urdf(ModelLimits::kMaxChainDepth, 1000), ""));
+  // Many links in shallow chains: within the limits.
+  EXPECT_NO_THROW(RobotModel::from_urdf_string(chain_urdf(990, 50), ""));
+}
+
+TEST(RobotModel, MeshTrianglesAreBoundedBeforeABinaryStlIsRead) {
+  const fs::path dir = test_dir();
+  // A binary STL's header declares more triangles than the limit; the
+  // triangles themselves are never read (the file is only as long as
+  // declared: 84 + 50 n bytes, sparse here).
+  const std::uint32_t n = ModelLimits::kMaxMeshTriangles + 1;
+  {
+    std::ofstream out(dir / "huge.stl", std::ios::binary);
+    out.write(std::string(80, ' ').data(), 80);
+    out.write(reinterpret_cast<const char*>(&n), 4);
+  }
+  fs::resize_file(dir / "huge.stl", 84 + 50 * std::uintmax_t(n));
+  write_file(dir / "huge.urdf", R"(<robot name="r"><link name="camera_optical_frame">
+    <visual><geometry><mesh filename="huge.stl"/></geometry></visual></link></robot>)");
+  const auto start = std::chrono::steady_clock::now();
+  const std::string msg =
+      error_of([&] { RobotModel::from_urdf_file((dir / "huge.urdf").string()); });
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  EXPECT_TRUE(contains(msg, "huge.urdf") && contains(msg, "5000001 mesh triangles") &&
+              contains(msg, "'huge.stl' of link 'camera_optical_frame'"))
+      << msg;
+}
+
+// XML that urdfdom's reader would recurse into without end (it crashed at
+// 200 000 nested elements) or expand (entities) is refused first.
+TEST(RobotModel, DeepXmlAndEntitiesAreRefusedBeforeUrdfdom) {
+  std::string nested = "<robot name=\"r\">\n<link name=\"base_link\"/>\n";
+  for (int i = 0; i < 200000; ++i) nested += "<a x=\"1>2\">";
+  for (int i = 0; i < 200000; ++i) nested += "</a>";
+  std::string msg = error_of([&] { RobotModel::from_urdf_string(nested + "</robot>", ""); });
+  EXPECT_TRUE(contains(msg, "line 3: elements nested more than 100 deep")) << msg;
+  msg = error_of([&] {
+    RobotModel::from_urdf_string(
+        "<?xml version=\"1.0\"?>\n<!DOCTYPE r [\n<!ENTITY a \"aaaa\">\n]>\n<robot name=\"&a;\"/>",
+        "");
+  });
+  EXPECT_TRUE(contains(msg, "line 3: an XML entity declaration")) << msg;
+  // Comments, declarations, self-closing tags and '>' in values do not nest.
+  std::string flat = "<?xml version=\"1.0\"?>\n<!-- <a><a><a> -->\n<robot name=\"r\">";
+  for (int i = 0; i < 500; ++i) flat += "<link name=\"l" + std::to_string(i) + "\"/><!-- <x> -->";
+  const std::string why = error_of([&] { RobotModel::from_urdf_string(flat + "</robot>", ""); });
+  EXPECT_TRUE(!why.empty() && !contains(why, "nested")) << why;  // urdfdom's: 500 roots
+}
+
+// Text read from a file (e.g. with a camera mount added in memory) is named
+// as the file in messages.
+TEST(RobotModel, TextFromAFileIsNamedAsTheFile) {
+  const std::string msg = error_of([&] {
+    RobotModel::from_urdf_string("<robot name=\"x\"><link name=\"a\"></robot", "", {},
+                                 "/data/robot.urdf");
+  });
+  EXPECT_TRUE(contains(msg, "URDF file '/data/robot.urdf'")) << msg;
+  EXPECT_FALSE(contains(msg, "URDF string")) << msg;
+}
+
+// package://NAME/... as ROS finds it without a search path: an ancestor
+// folder whose package.xml names the package (the simulator looks there too).
+TEST(RobotModel, PackageFoundThroughPackageXml) {
+  const fs::path dir = test_dir() / "my_robot_description";
+  fs::create_directories(dir / "urdf");
+  fs::create_directories(dir / "meshes");
+  write_file(dir / "package.xml", "<package><name>my_robot</name></package>");
+  write_file(dir / "meshes" / "pkg_cube.obj", kCubeObj);
+  write_file(dir / "urdf" / "robot.urdf", R"(<robot name="r"><link name="camera_optical_frame">
+    <visual><geometry><mesh filename="package://my_robot/meshes/pkg_cube.obj"/></geometry>
+    </visual></link></robot>)");
+  const RobotModel model = RobotModel::from_urdf_file((dir / "urdf" / "robot.urdf").string());
+  EXPECT_EQ(model.link(0).mesh.triangles.size(), 12u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -15,6 +16,7 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/mesh_simplify.h"
+#include "arttrack/tracker/model_limits.h"
 
 namespace arttrack {
 namespace {
@@ -35,6 +37,7 @@ class CollectErrors : public console_bridge::OutputHandler {
 };
 
 urdf::ModelInterfaceSharedPtr parse_urdf(const std::string& xml, const std::string& source) {
+  check_urdf_text(xml, source);
   // The handler is process-wide state: one parse at a time.
   static std::mutex mutex;
   std::lock_guard lock(mutex);
@@ -85,9 +88,19 @@ bool starts_with(const std::string& s, const std::string& prefix) {
   return s.compare(0, prefix.size(), prefix) == 0;
 }
 
+bool package_xml_names(const fs::path& dir, const std::string& name) {
+  std::ifstream in(dir / "package.xml");
+  if (!in) return false;
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str().find("<name>" + name + "</name>") != std::string::npos;
+}
+
 // The file a URDF mesh reference names: package://NAME/rest tries
-// <folder>/rest and <folder>/NAME/rest, a relative path tries <folder>/path,
-// for the URDF's folder and then each search folder.
+// <folder>/rest and <folder>/NAME/rest for the URDF's folder and then each
+// search folder, and last <package>/rest for the package folder
+// find_package_folder finds from the URDF's folder; a relative path tries
+// <folder>/path.
 std::string resolve_mesh_path(const std::string& uri, const std::string& base_dir,
                               const std::vector<std::string>& search_paths, const std::string& link,
                               const std::string& source) {
@@ -104,6 +117,10 @@ std::string resolve_mesh_path(const std::string& uri, const std::string& base_di
       candidates.push_back(fs::path(folder) / rest);
       candidates.push_back(fs::path(folder) / package / rest);
     }
+    if (!base_dir.empty())
+      if (const fs::path found = find_package_folder(package, fs::absolute(base_dir));
+          !found.empty())
+        candidates.push_back(found / rest);
   } else if (starts_with(uri, "file://")) {
     candidates.push_back(uri.substr(7));
   } else if (fs::path(uri).is_absolute()) {
@@ -128,7 +145,7 @@ TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& li
                            const std::string& base_dir, const std::string& source,
                            const RobotModelOptions& options,
                            std::map<std::string, TriangleMesh>& file_cache,
-                           Eigen::Vector3d& scale) {
+                           std::uint64_t& triangles, Eigen::Vector3d& scale) {
   scale = Eigen::Vector3d::Ones();
   // Sizes the simulator refuses (MuJoCo: a geom size must be positive) would
   // render as nothing or as NaN here: refused alike, naming the link.
@@ -165,8 +182,14 @@ TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& li
                          "' has a zero or non-finite scale (expected finite, non-zero factors)");
       const std::string path =
           resolve_mesh_path(mesh.filename, base_dir, options.mesh_search_paths, link, source);
+      // Every use counts: a binary STL's declared triangles before it is
+      // read, any mesh's after.
+      const std::string what =
+          "mesh triangles (with mesh '" + mesh.filename + "' of link '" + link + "')";
       auto it = file_cache.find(path);
       if (it == file_cache.end()) {
+        if (const auto declared = binary_stl_triangle_count(path))
+          check_model_count(source, triangles + *declared, ModelLimits::kMaxMeshTriangles, what);
         try {
           it = file_cache.emplace(path, load_mesh(path)).first;
         } catch (const InputError& e) {
@@ -174,6 +197,8 @@ TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& li
                            link + "' in " + source + ")");
         }
       }
+      triangles += it->second.triangles.size();
+      check_model_count(source, triangles, ModelLimits::kMaxMeshTriangles, what);
       return it->second;
     }
   }
@@ -188,6 +213,16 @@ void check_not_xacro(const std::string& path) {
                    " > robot.urdf` (ROS's xacro package), and give arttrack the URDF");
 }
 
+fs::path find_package_folder(const std::string& name, const fs::path& start) {
+  for (fs::path d = start; !d.empty(); d = d.parent_path()) {
+    if (d.filename() == name || package_xml_names(d, name)) return d;
+    std::error_code ec;
+    if (fs::is_directory(d / name, ec)) return d / name;
+    if (d == d.parent_path()) break;
+  }
+  return {};
+}
+
 RobotModel RobotModel::from_urdf_file(const std::string& path, const RobotModelOptions& options) {
   check_not_xacro(path);
   const std::string source = "URDF file '" + path + "'";
@@ -195,6 +230,7 @@ RobotModel RobotModel::from_urdf_file(const std::string& path, const RobotModelO
   if (!fs::is_regular_file(path, ec)) {
     throw InputError(source + " does not exist or is not a file");
   }
+  check_urdf_file_size(path);
   std::ifstream in(path, std::ios::binary);
   std::stringstream text;
   text << in.rdbuf();
@@ -203,14 +239,24 @@ RobotModel RobotModel::from_urdf_file(const std::string& path, const RobotModelO
 }
 
 RobotModel RobotModel::from_urdf_string(const std::string& xml, const std::string& base_dir,
-                                        const RobotModelOptions& options) {
-  return build(xml, base_dir, "URDF string", options);
+                                        const RobotModelOptions& options, const std::string& file) {
+  return build(xml, base_dir, file.empty() ? "URDF text" : "URDF file '" + file + "'", options);
 }
 
 RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir,
                              const std::string& source, const RobotModelOptions& options) {
   const urdf::ModelInterfaceSharedPtr urdf_model = parse_urdf(xml, source);
   const BreakLinkCycles release(urdf_model);
+  // Bounds before cost: the tree's size, then its depth.
+  check_model_count(source, urdf_model->links_.size(), ModelLimits::kMaxLinks, "links");
+  check_model_count(source, urdf_model->joints_.size(), ModelLimits::kMaxJoints, "joints");
+  {
+    std::map<std::string, std::string> parent_of;  // child link -> parent link
+    for (const auto& [name, joint] : urdf_model->joints_)
+      parent_of.emplace(joint->child_link_name, joint->parent_link_name);
+    check_chain_depth(source, parent_of);
+  }
+  std::uint64_t triangles = 0;  // of the meshes, against ModelLimits::kMaxMeshTriangles
   RobotModel model;
   model.source_ = source;
   model.options_ = options;
@@ -303,7 +349,7 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
       if (!visual || !visual->geometry) continue;
       Eigen::Vector3d scale;
       const TriangleMesh part = geometry_mesh(*visual->geometry, ulink.name, base_dir, source,
-                                              options, file_cache, scale);
+                                              options, file_cache, triangles, scale);
       const Eigen::Isometry3d T_link_visual = to_isometry(visual->origin);
       Eigen::Affine3d T_link_part(T_link_visual);
       const int type = visual->geometry->type;

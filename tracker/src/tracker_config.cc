@@ -72,8 +72,8 @@ TrackingMethod parse_method(const std::string& name, const std::string& context)
                            TrackingMethod::kFullFusion, TrackingMethod::kVisionOnly}) {
     if (name == method_name(m)) return m;
   }
-  throw InputError(context + ": unknown method '" + name +
-                   "' (expected encoders_only, camera_offset_only, full_fusion or vision_only)");
+  throw InputError(context + ": unknown method " + quote_value(name) +
+                   " (expected encoders_only, camera_offset_only, full_fusion or vision_only)");
 }
 
 double TrackerConfig::Geometry::error_bound_m(const CameraIntrinsics& likelihood_camera) const {

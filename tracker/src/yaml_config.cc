@@ -39,8 +39,8 @@ void check_unique_keys(const YAML::Node& node, const std::string& source, std::s
                        const std::string& path = "") {
   if (++values > kMaxYamlValues)
     throw InputError(source + ": more than " + std::to_string(kMaxYamlValues) +
-                     " values once its aliases are expanded (at '" + path +
-                     "'): aliases of aliases? A configuration is far smaller");
+                     " values once its aliases are expanded (at " + quote_value(path) +
+                     "): aliases of aliases? A configuration is far smaller");
   if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i)
       check_unique_keys(node[i], source, values, path + "[" + std::to_string(i) + "]");
@@ -53,8 +53,8 @@ void check_unique_keys(const YAML::Node& node, const std::string& source, std::s
     const std::string key_path = path.empty() ? key : path + "." + key;
     const int line = kv.first.Mark().line + 1;
     if (const auto [it, added] = first_line.emplace(key, line); !added)
-      throw InputError(source + ":" + std::to_string(line) + ": key '" + key_path +
-                       "' appears twice (first at line " + std::to_string(it->second) + ")");
+      throw InputError(source + ":" + std::to_string(line) + ": key " + quote_value(key_path) +
+                       " appears twice (first at line " + std::to_string(it->second) + ")");
     check_unique_keys(kv.second, source, values, key_path);
   }
 }
@@ -62,6 +62,11 @@ void check_unique_keys(const YAML::Node& node, const std::string& source, std::s
 YAML::Node parse_file(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path + ": file not found");
   if (fs::is_directory(path)) throw InputError(path + ": is a folder, not a YAML file");
+  std::error_code ec;
+  if (const std::uintmax_t bytes = fs::file_size(path, ec); !ec && bytes > kMaxYamlBytes)
+    throw InputError(path + ": " + std::to_string(bytes) + " bytes, more than the " +
+                     std::to_string(kMaxYamlBytes) +
+                     " a YAML file may have in arttrack (a configuration is a few kB)");
   try {
     YAML::Node node = YAML::LoadFile(path);
     std::size_t values = 0;
@@ -113,7 +118,7 @@ YAML::Node load_with_extends(const std::string& path, std::vector<std::string>& 
 
 std::string describe(const YAML::Node& n) {
   if (!n) return "nothing";
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsScalar()) return quote_value(n.Scalar());
   if (n.IsSequence()) return "a list";
   if (n.IsMap()) return "a map";
   return "null";
@@ -140,7 +145,9 @@ YamlDocument load_yaml_string(const std::string& text, const std::string& source
 }
 
 std::vector<KeyStep> parse_key_path(const std::string& key) {
-  auto bad = [&](const std::string& why) { return InputError("key '" + key + "' " + why); };
+  auto bad = [&](const std::string& why) {
+    return InputError("key " + quote_value(key) + " " + why);
+  };
   if (key.empty()) throw bad("is empty");
   std::vector<KeyStep> steps;
   std::size_t pos = 0;
@@ -186,7 +193,7 @@ std::optional<YAML::Node> find_key(const YAML::Node& root, const std::string& ke
 }
 
 void apply_override(YamlDocument& doc, const std::string& assignment) {
-  const std::string context = "override '" + assignment + "'";
+  const std::string context = "override " + quote_value(assignment);
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError(context + ": expected key=value (e.g. encoders[0].offset_deg=5)");
@@ -215,19 +222,19 @@ void apply_override(YamlDocument& doc, const std::string& assignment) {
       index += std::to_string(step.index);
       index += ']';
       if (!node.IsSequence())
-        throw InputError(context + ": '" + walked + "' is " +
+        throw InputError(context + ": " + quote_value(walked) + " is " +
                          (node && !node.IsNull() ? describe(node) : "missing") +
                          ", not a list to index with " + index);
       if (step.index >= node.size())
-        throw InputError(context + ": '" + walked + "' has " + std::to_string(node.size()) +
-                         " element(s): no " + index);
+        throw InputError(context + ": " + quote_value(walked) + " has " +
+                         std::to_string(node.size()) + " element(s): no " + index);
       walked += index;
     } else {
       if (!node.IsMap()) {
         const std::string hint = node.IsSequence() ? " (a list of " + std::to_string(node.size()) +
                                                          ": index it, e.g. " + walked + "[0])"
                                                    : "";
-        throw InputError(context + ": '" + walked + "' is not a map" + hint);
+        throw InputError(context + ": " + quote_value(walked) + " is not a map" + hint);
       }
       walked += (walked.empty() ? "" : ".") + step.name;
     }
@@ -329,7 +336,7 @@ std::string ConfigNode::choice(const std::string& key, const std::string& fallba
     if (c == v) return v;
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
-  fail(key, "= '" + v + "' is not one of: " + list);
+  fail(key, "= " + quote_value(v) + " is not one of: " + list);
 }
 
 ConfigNode ConfigNode::child(const std::string& key) const {

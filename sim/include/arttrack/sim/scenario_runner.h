@@ -36,6 +36,7 @@
 
 #include "arttrack/sim/scenario.h"
 #include "arttrack/sim/scoring.h"
+#include "arttrack/sim/sim_model.h"
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/tracker.h"
 #include "arttrack/tracker/version.h"
@@ -112,6 +113,12 @@ struct RunOptions {
 // The seed of run k of a scenario with seed `seed`: a SplitMix64 mix (so
 // neighbouring runs get unrelated streams) cut to 53 bits (exact in JSON).
 std::uint64_t run_seed(std::uint64_t seed, int run);
+
+// The joint targets the simulator's servos follow in run `run` of
+// `scenario` with seed `seed` (the scenario's `seed`, or --seed), for the
+// joints of `model`: the motion run_scenario drives that run with.
+JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, std::uint64_t seed,
+                               int run);
 
 // Ground truth at one scored instant.
 struct TruthSample {

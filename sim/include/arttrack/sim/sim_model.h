@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "arttrack/sim/scene.h"
+#include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/camera.h"
 
 namespace arttrack::sim {
@@ -75,9 +76,15 @@ struct SimModel {
   CameraIntrinsics intrinsics() const;
 };
 
-// Builds the MuJoCo model of `scene`. Any problem (missing URDF or mesh,
-// unknown camera link, joint or end effector, MuJoCo's compile error):
-// InputError naming the file and the item.
-std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene);
+// Builds the MuJoCo model of `scene`, its robot changed by `perturbation`
+// (a scenario's miscalibration and model mismatch; the scene's camera mount
+// is added either way). Every description the tracker loads (urdfdom) also
+// loads here: what MuJoCo 2.2 refuses and urdfdom tolerates is normalised
+// (urdf_prepare.h). Any problem (missing URDF or mesh, past a size limit of
+// model_limits.h, unknown camera link, joint or end effector, what MuJoCo
+// 2.2 cannot simulate): InputError naming the user's file, the item and,
+// for an element of the URDF, its line there; never a temporary copy.
+std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene,
+                                                const UrdfPerturbation& perturbation = {});
 
 }  // namespace arttrack::sim

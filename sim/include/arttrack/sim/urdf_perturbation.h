@@ -42,8 +42,8 @@ struct UrdfSummary {
   int movable_index(const std::string& name) const;
 };
 
-// Reads `urdf`. Missing file, malformed XML, nameless links or joints:
-// InputError naming the file.
+// Reads `urdf`. Missing file, malformed XML, nameless links or joints, past
+// a size limit of model_limits.h: InputError naming the file.
 UrdfSummary read_urdf_summary(const std::filesystem::path& urdf);
 
 // A change of where one joint sits and which way it turns (a kinematic error

@@ -5,9 +5,27 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace arttrack {
+
+// Quoted characters of a value a message shows (quote_value()).
+constexpr std::size_t kMaxQuoted = 80;
+
+// A value from the user's input as a message quotes it: 'value', or, when
+// longer than kMaxQuoted characters, its first kMaxQuoted, an ellipsis and
+// its length: 'xxxx...' (52428800 characters). A 50 MB YAML string stays
+// off the terminal.
+inline std::string quote_value(std::string_view value) {
+  std::string out = "'";
+  out.append(value.substr(0, kMaxQuoted));
+  if (value.size() <= kMaxQuoted) return out += "'";
+  out += "...' (";
+  out += std::to_string(value.size());
+  out += " characters)";
+  return out;
+}
 
 // Bad input: malformed files, unknown names, impossible values, time stamps
 // out of order. Never a programming error (those are std::invalid_argument,
@@ -24,7 +42,7 @@ class InputError : public std::runtime_error {
 class ConfigKeyError : public InputError {
  public:
   ConfigKeyError(std::string source, std::string key, std::string problem)
-      : InputError(source + ": key '" + key + "' " + problem),
+      : InputError(source + ": key " + quote_value(key) + " " + problem),
         source_(std::move(source)),
         key_(std::move(key)),
         problem_(std::move(problem)) {}

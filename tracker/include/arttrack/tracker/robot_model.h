@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -105,6 +106,12 @@ struct Link {
   std::vector<MeshLevel> coarser_meshes;
 };
 
+// ROS's package lookup without ROS: the folder of package `name` is `start`
+// or one of its ancestors when its folder name is `name` or its package.xml
+// names it, or a folder `name` inside one of them. Empty if none.
+std::filesystem::path find_package_folder(const std::string& name,
+                                          const std::filesystem::path& start);
+
 // Throws InputError when `path` names a xacro file (.xacro): macros that
 // ROS's xacro expands into a URDF; arttrack reads URDF only and says how to
 // expand it.
@@ -114,13 +121,17 @@ void check_not_xacro(const std::string& path);
 class RobotModel {
  public:
   // Parses a URDF file. Throws InputError naming the file (missing,
-  // malformed), a joint (unsupported type, zero axis, a mimic of a missing or
-  // fixed joint, a cycle of mimics), a mesh and its link
-  // (missing, unreadable) or the camera frame (absent).
+  // malformed, past a size limit of model_limits.h: links, joints, chain
+  // depth, mesh triangles, bytes), a joint (unsupported type, zero axis, a
+  // mimic of a missing or fixed joint, a cycle of mimics), a mesh and its
+  // link (missing, unreadable) or the camera frame (absent).
   static RobotModel from_urdf_file(const std::string& path, const RobotModelOptions& options = {});
   // Parses URDF text; relative mesh paths resolve against base_dir first.
+  // `file`, if given, is the file the text came from (e.g. with a camera
+  // mount added in memory): messages name it as from_urdf_file's do.
   static RobotModel from_urdf_string(const std::string& xml, const std::string& base_dir,
-                                     const RobotModelOptions& options = {});
+                                     const RobotModelOptions& options = {},
+                                     const std::string& file = "");
 
   int num_links() const { return int(links_.size()); }
   // Number of DOFs, virtual joints included: the size of q.
@@ -173,7 +184,7 @@ class RobotModel {
   // over the links at level 0 (SimplifiedMesh::error_m).
   RobotModel with_simplified_meshes(double max_error_m, double* error_m = nullptr,
                                     double nearest_range_m = 0, int coarser_levels = 0) const;
-  // Where the model came from ("URDF file 'x'" or "URDF string"), for messages.
+  // Where the model came from ("URDF file 'x'" or "URDF text"), for messages.
   const std::string& source() const { return source_; }
   // The options it was built with.
   const RobotModelOptions& options() const { return options_; }

@@ -1,0 +1,118 @@
+// The URDF prepared for MuJoCo 2.2 (sim/src/urdf_prepare.h, internal to
+// arttrack_sim): normalised to what urdfdom reads of it, and MuJoCo's own
+// errors about the prepared copy retold at the line of the user's file.
+#include "urdf_prepare.h"
+
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+#include <tinyxml2.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "../scratch_dir.h"
+
+namespace arttrack::sim {
+namespace {
+
+using tinyxml2::XMLElement;
+
+std::string text_of(const XMLElement* e) {
+  tinyxml2::XMLPrinter printer(nullptr, true);
+  e->Accept(&printer);
+  return printer.CStr();
+}
+
+// urdfdom reads the first of a repeated element where it reads one, the
+// first shape of a <geometry>, links, joints and materials only, and no
+// position limits on a continuous joint.
+TEST(UrdfPrepare, NormaliseKeepsWhatUrdfdomReads) {
+  tinyxml2::XMLDocument doc;
+  ASSERT_EQ(doc.Parse(R"(<robot name="r">
+  <mujoco><compiler angle="degree"/></mujoco>
+  <material name="m"><color rgba="0 0 1 1"/><color rgba="1 0 0 1"/></material>
+  <link name="a">
+    <inertial><mass value="1"/></inertial><inertial><mass value="2"/></inertial>
+    <visual><origin xyz="1 0 0"/><origin xyz="2 0 0"/>
+      <geometry><sphere radius="1"/><box size="1 1 1"/></geometry><geometry><box size="2 2 2"/></geometry>
+      <material name="x"><color rgba="1 0 0"/></material><material name="y"/></visual>
+    <visual><geometry><box size="3 3 3"/></geometry></visual>
+    <collision><geometry><box size="4 4 4"/></geometry></collision>
+  </link>
+  <link name="b"/>
+  <joint name="j" type="continuous"><parent link="a"/><child link="b"/>
+    <axis xyz="0 0 1"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="2" velocity="1"/></joint>
+  <gazebo reference="a"><material>Gazebo/Red</material></gazebo>
+  <transmission name="t"><joint name="j"/></transmission>
+</robot>)"),
+            tinyxml2::XML_SUCCESS);
+  normalise_urdf(doc.RootElement());
+  EXPECT_EQ(text_of(doc.RootElement()),
+            "<robot name=\"r\">"
+            "<material name=\"m\"><color rgba=\"0 0 1 1\"/></material>"
+            "<link name=\"a\"><inertial><mass value=\"1\"/></inertial>"
+            "<visual><origin xyz=\"1 0 0\"/><geometry><sphere radius=\"1\"/></geometry>"
+            "<material name=\"x\"/></visual>"
+            "<visual><geometry><box size=\"3 3 3\"/></geometry></visual>"
+            "<collision><geometry><box size=\"4 4 4\"/></geometry></collision></link>"
+            "<link name=\"b\"/>"
+            "<joint name=\"j\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/>"
+            "<axis xyz=\"0 0 1\"/><limit effort=\"2\" velocity=\"1\"/></joint></robot>");
+}
+
+TEST(UrdfPrepare, ParsesMujocosErrorText) {
+  MujocoError e =
+      parse_mujoco_error("XML Error: repeated element: 'origin'\nElement 'origin', line 12\n");
+  EXPECT_EQ(e.what, "repeated element: 'origin'");
+  EXPECT_EQ(e.element, "origin");
+  EXPECT_EQ(e.line, 12);
+  e = parse_mujoco_error(
+      "Error: mass and inertia of moving bodies must be larger than mjMINVAL\n"
+      "Object name = l1, id = 2");
+  EXPECT_EQ(e.what, "mass and inertia of moving bodies must be larger than mjMINVAL");
+  EXPECT_EQ(e.object, "l1");
+  EXPECT_EQ(e.line, 0);
+}
+
+// A real MuJoCo error about the prepared copy: an element repeated on its
+// line of the copy (lines unchanged) is reported at that line, which
+// retell() turns into the line of the user's file.
+TEST(UrdfPrepare, MujocoErrorsAreRetoldAtTheUsersLine) {
+  test_support::ScratchDir dir("urdf_prepare_retell");
+  const auto urdf = dir.write("user.urdf", R"(<?xml version="1.0"?>
+<!-- The user's file: comments and blank lines the copy does not keep. -->
+
+<robot name="r">
+
+  <link name="base_link"/>
+  <joint name="j" type="fixed">
+    <parent link="base_link"/>
+    <child link="tool"/>
+    <origin xyz="0 0 1"/>
+  </joint>
+  <link name="tool"/>
+</robot>
+)");
+  const UrdfInfo info = prepare_urdf(urdf, {}, dir.path());
+  std::ifstream in(info.prepared_urdf);
+  std::stringstream copy;
+  copy << in.rdbuf();
+  std::string text = copy.str();
+  const std::string origin = "<origin xyz=\"0 0 1\"/>";
+  ASSERT_NE(text.find(origin), std::string::npos) << text;
+  text.replace(text.find(origin), origin.size(), origin + "<origin/>");
+  std::ofstream(info.prepared_urdf) << text;
+
+  char error[1024] = "";
+  mjModel* m = mj_loadXML(info.prepared_urdf.c_str(), nullptr, error, sizeof(error));
+  ASSERT_EQ(m, nullptr);
+  const std::string retold = info.retell(error);
+  EXPECT_EQ(retold, urdf.string() +
+                        ":10: MuJoCo 2.2 cannot load it: repeated element: 'origin' (element "
+                        "<origin>)")
+      << "MuJoCo said: " << error;
+}
+
+}  // namespace
+}  // namespace arttrack::sim
