@@ -157,11 +157,12 @@ row per run, scored instant and method; float64 but for 'method' and
 
   m.def(
       "render_scene",
-      [](const std::optional<std::string>& scene, double time_s) {
+      [](const std::optional<std::string>& scene, double time_s, std::optional<long long> seed) {
+        const long long s = seed_of(seed);
         sim::SceneRender r;
         {
           py::gil_scoped_release release;
-          r = sim::render_scene(scene ? fs::path(*scene) : sim::default_scene_path(), time_s);
+          r = sim::render_scene(scene ? fs::path(*scene) : sim::default_scene_path(), time_s, s);
         }
         return py::dict("scene_depth"_a = depth_array(r.scene_depth),
                         "robot_depth"_a = depth_array(r.robot_depth),
@@ -170,9 +171,11 @@ row per run, scored instant and method; float64 but for 'method' and
                         "model_triangles"_a = r.model_triangles,
                         "drawn_triangles"_a = r.drawn_triangles);
       },
-      "scene"_a = py::none(), "time_s"_a = 0.0,
+      "scene"_a = py::none(), "time_s"_a = 0.0, "seed"_a = py::none(),
       R"(Renders a scene as `arttrack render` does: simulates it to time_s (s, in
-[0, 3600]) holding the home pose and renders its depth camera.
+[0, 3600]) and renders its depth camera. A scene holds the home pose; a
+scenario's robot follows the motion of its first run (seed: the scenario's if
+None) and its occluders their schedules.
 
 scene: a scene YAML or a scenario naming one (default models/scene_default.yaml).
 Returns a dict: 'scene_depth' (MuJoCo's depth of the whole scene), 'robot_depth'

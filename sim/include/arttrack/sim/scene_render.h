@@ -3,17 +3,23 @@
 // (the Python bindings' arttrack.render_scene).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "arttrack/tracker/camera.h"
 
 namespace arttrack::sim {
 
 struct SceneRender {
-  std::string scene_file;   // the scene YAML that was rendered
-  double time_s = 0;        // simulated time of the render
-  CameraIntrinsics camera;  // the scene's depth camera
+  std::string scene_file;         // the scene YAML that was rendered
+  std::string robot_urdf;         // the scene's robot description
+  double time_s = 0;              // simulated time of the render
+  CameraIntrinsics camera;        // the scene's depth camera
+  std::string gl;                 // the OpenGL renderer MuJoCo used
+  bool follows_scenario = false;  // the robot followed a scenario's motion (else: home)
+  double near_m = 0, far_m = 0;   // the scene's depth range
   // Metres along the optical axis, 0 = no return, camera resolution:
   DepthImage scene_depth;  // MuJoCo: the whole scene
   DepthImage robot_depth;  // MuJoCo: the robot alone
@@ -21,14 +27,26 @@ struct SceneRender {
   // camera, with the geometry it draws (TrackerConfig::geometry of the
   // scenario's tracker configuration, or the default one for a scene).
   DepthImage model_depth;
-  int model_triangles = 0;  // of the tracker's model as loaded
-  int drawn_triangles = 0;  // of what it draws
+  DepthImage full_model_depth;  // the same with the full meshes
+  int model_triangles = 0;      // of the tracker's model as loaded
+  int drawn_triangles = 0;      // of what it draws
+  // Per coarser level k = 1, 2, ...: triangles drawn beyond nearest_range_m 2^k.
+  std::vector<int> level_triangles;
+  CameraIntrinsics likelihood_camera;            // the resolution the geometry is simplified for
+  double max_error_px = 0, nearest_range_m = 0;  // TrackerConfig::geometry
+  double error_bound_m = 0;                      // the simplification's bound
+  double simplifier_error_m = 0;                 // what the simplifier reports
 };
 
 // Simulates the scene of `scene_or_scenario` (a scene YAML, or a scenario
-// naming one) to `time_s` holding the initial (home) pose and renders it.
-// Errors: InputError naming the file or the key (as load_scene and
-// load_scenario), a time not finite or outside [0, 3600] s.
-SceneRender render_scene(const std::filesystem::path& scene_or_scenario, double time_s);
+// naming one) to `time_s` and renders it. A scene holds the initial (home)
+// pose; a scenario's robot follows the motion of its first run (seed: the
+// scenario's when negative) and its occluders their schedules, as `arttrack
+// run` drives them. (The scene's nominal robot: a scenario's simulated_urdf,
+// miscalibration and loads are not applied.) Errors: InputError naming the
+// file or the key (as load_scene and load_scenario), a time not finite or
+// outside [0, 3600] s.
+SceneRender render_scene(const std::filesystem::path& scene_or_scenario, double time_s,
+                         std::int64_t seed = -1);
 
 }  // namespace arttrack::sim
