@@ -49,9 +49,15 @@ void check_unique_keys(const YAML::Node& node, const std::string& source, std::s
   if (!node.IsMap()) return;
   std::map<std::string, int> first_line;
   for (const auto& kv : node) {
-    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : YAML::Dump(kv.first);
-    const std::string key_path = path.empty() ? key : path + "." + key;
     const int line = kv.first.Mark().line + 1;
+    // A key must be a name: a list or a map as a key ("? [a, b]: 1") is
+    // valid YAML that no configuration key can be.
+    if (!kv.first.IsScalar())
+      throw InputError(source + ":" + std::to_string(line) + ": a key " +
+                       (path.empty() ? std::string("at the top") : "under " + quote_value(path)) +
+                       " is a " + (kv.first.IsSequence() ? "list" : "map") + ", not a name");
+    const std::string key = kv.first.Scalar();
+    const std::string key_path = path.empty() ? key : path + "." + key;
     if (const auto [it, added] = first_line.emplace(key, line); !added)
       throw InputError(source + ":" + std::to_string(line) + ": key " + quote_value(key_path) +
                        " appears twice (first at line " + std::to_string(it->second) + ")");
