@@ -176,10 +176,7 @@ bool HealthCheck::confirms_chain(std::span<const double> q, std::size_t c,
   renderer.render(kinematics_, full_image_);
   renderer.render_links(kinematics_, chain_links_[c], image_);
   ChainHealth chain;
-  for (std::size_t i = 0; i < image_.depth_m.size(); ++i) {
-    const float r = image_.depth_m[i], z = observed.depth_m[i];
-    chain.rendered_pixels += r > 0 && z > 0 && z <= max_range_m_;
-  }
+  assess(observed, chain);
   assess_parts(c, observed, renderer, chain);
   return chain.weakest_part_joint >= 0 && !chain.unconfirmed;
 }

@@ -493,9 +493,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     }
   }
   update_covariance(prior, t);
-  for (int j = 0; j < n; ++j) check_q[j] = prior.mean_a[j];
-  check.update({check_q.data(), std::size_t(n)}, image.image, image.stamp_s, *check_renderer,
-               health);
+  check.update(prior.mean_a, image.image, image.stamp_s, *check_renderer, health);
   if (config.asynchronous) lock.lock();
   published_health = health;
   published_covariance = covariance;
@@ -695,10 +693,10 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     // result that the image confirms. Else the search trades the arm's
     // visible pixels for another surface (the panel's) or hides it behind
     // the occluder, and the arm leaves where the encoders and its learned
-    // biases put it.
-    const bool confirmed = check.chain_poor(c) || periodic_search ||
-                           check.confirms_chain(candidate, c, observed, *check_renderer);
-    if (gain > config.acquisition.accept_margin_nats && confirmed) {
+    // biases put it. (Checked only for a result the image prefers.)
+    if (gain > config.acquisition.accept_margin_nats &&
+        (check.chain_poor(c) || periodic_search ||
+         check.confirms_chain(candidate, c, observed, *check_renderer))) {
       current_score = candidate_score;  // the next chain is compared with this one taken
       for (int j : chain) {
         if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
