@@ -170,15 +170,17 @@ void HealthCheck::update(std::span<const double> q, const DepthImage& observed, 
   health.image_stamp_s = stamp_s;
 }
 
-bool HealthCheck::confirms_chain(std::span<const double> q, std::size_t c,
-                                 const DepthImage& observed, DepthRenderer& renderer) {
+bool HealthCheck::supports_chain(std::span<const double> q, std::size_t c,
+                                 const DepthImage& observed, DepthRenderer& renderer,
+                                 double weakest_before) {
   set_configuration(q);
   renderer.render(kinematics_, full_image_);
   renderer.render_links(kinematics_, chain_links_[c], image_);
   ChainHealth chain;
   assess(observed, chain);
   assess_parts(c, observed, renderer, chain);
-  return chain.weakest_part_joint >= 0 && !chain.unconfirmed;
+  return chain.weakest_part_joint >= 0 &&
+         (!chain.unconfirmed || chain.weakest_part_explained_fraction > weakest_before);
 }
 
 }  // namespace arttrack

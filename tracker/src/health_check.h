@@ -62,10 +62,11 @@ class HealthCheck {
   void update(std::span<const double> q, const DepthImage& observed, double stamp_s,
               DepthRenderer& renderer, TrackingHealth& health);
 
-  // Whether the robot at q confirms chain c: its parts have a verdict and
-  // none is unconfirmed. Changes no count.
-  bool confirms_chain(std::span<const double> q, std::size_t c, const DepthImage& observed,
-                      DepthRenderer& renderer);
+  // Whether the image supports the robot at q for chain c: its parts have a
+  // verdict, and none is unconfirmed or its weakest part is explained more
+  // than `weakest_before` (the estimate's, NaN: none). Changes no count.
+  bool supports_chain(std::span<const double> q, std::size_t c, const DepthImage& observed,
+                      DepthRenderer& renderer, double weakest_before);
 
   // What the last update() found, and the counts the searches use.
   bool chain_poor(std::size_t c) const { return chain_poor_[c] != 0; }

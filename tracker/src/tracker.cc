@@ -690,13 +690,14 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     gain += candidate_score - current_score;
     // A chain that nothing contradicts (only unconfirmed: part of it
     // unexplained, as behind a panel close in front of it) takes only a
-    // result that the image confirms. Else the search trades the arm's
-    // visible pixels for another surface (the panel's) or hides it behind
-    // the occluder, and the arm leaves where the encoders and its learned
-    // biases put it. (Checked only for a result the image prefers.)
+    // result that the image confirms, or explains better than the estimate. Else the search trades
+    // the arm's visible pixels for another surface (the panel's) or hides it behind the occluder,
+    // and the arm leaves where the encoders and its learned biases put it. (Checked only for a
+    // result the image prefers.)
     if (gain > config.acquisition.accept_margin_nats &&
         (check.chain_poor(c) || periodic_search ||
-         check.confirms_chain(candidate, c, observed, *check_renderer))) {
+         check.supports_chain(candidate, c, observed, *check_renderer,
+                              health.chains[c].weakest_part_explained_fraction))) {
       current_score = candidate_score;  // the next chain is compared with this one taken
       for (int j : chain) {
         if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
