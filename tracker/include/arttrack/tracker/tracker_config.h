@@ -164,7 +164,7 @@ struct TrackerConfig {
     // unconfirmed, and its chain searched again after lost_after_images
     // such images (ChainHealth::weakest_part_explained_fraction); a chain
     // nothing contradicts takes the search's result only if this check
-    // then confirms it. 0: off.
+    // then confirms it or finds it better explained. 0: off.
     double unconfirmed_explained_fraction = 0.5;
     // A part's pixel whose observed depth is more than this in front of
     // its render shows an occluder, not the robot (a panel held before the
