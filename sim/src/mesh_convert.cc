@@ -69,6 +69,11 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 
 void read_with_assimp(const fs::path& path, const std::string& context,
                       std::vector<Triangle>& out) {
+  try {
+    check_mesh_file(path);
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
+  }
   Assimp::Importer importer;
   // URDF meshes are used in their file's own axes (ROS does the same).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);

@@ -10,6 +10,7 @@
 #include <map>
 #include <numbers>
 
+#include "../error_of.h"
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
@@ -116,6 +117,56 @@ TEST(MeshLoader, DaeLoadsEverySubMeshWithNodeTransformsAndUnits) {
         Eigen::Vector3f(-0.02f, 0.02f, 0.05f), Eigen::Vector3f(-0.02f, 0, 0.05f)}) {
     EXPECT_TRUE(has_vertex(mesh, p)) << p.transpose();
   }
+}
+
+// A COLLADA file whose geometry does not match its own counts is refused
+// before assimp reads it (assimp 5.2 grew to gigabytes on one such 5 kB
+// file, tests/fuzz/regressions/mesh/collada_oom), naming the file, the
+// element, its line and the problem.
+TEST(MeshLoader, DaeInconsistentWithItsCountsIsRefusedNamingTheElement) {
+  const fs::path dir = test_dir();
+  const auto error_with = [&](const std::string& from, const std::string& to) {
+    std::string text = kTwoMeshDae;
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const fs::path path = dir / "bad.dae";
+    write_file(path, text);
+    return test_support::error_of([&] { load_mesh(path.string()); });
+  };
+  const std::string valid = error_with("<p>0 1 2</p>", "<p>0 1 2</p>");
+  EXPECT_EQ(valid, "");
+  EXPECT_NE(error_with("<p>0 1 2</p>", "<p>0 1</p>")
+                .find("bad.dae': line 11 <p>: 2 indices where triangles count=\"1\" with 1 per "
+                      "vertex needs 3"),
+            std::string::npos);
+  EXPECT_NE(error_with("<p>0 1 2</p>", "<p>0 1 \x14</p>")
+                .find("<p>: '\\x14' is not a non-negative integer"),
+            std::string::npos);
+  EXPECT_NE(error_with("<p>0 1 2</p>", "<p>0 1 3</p>")
+                .find("<p>: index 3 (item 3) is past the 3 items of its input"),
+            std::string::npos);
+  EXPECT_NE(error_with("<vcount>4</vcount>", "<vcount>4 3</vcount>")
+                .find("<vcount>: 2 polygons where polylist count=\"1\""),
+            std::string::npos);
+  EXPECT_NE(error_with("accessor source=\"#tri_arr\" count=\"3\"",
+                       "accessor source=\"#tri_arr\" count=\"4\"")
+                .find("<accessor>: reads 4 items of 3 values from 9"),
+            std::string::npos);
+  EXPECT_NE(error_with("float_array id=\"tri_arr\" count=\"9\"",
+                       "float_array id=\"tri_arr\" count=\"900\"")
+                .find("<float_array>: count=\"900\" but 9 values"),
+            std::string::npos);
+  EXPECT_NE(error_with("<input semantic=\"POSITION\" source=\"#tri_pos\"/>",
+                       "<input semantic=\"NORMAL\" source=\"#tri_pos\"/>")
+                .find("<vertices>: no <input semantic=\"POSITION\">"),
+            std::string::npos);
+  EXPECT_NE(error_with("source=\"#tri_vtx\"", "source=\"#nowhere\"")
+                .find("<input>: source '#nowhere' is not defined"),
+            std::string::npos);
+  EXPECT_NE(error_with("<triangles count=\"1\">", "<triangles count=\"99999999999\">")
+                .find("99999999999 is more than the 5000000 arttrack takes here"),
+            std::string::npos);
 }
 
 // Binary STL whose 80-byte header starts with "solid", as many CAD tools write.

@@ -13,6 +13,7 @@
 #include <unordered_map>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/model_limits.h"
 
 namespace arttrack {
 
@@ -139,6 +140,7 @@ TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError("mesh file '" + path + "' does not exist or is not a file");
   }
+  check_mesh_file(path);
   Assimp::Importer importer;
   // Mesh coordinates are link coordinates (ROS convention): no Y-up rotation.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);

@@ -38,6 +38,10 @@ struct ModelLimits {
   // without a bound: 200 000 nested elements (1.4 MB) overflowed the stack.
   // tinyxml2, the simulator's reader, stops at 100 too.
   static constexpr int kMaxXmlDepth = 100;
+  // Bytes of one mesh file. A published robot's largest visual meshes are
+  // tens of megabytes; assimp holds a file several times over while it
+  // reads it.
+  static constexpr std::uintmax_t kMaxMeshFileBytes = 256u << 20;
 };
 
 // Throws InputError "<source>: <n> <what> ..., more than the <limit> arttrack
@@ -73,5 +77,19 @@ void check_urdf_text(const std::string& xml, const std::string& source);
 // a binary STL (exactly 84 + 50 n bytes); read before the file is, so that a
 // description's triangles are bounded before its meshes are loaded.
 std::optional<std::uint64_t> binary_stl_triangle_count(const std::filesystem::path& path);
+
+// Before assimp reads a mesh file (the tracker's load_mesh, the simulator's
+// conversion for MuJoCo): the file within ModelLimits::kMaxMeshFileBytes,
+// and a COLLADA file's geometry consistent with its own declared counts.
+// assimp 5.2 trusts them: a 5 kB file whose <triangles> list was one index
+// short of its count made it grow to 6 GB and more. Checked: every <source>
+// array holds what its accessor reads; every <vertices> has a POSITION
+// input; every primitive list (<triangles>, <polylist>, <polygons>, <lines>,
+// strips and fans) has the indices its count, <vcount> and input offsets
+// say, each within the items of its input's source, and at most
+// ModelLimits::kMaxMeshTriangles faces in the file. Throws InputError naming
+// the file, the element and its line. A missing file passes (the reader
+// reports it).
+void check_mesh_file(const std::filesystem::path& path);
 
 }  // namespace arttrack
