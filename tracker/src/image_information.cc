@@ -221,6 +221,13 @@ double ImageInformation::link_shift_variance_m2(int min_pixels) const {
   b -= C.transpose() * dofs.solve(gradient_);
   A.diagonal().array() += 1e-9 * std::max(1.0, A.diagonal().maxCoeff());
   const Eigen::LDLT<Eigen::MatrixXd> shifts(A);
+  // A is positive semi-definite in exact arithmetic. Where the image barely
+  // sees a DOF (the camera's broad prior at the first image, arm7's
+  // world-fixed camera) projecting it out cancels to rounding and leaves A
+  // indefinite: the "fit" then ran to metres with negative noise variances
+  // (2.7 m of model error from one image). Such an image says nothing about
+  // the shifts.
+  if (shifts.info() != Eigen::Success || !(shifts.vectorD().array() > 0).all()) return 0;
   const Eigen::VectorXd estimate = shifts.solve(b);  // the shifts' least-squares fit, m
   const double chi2 = b.dot(estimate);
   const double fitted = gradient_.dot(dofs.solve(gradient_));
