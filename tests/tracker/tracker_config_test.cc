@@ -51,6 +51,7 @@ TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
   EXPECT_EQ(file.geometry.max_error_px, code.geometry.max_error_px);
   EXPECT_EQ(file.geometry.nearest_range_m, code.geometry.nearest_range_m);
   EXPECT_EQ(file.geometry.coarser_levels, code.geometry.coarser_levels);
+  EXPECT_EQ(file.acquisition.search_camera, code.acquisition.search_camera);
   EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
   EXPECT_EQ(file.asynchronous, code.asynchronous);
   EXPECT_NEAR(file.joint_limit_margin_rad, code.joint_limit_margin_rad, 1e-12);
@@ -62,6 +63,19 @@ TEST(TrackerConfigTest, ReadsGeometry) {
       load_yaml_string("geometry: {max_error_px: 0.5, nearest_range_m: 0.6}\n", "t.yaml"));
   EXPECT_EQ(c.geometry.max_error_px, 0.5);
   EXPECT_EQ(c.geometry.nearest_range_m, 0.6);
+}
+
+TEST(TrackerConfigTest, ReadsWhetherTheFirstSearchMovesTheCamera) {
+  for (const bool value : {false, true})
+    EXPECT_EQ(
+        tracker_config_from_yaml(load_yaml_string("acquisition: {search_camera: " +
+                                                      std::string(value ? "true" : "false") + "}\n",
+                                                  "t.yaml"))
+            .acquisition.search_camera,
+        value);
+  EXPECT_NE(tracker_config_error("acquisition: {search_camera: maybe}\n")
+                .find("acquisition.search_camera"),
+            std::string::npos);
 }
 
 TEST(TrackerConfigTest, ReadsInputChecks) {

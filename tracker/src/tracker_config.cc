@@ -248,6 +248,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                                            {"bias_std_deg", &a.bias_std_rad, kRadPerDeg},
                                            {"accept_margin_nats", &a.accept_margin_nats},
                                            {"searches", &a.searches}});
+  a.search_camera = root.child("acquisition").get<bool>("search_camera", a.search_camera);
   TrackerConfig::Health& h = c.health;
   read_numbers(root.child("health"),
                {{"explained_m", &h.explained_m},

@@ -148,6 +148,14 @@ struct TrackerConfig {
     // Independent searches per acquisition (first image, re-acquisition);
     // the one the image plus the prior prefer is used.
     int searches = 3;
+    // Whether the first image's search moves the six camera joints too.
+    // false: the camera starts at its prior (mean and standard deviation)
+    // and the images after the first move it. One image does not tell the
+    // camera's roll and sideways shift from both arms' biases: with noisy
+    // depth the search settled a camera 1-2 degrees of roll off in some
+    // runs, and the images after it, counted as evidence for that place,
+    // claimed 0.1 degrees (docs/accuracy.md, "Realistic conditions").
+    bool search_camera = true;
   };
   Acquisition acquisition;
   // Health (TrackerEstimate::health): a rendered robot pixel is explained
