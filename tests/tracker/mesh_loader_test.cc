@@ -10,7 +10,7 @@
 #include <map>
 #include <numbers>
 
-#include "../error_of.h"
+#include "../expect_error.h"
 #include "../mesh_checks.h"
 #include "../test_files.h"
 #include "arttrack/tracker/error.h"
@@ -21,6 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using test_support::closed_and_consistent;
+using test_support::expect_error_naming;
 using test_support::fresh_test_dir;
 using test_support::kUnitCubeObj;
 using test_support::signed_volume_m3;
@@ -180,19 +181,9 @@ TEST(MeshLoader, ObjQuadsAreTriangulatedClosedAndOutward) {
 
 TEST(MeshLoader, MissingAndGarbageFilesNameTheFile) {
   const fs::path dir = fresh_test_dir();
-  try {
-    load_mesh((dir / "nowhere.stl").string());
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("nowhere.stl"), std::string::npos) << e.what();
-  }
+  expect_error_naming([&] { load_mesh((dir / "nowhere.stl").string()); }, "nowhere.stl");
   write_file(dir / "garbage.obj", "this is not a mesh\n");
-  try {
-    load_mesh((dir / "garbage.obj").string());
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("garbage.obj"), std::string::npos) << e.what();
-  }
+  expect_error_naming([&] { load_mesh((dir / "garbage.obj").string()); }, "garbage.obj");
 }
 
 TEST(MeshLoader, PrimitivesAreClosedOutwardWithTheRightVolume) {
