@@ -72,4 +72,12 @@ inline const ScratchDir& program_scratch_dir() {
   return dir;
 }
 
+// Writes `text` to program_scratch_dir() / relative (ScratchDir::write), for
+// the test programs that keep all their files in that one folder; returns the
+// file's path.
+inline std::filesystem::path write_scratch_file(const std::filesystem::path& relative,
+                                                const std::string& text) {
+  return program_scratch_dir().write(relative, text);
+}
+
 }  // namespace arttrack::test_support

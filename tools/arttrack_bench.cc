@@ -347,8 +347,7 @@ void register_bench(CLI::App& app) {
                   "Likelihood resolution WIDTHxHEIGHT (default: the tracker configuration's)");
   cmd->add_option("--json", args->json_path, "Also write the figures to this JSON file");
   add_seed_option(cmd, args->seed, "Scenario seed; the benchmark simulates its run 0");
-  cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
-      ->allow_extra_args(false);
+  add_set_option(cmd, args->overrides);
   cmd->add_option("--threads", args->threads,
                   "Image update worker threads, 0 = one per core, at most " +
                       std::to_string(kMaxWorkerThreads) + " (default: the configuration's)")

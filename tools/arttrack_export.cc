@@ -51,12 +51,10 @@ void register_export(CLI::App& app) {
       "export", "Simulate a scenario and write what the tracker receives as a dataset");
   cmd->add_option("scenario", args->scenario, "Scenario YAML")->required();
   add_seed_option(cmd, args->seed, "Scenario seed, as for arttrack run");
-  cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
-      ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Dataset folder to write")
-      ->required()
-      ->check(non_empty_name());
-  cmd->add_flag("--force", args->force, "Overwrite a dataset already in --out");
+  add_set_option(cmd, args->overrides);
+  add_out_and_force_options(cmd, args->out_dir, args->force, "Dataset folder to write",
+                            "Overwrite a dataset already in --out")
+      ->required();
   cmd->callback([args] { run_export(*args); });
 }
 

@@ -47,9 +47,7 @@ void register_merge(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "merge", "Merge the parts of a sharded sweep (arttrack sweep --shard I/N) into one");
   cmd->add_option("parts", args->parts, "Output folders of the shard runs")->required();
-  cmd->add_option("--out", args->out_dir, "Folder for the merged outputs")
-      ->required()
-      ->check(non_empty_name());
+  add_out_option(cmd, args->out_dir, "Folder for the merged outputs")->required();
   cmd->callback([args] { merge(*args); });
 }
 

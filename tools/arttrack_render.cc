@@ -129,7 +129,7 @@ void register_render(CLI::App& app) {
                    std::to_string(int(kMaxRenderTimeS)) + "]";
           },
           "SECONDS"));
-  cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
+  add_out_option(cmd, args->out_dir, "Output folder")->required();
   cmd->callback([args] { run(*args); });
 }
 

@@ -55,9 +55,8 @@ void register_rerun(CLI::App& app) {
   cmd->add_option("run_dir", args->run_dir, "Output folder of the run (holds summary.json)")
       ->required()
       ->check(non_empty_name());
-  cmd->add_option("--out", args->out_dir, "Output folder (default: RUN_DIR/rerun)")
-      ->check(non_empty_name());
-  cmd->add_flag("--force", args->force, "Overwrite the outputs of a previous run in --out");
+  add_out_and_force_options(cmd, args->out_dir, args->force,
+                            "Output folder (default: RUN_DIR/rerun)");
   cmd->callback([args] { rerun(*args); });
 }
 

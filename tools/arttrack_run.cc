@@ -168,11 +168,9 @@ void register_run(CLI::App& app) {
                   "Comma-separated methods: encoders_only, camera_offset_only, full_fusion, "
                   "vision_only (default: the scenario's)")
       ->check(comma_list());
-  cmd->add_option("--set", args->overrides, "Override a scenario key, e.g. --set duration_s=5")
-      ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Output folder (default: out/<scenario name>)")
-      ->check(non_empty_name());
-  cmd->add_flag("--force", args->force, "Overwrite the outputs of a previous run in --out");
+  add_set_option(cmd, args->overrides);
+  add_out_and_force_options(cmd, args->out_dir, args->force,
+                            "Output folder (default: out/<scenario name>)");
   cmd->add_flag("--realtime", args->realtime,
                 "Simulate each run, then replay it at wall-clock speed to asynchronous "
                 "trackers; report dropped images and capture-to-estimate latency");

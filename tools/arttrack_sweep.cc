@@ -186,8 +186,7 @@ void register_sweep(CLI::App& app) {
                   "Scenario seed; each cell's seed is mixed from it and the cell's overrides");
   cmd->add_option("--methods", args->methods, "Comma-separated methods (default: the scenario's)")
       ->check(comma_list());
-  cmd->add_option("--set", args->overrides, "Fixed override of a scenario key, e.g. duration_s=5")
-      ->allow_extra_args(false);
+  add_set_option(cmd, args->overrides, "Fixed override of a scenario key, e.g. duration_s=5");
   cmd->add_option("--shard", args->shard,
                   "Run only cells with index % N == I, as I/N (merge the parts with arttrack "
                   "merge)");
@@ -198,8 +197,7 @@ void register_sweep(CLI::App& app) {
   cmd->add_option("--fail-statistic", args->fail_statistic,
                   "Statistic compared with --fail-threshold-m (default "
                   "converged_p50_translation_m)");
-  cmd->add_option("--out", args->out_dir, "Output folder (default: out/sweep_<scenario name>)")
-      ->check(non_empty_name());
+  add_out_option(cmd, args->out_dir, "Output folder (default: out/sweep_<scenario name>)");
   cmd->callback([args] { sweep(*args); });
 }
 

@@ -93,8 +93,7 @@ void register_track(CLI::App& app) {
       ->check(comma_list());
   cmd->add_option("--every", args->every,
                   "Also write an estimate.csv row every N joint readings (default 0)");
-  cmd->add_option("--out", args->out_dir, "Output folder")->required()->check(non_empty_name());
-  cmd->add_flag("--force", args->force, "Overwrite the outputs of a previous run in --out");
+  add_out_and_force_options(cmd, args->out_dir, args->force, "Output folder")->required();
   cmd->callback([args] { run_track(*args); });
 }
 

@@ -123,10 +123,8 @@ void register_tune(CLI::App& app) {
   cmd->add_option("--runs", args->runs, "Runs per scenario (default: each scenario's)");
   add_seed_option(cmd, args->seed,
                   "Seed of each scenario, the same for every candidate and the final comparison");
-  cmd->add_option("--set", args->overrides, "Override a key of every scenario, e.g. duration_s=5")
-      ->allow_extra_args(false);
-  cmd->add_option("--out", args->out_dir, "Output folder (default out/tune)")
-      ->check(non_empty_name());
+  add_set_option(cmd, args->overrides, "Override a key of every scenario, e.g. duration_s=5");
+  add_out_option(cmd, args->out_dir, "Output folder (default out/tune)");
   cmd->callback([args] { tune(*args); });
 }
 

@@ -98,19 +98,42 @@ Scene make_scene(int w, int h, double coverage, std::uint64_t seed) {
   return s;
 }
 
-void BM_DepthLikelihood(benchmark::State& state) {
+// The depth model at the benchmark's resolution: its arguments are width
+// and height (px).
+DepthModelParams depth_model_at_resolution(const benchmark::State& state) {
   DepthModelParams p;
   p.width = int(state.range(0));
   p.height = int(state.range(1));
-  DepthLikelihood lik(p);
-  const Scene scene = make_scene(p.width, p.height, 0.3, 1);
-  lik.set_observation(scene.observed);
-  for (auto _ : state) benchmark::DoNotOptimize(lik.log_ratio(scene.rendered));
-  state.counters["covered_px"] = scene.covered;
-  // Seconds per covered pixel (printed with an SI prefix, e.g. 20n).
-  state.counters["time_per_covered_px"] =
-      benchmark::Counter(double(scene.covered), benchmark::Counter::kIsIterationInvariantRate |
-                                                    benchmark::Counter::kInvert);
+  return p;
+}
+
+// What the depth likelihood benchmarks share: a likelihood at the
+// benchmark's resolution and a scene for it with 30% of the image covered.
+struct DepthBench {
+  explicit DepthBench(const benchmark::State& state)
+      : params(depth_model_at_resolution(state)),
+        likelihood(params),
+        scene(make_scene(params.width, params.height, 0.3, 1)) {}
+
+  // The covered pixels and the seconds per covered pixel (printed with an
+  // SI prefix, e.g. 20n), so that resolutions and likelihood variants compare.
+  void report_per_covered_pixel(benchmark::State& state) const {
+    state.counters["covered_px"] = scene.covered;
+    state.counters["time_per_covered_px"] =
+        benchmark::Counter(double(scene.covered), benchmark::Counter::kIsIterationInvariantRate |
+                                                      benchmark::Counter::kInvert);
+  }
+
+  const DepthModelParams params;
+  DepthLikelihood likelihood;
+  const Scene scene;
+};
+
+void BM_DepthLikelihood(benchmark::State& state) {
+  DepthBench bench(state);
+  bench.likelihood.set_observation(bench.scene.observed);
+  for (auto _ : state) benchmark::DoNotOptimize(bench.likelihood.log_ratio(bench.scene.rendered));
+  bench.report_per_covered_pixel(state);
 }
 BENCHMARK(BM_DepthLikelihood)->Args({80, 60})->Args({160, 120});
 
@@ -118,23 +141,20 @@ BENCHMARK(BM_DepthLikelihood)->Args({80, 60})->Args({160, 120});
 // pixels at a time) on the same covered pixels, multiplied as the
 // hypothesis evaluator does.
 void BM_DepthLikelihoodFast(benchmark::State& state) {
-  DepthModelParams p;
-  p.width = int(state.range(0));
-  p.height = int(state.range(1));
-  DepthLikelihood lik(p);
-  const Scene scene = make_scene(p.width, p.height, 0.3, 1);
-  lik.set_observation(scene.observed);
+  DepthBench bench(state);
+  bench.likelihood.set_observation(bench.scene.observed);
+  const DepthImage& rendered = bench.scene.rendered;
   std::vector<int> pixels;
   std::vector<float> depths;
-  for (int i = 0; i < p.width * p.height; ++i) {
-    if (scene.rendered.depth_m[i] > 0) {
+  for (int i = 0; i < bench.params.width * bench.params.height; ++i) {
+    if (rendered.depth_m[i] > 0) {
       pixels.push_back(i);
-      depths.push_back(scene.rendered.depth_m[i]);
+      depths.push_back(rendered.depth_m[i]);
     }
   }
   std::vector<float> ratios(pixels.size());
   for (auto _ : state) {
-    lik.ratios(pixels.data(), depths.data(), int(pixels.size()), ratios.data());
+    bench.likelihood.ratios(pixels.data(), depths.data(), int(pixels.size()), ratios.data());
     double product = 1, log_sum = 0;
     for (size_t k = 0; k < ratios.size(); ++k) {
       product *= ratios[k];
@@ -146,20 +166,13 @@ void BM_DepthLikelihoodFast(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(log_sum + std::log(product));
   }
-  state.counters["covered_px"] = scene.covered;
-  state.counters["time_per_covered_px"] =
-      benchmark::Counter(double(scene.covered), benchmark::Counter::kIsIterationInvariantRate |
-                                                    benchmark::Counter::kInvert);
+  bench.report_per_covered_pixel(state);
 }
 BENCHMARK(BM_DepthLikelihoodFast)->Args({80, 60})->Args({160, 120});
 
 void BM_DepthSetObservation(benchmark::State& state) {
-  DepthModelParams p;
-  p.width = int(state.range(0));
-  p.height = int(state.range(1));
-  DepthLikelihood lik(p);
-  const Scene scene = make_scene(p.width, p.height, 0.3, 1);
-  for (auto _ : state) lik.set_observation(scene.observed);
+  DepthBench bench(state);
+  for (auto _ : state) bench.likelihood.set_observation(bench.scene.observed);
 }
 BENCHMARK(BM_DepthSetObservation)->Args({80, 60})->Args({160, 120});
 

@@ -75,6 +75,33 @@ inline void check_fresh_output(const std::filesystem::path& dir,
                        "): choose another folder, or pass --force to overwrite them");
 }
 
+// --out of the commands that write into a folder: `help` says what goes there
+// and the default, if there is one (the caller makes --out ->required() where
+// there is none). An empty name is refused (non_empty_name()).
+inline CLI::Option* add_out_option(CLI::App* cmd, std::string& out_dir, const std::string& help) {
+  return cmd->add_option("--out", out_dir, help)->check(non_empty_name());
+}
+
+// --out and --force of the commands that refuse to overwrite a previous
+// run's outputs without --force (check_fresh_output()); returns --out, as
+// add_out_option() does.
+inline CLI::Option* add_out_and_force_options(
+    CLI::App* cmd, std::string& out_dir, bool& force, const std::string& out_help,
+    const std::string& force_help = "Overwrite the outputs of a previous run in --out") {
+  CLI::Option* out = add_out_option(cmd, out_dir, out_help);
+  cmd->add_flag("--force", force, force_help);
+  return out;
+}
+
+// --set of the commands that load a scenario: one `key=value` override of a
+// scenario key per --set, in order.
+inline void add_set_option(CLI::App* cmd, std::vector<std::string>& overrides,
+                           const std::string& help =
+                               "Override a scenario key, e.g. --set "
+                               "duration_s=5") {
+  cmd->add_option("--set", overrides, help)->allow_extra_args(false);
+}
+
 // --seed of every command that simulates (run, export, sweep, tune, bench,
 // render):
 // the scenario seed its runs' seeds derive from; -1 (the default) keeps the

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "short_run.h"
@@ -75,19 +76,30 @@ TEST(CableStretch, TableContactStretchesTheCablesFullFusionFollows) {
   EXPECT_LT(fusion_all.p99, 25 * kMm);
 }
 
+// What pick_and_place.yaml's loads change in the true bias of the shoulder's
+// first two joints, on average while a load is lifted (from lifted_from_s to
+// lifted_to_s): the scenario run up to lifted_to_s with its loads and again
+// without them. Truth only: encoders only and a few camera frames (5 Hz, the
+// instants scored) are enough.
+std::vector<std::pair<std::string, double>> bias_change_by_loads(double lifted_from_s,
+                                                                 double lifted_to_s) {
+  const ScenarioResult loaded = run_short("cable_stretch/pick_and_place", lifted_to_s,
+                                          {"encoders_only"}, {"camera.rate_hz=5"});
+  const ScenarioResult empty = run_short("cable_stretch/pick_and_place", lifted_to_s,
+                                         {"encoders_only"}, {"camera.rate_hz=5", "loads=[]"});
+  std::vector<std::pair<std::string, double>> change_rad;
+  for (const std::string joint : {"left_arm_joint_1", "left_arm_joint_2"})
+    change_rad.emplace_back(joint, mean_true_bias(loaded, joint, lifted_from_s, lifted_to_s) -
+                                       mean_true_bias(empty, joint, lifted_from_s, lifted_to_s));
+  return change_rad;
+}
+
 // Carrying the 3 kg load (pick_and_place.yaml, second lift: the hand holds
 // it from 29.5 s to 42.5 s, lifted from 33 s to 37 s) stretches the
 // shoulder's cables: the true bias differs from the same motion without the
-// load. Truth only: encoders only and a few camera frames (the instants
-// scored) are enough.
+// load.
 TEST(CableStretch, LoadStretchesTheCables) {
-  const ScenarioResult loaded =
-      run_short("cable_stretch/pick_and_place", 37, {"encoders_only"}, {"camera.rate_hz=5"});
-  const ScenarioResult empty = run_short("cable_stretch/pick_and_place", 37, {"encoders_only"},
-                                         {"camera.rate_hz=5", "loads=[]"});
-  for (const std::string joint : {"left_arm_joint_1", "left_arm_joint_2"}) {
-    const double change =
-        mean_true_bias(loaded, joint, 33, 37) - mean_true_bias(empty, joint, 33, 37);
+  for (const auto& [joint, change] : bias_change_by_loads(33, 37)) {
     std::cout << joint << ": the load changes the bias by " << change / kRadPerDeg << " deg\n";
     // Measured: -1.25 deg on joint 1, -1.23 deg on joint 2.
     EXPECT_GT(std::abs(change), 0.8 * kRadPerDeg) << joint;
@@ -99,13 +111,7 @@ TEST(CableStretch, LoadStretchesTheCables) {
 // (weight 0 until 29.5 s): loads on one link add up. (When the runner set
 // each load's force instead, the second overwrote the first: change 0 deg.)
 TEST(CableStretch, EveryLoadStretchesTheCables) {
-  const ScenarioResult loaded =
-      run_short("cable_stretch/pick_and_place", 12, {"encoders_only"}, {"camera.rate_hz=5"});
-  const ScenarioResult empty = run_short("cable_stretch/pick_and_place", 12, {"encoders_only"},
-                                         {"camera.rate_hz=5", "loads=[]"});
-  for (const std::string joint : {"left_arm_joint_1", "left_arm_joint_2"}) {
-    const double change =
-        mean_true_bias(loaded, joint, 8, 12) - mean_true_bias(empty, joint, 8, 12);
+  for (const auto& [joint, change] : bias_change_by_loads(8, 12)) {
     std::cout << joint << ": the first load changes the bias by " << change / kRadPerDeg
               << " deg\n";
     EXPECT_GT(std::abs(change), 0.8 * kRadPerDeg) << joint;

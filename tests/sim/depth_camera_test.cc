@@ -27,13 +27,11 @@ constexpr char kCameraUrdf[] = R"(<robot name="camera_only">
   <link name="camera_optical_frame"/>
 </robot>)";
 
-fs::path write_file(const std::string& name, const std::string& text) {
-  return test_support::program_scratch_dir().write(name, text);
-}
+using test_support::write_scratch_file;
 
 SceneDescription camera_scene() {
   SceneDescription s;
-  s.urdf_path = write_file("camera.urdf", kCameraUrdf);
+  s.urdf_path = write_scratch_file("camera.urdf", kCameraUrdf);
   s.end_effector_links = {};
   s.width = 160;
   s.height = 120;
@@ -161,7 +159,7 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
 // intrinsics, the row order and the tessellation, pixel by pixel.
 TEST(DepthCamera, AgreesWithExactRayCasting) {
   SceneDescription scene = camera_scene();
-  scene.urdf_path = write_file("arm.urdf", kArmUrdf);
+  scene.urdf_path = write_scratch_file("arm.urdf", kArmUrdf);
   const auto model = build_sim_model(scene);
   Simulator sim(model);
   DepthCamera camera(model, 320, 240);

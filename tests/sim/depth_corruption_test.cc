@@ -5,10 +5,13 @@
 #include <cmath>
 #include <set>
 
+#include "../expect_error.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
 namespace {
+
+using test_support::expect_error_naming;
 
 // Mean and standard deviation of the returns of an image (0 skipped).
 struct Moments {
@@ -252,31 +255,23 @@ TEST(CameraFrames, DeterministicFromSeed) {
 }
 
 TEST(DepthCorruption, BadInputIsNamed) {
-  auto expect_error = [](auto&& f, const std::string& field) {
-    try {
-      f();
-      ADD_FAILURE() << "no error for " << field;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-    }
-  };
   DepthCorruptionParams p;
   p.dropout_probability = 1.5;
-  expect_error([&] { DepthCorruption(p, 1); }, "dropout_probability");
+  expect_error_naming([&] { DepthCorruption(p, 1); }, "dropout_probability");
   p = {};
   p.max_range_m = 0.0;
-  expect_error([&] { DepthCorruption(p, 1); }, "max_range_m");
+  expect_error_naming([&] { DepthCorruption(p, 1); }, "max_range_m");
   p = {};
   p.noise_sigma_quadratic_per_m = -0.1;
-  expect_error([&] { DepthCorruption(p, 1); }, "noise_sigma_quadratic_per_m");
+  expect_error_naming([&] { DepthCorruption(p, 1); }, "noise_sigma_quadratic_per_m");
   CameraTiming t;
   t.rate_hz = 0.0;
-  expect_error([&] { camera_frames(t, 1.0, 1); }, "rate_hz");
+  expect_error_naming([&] { camera_frames(t, 1.0, 1); }, "rate_hz");
   t = {};
   t.latency_s = -0.01;
-  expect_error([&] { camera_frames(t, 1.0, 1); }, "latency_s");
+  expect_error_naming([&] { camera_frames(t, 1.0, 1); }, "latency_s");
   t = {};
-  expect_error([&] { camera_frames(t, -1.0, 1); }, "duration_s");
+  expect_error_naming([&] { camera_frames(t, -1.0, 1); }, "duration_s");
 }
 
 }  // namespace

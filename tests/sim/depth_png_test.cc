@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "../error_of.h"
+#include "../expect_error.h"
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 #include "png_rgb.h"
@@ -23,6 +23,7 @@ namespace arttrack::sim {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::expect_error_naming;
 
 fs::path test_path(const std::string& name) { return test_support::program_scratch_dir() / name; }
 
@@ -95,35 +96,16 @@ TEST(DepthPng, RgbImageEncodesInMemoryAndDecodes) {
 
 TEST(DepthPng, ErrorsNameTheFile) {
   const fs::path missing = test_path("missing.png");
-  try {
-    read_depth_png_mm(missing);
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("missing.png"), std::string::npos);
-  }
+  expect_error_naming([&] { read_depth_png_mm(missing); }, "missing.png");
   const fs::path text = test_path("not_a_png.png");
   std::ofstream(text) << "hello";
-  try {
-    read_depth_png_mm(text);
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not_a_png.png"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("not a PNG"), std::string::npos);
-  }
+  expect_error_naming([&] { read_depth_png_mm(text); }, "not_a_png.png");
+  expect_error_naming([&] { read_depth_png_mm(text); }, "not a PNG");
   const fs::path colour = test_path("colour.png");
   write_depth_preview_png(colour, DepthImage(4, 4, 1.f));
-  try {
-    read_depth_png_mm(colour);
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("colour.png"), std::string::npos);
-  }
-  try {
-    write_depth_png_mm(test_path("no_such_dir") / "x.png", DepthImage(2, 2));
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("x.png"), std::string::npos);
-  }
+  expect_error_naming([&] { read_depth_png_mm(colour); }, "colour.png");
+  expect_error_naming(
+      [&] { write_depth_png_mm(test_path("no_such_dir") / "x.png", DepthImage(2, 2)); }, "x.png");
 }
 
 std::string read_error(const fs::path& path) {

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "../expect_error.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
 namespace {
+
+using test_support::expect_error_naming;
 
 constexpr double kPi = std::numbers::pi;
 const std::vector<std::string> kJoints = {"j1", "j2", "j3"};
@@ -197,37 +200,29 @@ TEST(EncoderCorruption, SameSeedSameReadings) {
 }
 
 TEST(EncoderCorruption, BadInputIsNamed) {
-  auto expect_error = [](auto&& f, const std::string& field) {
-    try {
-      f();
-      ADD_FAILURE() << "no error for " << field;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-    }
-  };
   EncoderGroupCorruption g;
   g.noise_sigma_rad = -1.0;
-  expect_error([&] { EncoderCorruption(kJoints, one_group(g), 1); }, "noise_sigma_rad");
+  expect_error_naming([&] { EncoderCorruption(kJoints, one_group(g), 1); }, "noise_sigma_rad");
   g = {};
   g.step_amplitude_rad = 0.1;
   g.step_period_s = 2.0;
   g.step_ramp_time_s = 1.5;
-  expect_error([&] { EncoderCorruption(kJoints, one_group(g), 1); }, "step_ramp_time_s");
+  expect_error_naming([&] { EncoderCorruption(kJoints, one_group(g), 1); }, "step_ramp_time_s");
   g = {};
   g.joints = {"elbow"};
-  expect_error([&] { EncoderCorruption(kJoints, one_group(g), 1); }, "elbow");
+  expect_error_naming([&] { EncoderCorruption(kJoints, one_group(g), 1); }, "elbow");
   EncoderGroupCorruption q1, q2;
   q1.resolution_rad = 0.01;
   q2.joints = {"j2"};
   q2.resolution_rad = 0.02;
   EncoderCorruptionParams two;
   two.groups = {q1, q2};
-  expect_error([&] { EncoderCorruption(kJoints, two, 1); }, "quantisation");
+  expect_error_naming([&] { EncoderCorruption(kJoints, two, 1); }, "quantisation");
   EncoderCorruption enc(kJoints, {}, 1);
   std::vector<double> a(3, 0.0), out(3);
   enc.corrupt(1.0, 0.001, a, {}, out);
-  expect_error([&] { enc.corrupt(0.5, 0.001, a, {}, out); }, "time stamps");
-  expect_error([&] { enc.corrupt(2.0, -0.1, a, {}, out); }, "dt_s");
+  expect_error_naming([&] { enc.corrupt(0.5, 0.001, a, {}, out); }, "time stamps");
+  expect_error_naming([&] { enc.corrupt(2.0, -0.1, a, {}, out); }, "dt_s");
 }
 
 }  // namespace

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "../expect_error.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack::sim {
 namespace {
+
+using test_support::expect_error_naming;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -259,44 +262,36 @@ TEST(Motion, ContinuousAtOneMillisecondAndVelocityIsTheDerivative) {
 
 TEST(Motion, BadInputNamesTheField) {
   JointTrajectory traj = make_trajectory();
-  auto expect_error = [](auto&& f, const std::string& field) {
-    try {
-      f();
-      ADD_FAILURE() << "no error for " << field;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-    }
-  };
   SinusoidMotion s;
   s.joints = {"shoulder"};
   s.frequency_hz = 0.0;
-  expect_error([&] { traj.add(s); }, "frequency_hz");
+  expect_error_naming([&] { traj.add(s); }, "frequency_hz");
   s.frequency_hz = 1.0;
   s.joints = {"knee"};
-  expect_error([&] { traj.add(s); }, "knee");
+  expect_error_naming([&] { traj.add(s); }, "knee");
   s.joints = {"shoulder", "shoulder"};
-  expect_error([&] { traj.add(s); }, "twice");
+  expect_error_naming([&] { traj.add(s); }, "twice");
   WaypointMotion w;
   w.joints = {"wrist"};
   w.times_s = {1.0, 1.0};
   w.positions_rad = {{0.1}, {0.2}};
-  expect_error([&] { traj.add(w); }, "times_s");
+  expect_error_naming([&] { traj.add(w); }, "times_s");
   w.times_s = {1.0, 2.0};
   w.positions_rad = {{0.1}, {0.5}};  // wrist upper limit is 0.3
-  expect_error([&] { traj.add(w); }, "positions_rad[1]");
+  expect_error_naming([&] { traj.add(w); }, "positions_rad[1]");
   RandomMotion r = random_part(1.0);
   r.speed_scale = -1.0;
   std::mt19937_64 rng(1);
-  expect_error([&] { traj.add(r, rng); }, "speed_scale");
+  expect_error_naming([&] { traj.add(r, rng); }, "speed_scale");
   OutOfViewMotion o;
   o.joints = {"shoulder"};
   o.out_of_view_rad = {1.0};
   o.leave_s = 5.0;
   o.return_s = 6.0;
   o.move_duration_s = 2.0;
-  expect_error([&] { traj.add(o); }, "return_s");
-  expect_error([] { JointTrajectory({"a"}, {1.0}, {{-0.5, 0.5}}); }, "home");
-  expect_error([&] { traj.joint_index("nope"); }, "nope");
+  expect_error_naming([&] { traj.add(o); }, "return_s");
+  expect_error_naming([] { JointTrajectory({"a"}, {1.0}, {{-0.5, 0.5}}); }, "home");
+  expect_error_naming([&] { traj.joint_index("nope"); }, "nope");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "../error_of.h"
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
@@ -20,9 +21,7 @@ namespace fs = std::filesystem;
 
 fs::path test_dir() { return test_support::program_scratch_dir().path(); }
 
-fs::path write_file(const std::string& name, const std::string& text) {
-  return test_support::program_scratch_dir().write(name, text);
-}
+using test_support::write_scratch_file;
 
 constexpr char kUrdf[] = R"(<robot name="r"><link name="base_link"/></robot>)";
 
@@ -63,8 +62,8 @@ occluders:
 )";
 
 TEST(Scene, ReadsEveryKey) {
-  write_file("robot.urdf", kUrdf);
-  const SceneDescription s = load_scene(write_file("full.yaml", kFullScene));
+  write_scratch_file("robot.urdf", kUrdf);
+  const SceneDescription s = load_scene(write_scratch_file("full.yaml", kFullScene));
   EXPECT_EQ(s.urdf_path, fs::weakly_canonical(test_dir() / "robot.urdf"));
   EXPECT_EQ(s.package_paths.at("some_pkg"), fs::weakly_canonical(test_dir()));
   EXPECT_NEAR(s.initial_joints_rad.at("j1"), M_PI / 2, 1e-15);
@@ -131,12 +130,7 @@ TEST(Scene, DefaultSceneStartsAtTheDocumentedHome) {
 }
 
 std::string load_error(const std::string& name, const std::string& text) {
-  try {
-    load_scene(write_file(name, text));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test_support::error_of([&] { load_scene(write_scratch_file(name, text)); });
 }
 
 void expect_error(const std::string& name, const std::string& text,
@@ -148,7 +142,7 @@ void expect_error(const std::string& name, const std::string& text,
 }
 
 TEST(Scene, BadInputNamesFileAndKey) {
-  write_file("robot.urdf", kUrdf);
+  write_scratch_file("robot.urdf", kUrdf);
   expect_error("unknown_key.yaml", "robot: {urdf: robot.urdf}\ncamera: {fov_deg: 50}\n",
                {"camera.fov_deg"});
   expect_error("unknown_top.yaml", "robot: {urdf: robot.urdf}\nlighting: []\n", {"lighting"});

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "../expect_error.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
@@ -13,6 +14,8 @@
 
 namespace arttrack::sim {
 namespace {
+
+using test_support::expect_error_naming;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -514,44 +517,40 @@ TEST(Scoring, CameraPosesFollowTheModelsVirtualJoints) {
 }
 
 TEST(Scoring, BadInputIsNamed) {
-  auto expect_error = [](auto&& f, const std::string& field) {
-    try {
-      f();
-      ADD_FAILURE() << "no error for " << field;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-    }
-  };
   ErrorTrace t(2);
   t.add(1.0, {0.1, 0.1});
-  expect_error([&] { t.add(0.5, {0.1, 0.1}); }, "earlier");
-  expect_error([&] { t.add(2.0, {0.1, 0.1}, std::vector<double>{0.1, 0.2}); }, "every sample");
-  expect_error([&] { t.add(2.0, {0.1, 0.1}, std::vector<double>{0.1}); }, "expected 2");
+  expect_error_naming([&] { t.add(0.5, {0.1, 0.1}); }, "earlier");
+  expect_error_naming(
+      [&] {
+        t.add(2.0, {0.1, 0.1}, std::vector<double>{0.1, 0.2});
+      },
+      "every sample");
+  expect_error_naming([&] { t.add(2.0, {0.1, 0.1}, std::vector<double>{0.1}); }, "expected 2");
   MethodScores m("fusion", {"a"}), ref("encoders", {"a"});
   m.add(0.0, {0.1, 0.1});
   ScoringOptions opt;
   opt.convergence_threshold_m = 0.0;
-  expect_error([&] { m.summary(opt); }, "convergence_threshold_m");
-  expect_error([&] { m.summary(ScoringOptions{}, &ref); }, "runs");
-  expect_error([&] { m.merge(MethodScores("fusion", {"b"})); }, "different joints");
+  expect_error_naming([&] { m.summary(opt); }, "convergence_threshold_m");
+  expect_error_naming([&] { m.summary(ScoringOptions{}, &ref); }, "runs");
+  expect_error_naming([&] { m.merge(MethodScores("fusion", {"b"})); }, "different joints");
   opt = ScoringOptions{};
   opt.lost_threshold_m = 0.0;
-  expect_error([&] { m.summary(opt); }, "lost_threshold_m");
+  expect_error_naming([&] { m.summary(opt); }, "lost_threshold_m");
   opt = ScoringOptions{};
   opt.lost_after_s = -1.0;
-  expect_error([&] { m.summary(opt); }, "lost_after_s");
+  expect_error_naming([&] { m.summary(opt); }, "lost_after_s");
   ErrorTrace two(0, 2);
-  expect_error([&] { two.add(0.0, {0.1, 0.1}); }, "expected 2");
+  expect_error_naming([&] { two.add(0.0, {0.1, 0.1}); }, "expected 2");
   ScoredSample x;
   x.end_effectors = {{0.1, 0.1}};
   x.camera_offset_std = {0.1, 0.1};
-  expect_error([&] { ErrorTrace().add(x); }, "camera offset values have 2");
+  expect_error_naming([&] { ErrorTrace().add(x); }, "camera offset values have 2");
   x.camera_offset_std = {};
   ErrorTrace with_camera;
   x.camera = PoseError{0.1, 0.1};
   with_camera.add(x);
   x.camera.reset();
-  expect_error([&] { with_camera.add(x); }, "every sample");
+  expect_error_naming([&] { with_camera.add(x); }, "every sample");
 }
 
 }  // namespace

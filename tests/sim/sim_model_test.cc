@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../error_of.h"
 #include "../scratch_dir.h"
 #include "arttrack/sim/simulator.h"
 #include "arttrack/tracker/error.h"
@@ -24,9 +25,7 @@ namespace fs = std::filesystem;
 
 fs::path test_dir() { return test_support::program_scratch_dir().path(); }
 
-fs::path write_file(const fs::path& rel, const std::string& text) {
-  return test_support::program_scratch_dir().write(rel, text);
-}
+using test_support::write_scratch_file;
 
 // Corners of an axis-aligned box [0, sx] x [0, sy] x [0, sz]: index x + 2y + 4z.
 std::vector<Eigen::Vector3d> box_corners(const Eigen::Vector3d& s) {
@@ -168,14 +167,14 @@ void expect_box(const Eigen::AlignedBox3d& got, const Eigen::Vector3d& lo,
 }
 
 TEST(SimModel, ConvertsEveryMeshFormatWithScaleAndUniqueNames) {
-  write_file("meshes/box.dae", collada_box());
-  write_file("meshes/hex.obj", obj_hex_prism());
-  write_file("meshes/ascii.stl", ascii_stl_box({0.1, 0.2, 0.3}));
-  write_file("meshes/a/part.stl", binary_stl_box_solid_header({0.1, 0.1, 0.1}));
-  write_file("meshes/b/part.stl", binary_stl_box_solid_header({0.3, 0.2, 0.1}));
-  write_file("my_pkg/box.stl", ascii_stl_box({0.1, 0.1, 0.1}));     // found by folder name
-  write_file("elsewhere/box.stl", ascii_stl_box({0.2, 0.1, 0.1}));  // given in the scene
-  const fs::path urdf = write_file(
+  write_scratch_file("meshes/box.dae", collada_box());
+  write_scratch_file("meshes/hex.obj", obj_hex_prism());
+  write_scratch_file("meshes/ascii.stl", ascii_stl_box({0.1, 0.2, 0.3}));
+  write_scratch_file("meshes/a/part.stl", binary_stl_box_solid_header({0.1, 0.1, 0.1}));
+  write_scratch_file("meshes/b/part.stl", binary_stl_box_solid_header({0.3, 0.2, 0.1}));
+  write_scratch_file("my_pkg/box.stl", ascii_stl_box({0.1, 0.1, 0.1}));     // found by folder name
+  write_scratch_file("elsewhere/box.stl", ascii_stl_box({0.2, 0.1, 0.1}));  // given in the scene
+  const fs::path urdf = write_scratch_file(
       "meshes.urdf",
       "<robot name=\"m\"><link name=\"base_link\"/>" + mesh_link("dae", 1, "meshes/box.dae") +
           mesh_link("dae_scaled", 2, "meshes/box.dae", "2 2 2") +
@@ -250,7 +249,7 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
 </robot>)";
 
 TEST(SimModel, BodyFramesAreUrdfFramesAtFullPrecision) {
-  const auto model = build_sim_model(robot_scene(write_file("arm.urdf", kArmUrdf)));
+  const auto model = build_sim_model(robot_scene(write_scratch_file("arm.urdf", kArmUrdf)));
   const mjModel* m = model->mj.get();
   const int upper = mj_name2id(m, mjOBJ_BODY, "upper");
   EXPECT_EQ(m->body_pos[3 * upper], 0.1234567890123);
@@ -268,7 +267,7 @@ TEST(SimModel, BodyFramesAreUrdfFramesAtFullPrecision) {
 }
 
 TEST(SimModel, SceneAssembly) {
-  SceneDescription s = robot_scene(write_file("arm2.urdf", kArmUrdf));
+  SceneDescription s = robot_scene(write_scratch_file("arm2.urdf", kArmUrdf));
   s.camera_link = "camera_optical_frame";
   s.shapes.push_back({});
   s.shapes.back().name = "crate";
@@ -309,16 +308,11 @@ TEST(SimModel, SceneAssembly) {
 
 // Builds a scene and returns the InputError's message ("" if none).
 std::string build_error(const SceneDescription& s) {
-  try {
-    build_sim_model(s);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test_support::error_of([&] { build_sim_model(s); });
 }
 
 TEST(SimModel, BadInputNamesTheItem) {
-  const fs::path arm = write_file("arm3.urdf", kArmUrdf);
+  const fs::path arm = write_scratch_file("arm3.urdf", kArmUrdf);
   SceneDescription s = robot_scene(test_dir() / "no_such_robot.urdf");
   EXPECT_NE(build_error(s).find("no_such_robot.urdf"), std::string::npos) << build_error(s);
 
@@ -334,21 +328,21 @@ TEST(SimModel, BadInputNamesTheItem) {
   s.initial_joints_rad["elbow"] = 1;
   EXPECT_NE(build_error(s).find("'elbow'"), std::string::npos) << build_error(s);
 
-  s = robot_scene(write_file("missing_mesh.urdf", "<robot name=\"r\"><link name=\"base_link\"/>" +
-                                                      mesh_link("hand", 0, "meshes/hand.dae") +
-                                                      "</robot>"));
+  s = robot_scene(write_scratch_file("missing_mesh.urdf",
+                                     "<robot name=\"r\"><link name=\"base_link\"/>" +
+                                         mesh_link("hand", 0, "meshes/hand.dae") + "</robot>"));
   std::string e = build_error(s);
   EXPECT_NE(e.find("hand.dae"), std::string::npos) << e;
   EXPECT_NE(e.find("missing_mesh.urdf"), std::string::npos) << e;
 
-  s = robot_scene(write_file("bad_package.urdf", "<robot name=\"r\"><link name=\"base_link\"/>" +
-                                                     mesh_link("hand", 0, "package://nope/x.stl") +
-                                                     "</robot>"));
+  s = robot_scene(write_scratch_file(
+      "bad_package.urdf", "<robot name=\"r\"><link name=\"base_link\"/>" +
+                              mesh_link("hand", 0, "package://nope/x.stl") + "</robot>"));
   e = build_error(s);
   EXPECT_NE(e.find("package://nope/x.stl"), std::string::npos) << e;
 
   // A kinematic loop: 'upper' is the child of two joints.
-  s = robot_scene(write_file("loop.urdf", R"(<robot name="r"><link name="base_link"/>
+  s = robot_scene(write_scratch_file("loop.urdf", R"(<robot name="r"><link name="base_link"/>
     <link name="upper"/><link name="fore"/>
     <joint name="shoulder" type="fixed"><parent link="base_link"/><child link="upper"/></joint>
     <joint name="elbow" type="fixed"><parent link="upper"/><child link="fore"/></joint>
@@ -360,7 +354,7 @@ TEST(SimModel, BadInputNamesTheItem) {
       << e;
 
   // A loop apart from the tree: every link has one parent, one root.
-  s = robot_scene(write_file("detached.urdf", R"(<robot name="r"><link name="base_link"/>
+  s = robot_scene(write_scratch_file("detached.urdf", R"(<robot name="r"><link name="base_link"/>
     <link name="b"/><link name="c"/>
     <joint name="b_c" type="fixed"><parent link="b"/><child link="c"/></joint>
     <joint name="c_b" type="fixed"><parent link="c"/><child link="b"/></joint>
@@ -370,7 +364,8 @@ TEST(SimModel, BadInputNamesTheItem) {
             std::string::npos)
       << e;
 
-  s = robot_scene(write_file("malformed.urdf", "<robot name=\"r\"><link name=\"base_link\">"));
+  s = robot_scene(
+      write_scratch_file("malformed.urdf", "<robot name=\"r\"><link name=\"base_link\">"));
   e = build_error(s);
   EXPECT_NE(e.find("malformed.urdf"), std::string::npos) << e;
 }
@@ -380,7 +375,7 @@ TEST(SimModel, BadInputNamesTheItem) {
 // error.
 TEST(SimModel, MovingLinkWithoutInertialOrGeometryGetsTheFallbackMass) {
   const auto model = build_sim_model(
-      robot_scene(write_file("massless.urdf", R"(<robot name="r"><link name="base_link"/>
+      robot_scene(write_scratch_file("massless.urdf", R"(<robot name="r"><link name="base_link"/>
     <joint name="j" type="revolute"><parent link="base_link"/><child link="l"/>
       <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
     <link name="l"/></robot>)")));
@@ -438,7 +433,8 @@ TEST(SimModel, CameraMountAndMimicErrorsNameTheItem) {
   e = build_error(s);
   EXPECT_NE(e.find("already has a link 'arm7_ee'"), std::string::npos) << e;
 
-  s = robot_scene(write_file("mimic_missing.urdf", R"(<robot name="r"><link name="base_link"/>
+  s = robot_scene(
+      write_scratch_file("mimic_missing.urdf", R"(<robot name="r"><link name="base_link"/>
     <link name="a"/>
     <joint name="follower" type="revolute"><parent link="base_link"/><child link="a"/>
       <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
@@ -462,7 +458,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 // A joint MuJoCo 2.2 would take but the tracker cannot (floating, planar) is
 // refused before MuJoCo, naming the user's file and the joint's line there.
 TEST(SimModel, FloatingJointIsRefusedAtItsLineInTheUsersFile) {
-  const fs::path urdf = write_file("floating.urdf", R"(<robot name="r">
+  const fs::path urdf = write_scratch_file("floating.urdf", R"(<robot name="r">
   <link name="base_link"/>
   <link name="l"/>
   <joint name="free" type="floating"><parent link="base_link"/><child link="l"/></joint>
@@ -484,7 +480,7 @@ std::string fixed_chain_urdf(int links) {
 // Bounds before cost (model_limits.h): a 2000-link chain was a minute in
 // MuJoCo's compiler, then an error naming a temporary file.
 TEST(SimModel, SizeLimitsAreCheckedBeforeMuJoCo) {
-  const fs::path long_chain = write_file("long_chain.urdf", fixed_chain_urdf(2000));
+  const fs::path long_chain = write_scratch_file("long_chain.urdf", fixed_chain_urdf(2000));
   auto start = std::chrono::steady_clock::now();
   std::string e = build_error(robot_scene(long_chain));
   EXPECT_LT(seconds_since(start), 1.0);
@@ -492,7 +488,7 @@ TEST(SimModel, SizeLimitsAreCheckedBeforeMuJoCo) {
       << e;
 
   // 100 links in one chain: within the count, past the depth.
-  const fs::path deep_chain = write_file("deep_chain.urdf", fixed_chain_urdf(100));
+  const fs::path deep_chain = write_scratch_file("deep_chain.urdf", fixed_chain_urdf(100));
   start = std::chrono::steady_clock::now();
   e = build_error(robot_scene(deep_chain));
   EXPECT_LT(seconds_since(start), 1.0);
@@ -521,10 +517,10 @@ std::string binary_stl_tetrahedra(std::uint32_t copies) {
 // parts (one geom each); the tracker reads it whole. (Two massless visual
 // geoms on a welded link: the documented fallback mass.)
 TEST(SimModel, MeshOverMuJoCosLimitPerFileArrivesInParts) {
-  write_file("big.stl", binary_stl_tetrahedra(62500));  // 250 000 triangles
-  const auto model = build_sim_model(
-      robot_scene(write_file("big_mesh.urdf", "<robot name=\"m\"><link name=\"base_link\"/>" +
-                                                  mesh_link("big", 0, "big.stl") + "</robot>")));
+  write_scratch_file("big.stl", binary_stl_tetrahedra(62500));  // 250 000 triangles
+  const auto model = build_sim_model(robot_scene(
+      write_scratch_file("big_mesh.urdf", "<robot name=\"m\"><link name=\"base_link\"/>" +
+                                              mesh_link("big", 0, "big.stl") + "</robot>")));
   const mjModel* m = model->mj.get();
   const int b = mj_name2id(m, mjOBJ_BODY, "big");
   int faces = 0;
@@ -539,8 +535,9 @@ TEST(SimModel, MeshOverMuJoCosLimitPerFileArrivesInParts) {
 // Collision shapes without volume (a zero radius, a flat mesh) collide with
 // nothing in ROS; MuJoCo refuses them: left out, with a notice.
 TEST(SimModel, CollisionShapesWithoutVolumeAreLeftOut) {
-  write_file("plate.obj", "v 0 0 0\nv 0.1 0 0\nv 0.1 0.1 0\nv 0 0.1 0\nf 1 2 3\nf 1 3 4\n");
-  const auto model = build_sim_model(robot_scene(write_file("no_volume.urdf", R"(<robot name="r">
+  write_scratch_file("plate.obj", "v 0 0 0\nv 0.1 0 0\nv 0.1 0.1 0\nv 0 0.1 0\nf 1 2 3\nf 1 3 4\n");
+  const auto model =
+      build_sim_model(robot_scene(write_scratch_file("no_volume.urdf", R"(<robot name="r">
   <link name="base_link">
     <collision><geometry><sphere radius="0"/></geometry></collision>
     <collision><geometry><mesh filename="plate.obj"/></geometry></collision>

@@ -16,9 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path write_file(const std::string& name, const std::string& text) {
-  return test_support::program_scratch_dir().write(name, text);
-}
+using test_support::write_scratch_file;
 
 // A planar two-link arm swinging about horizontal y axes. The joints are
 // listed tip first, so URDF order differs from MuJoCo's tree order. Each link
@@ -62,7 +60,7 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
 
 SceneDescription arm_scene(double kp, double kv) {
   SceneDescription s;
-  s.urdf_path = write_file("arm.urdf", kArmUrdf);
+  s.urdf_path = write_scratch_file("arm.urdf", kArmUrdf);
   s.end_effector_links = {"tool"};
   s.default_gains = {kp, kv};
   s.armature_kg_m2 = 0.01;

@@ -63,7 +63,7 @@ struct Robot {
 };
 
 Robot inline_robot() {
-  return {"inline", test_support::program_scratch_dir().write("inline.urdf", kInlineRobot), {}};
+  return {"inline", test_support::write_scratch_file("inline.urdf", kInlineRobot), {}};
 }
 
 const fs::path kModels = fs::path(ARTTRACK_SOURCE_DIR) / "models";
@@ -165,6 +165,63 @@ TEST(TrackerAgreement, KinematicsDualArm) { check_kinematics(dual_arm()); }
 TEST(TrackerAgreement, KinematicsDualArmMeshes) { check_kinematics(dual_arm_meshes()); }
 TEST(TrackerAgreement, KinematicsIrregularDescription) { check_kinematics(irregular()); }
 
+// The scene's initial pose first, then poses around it: each joint moved by
+// a normal random angle of sigma_rad and clamped to its limits.
+class PosesAroundHome {
+ public:
+  PosesAroundHome(const SimModel& model, unsigned seed, double sigma_rad)
+      : model_(model), rng_(seed), perturb_(0, sigma_rad) {}
+
+  Eigen::VectorXd next() {
+    Eigen::VectorXd q = model_.initial_joints;
+    if (first_) {
+      first_ = false;
+      return q;
+    }
+    for (Eigen::Index i = 0; i < q.size(); ++i)
+      q[i] = std::clamp(q[i] + perturb_(rng_), model_.joint_lower[i], model_.joint_upper[i]);
+    return q;
+  }
+
+ private:
+  const SimModel& model_;
+  std::mt19937 rng_;
+  std::normal_distribution<double> perturb_;
+  bool first_ = true;
+};
+
+// MuJoCo's depth of the robot alone and the tracker's render of it, drawn for
+// one pose at a time (simulator joint order) and compared within 2 mm.
+class BothRenders {
+ public:
+  BothRenders(std::shared_ptr<const SimModel> model, const RobotModel& robot,
+              const RenderOptions& options = {})
+      : model_(model),
+        robot_(robot),
+        sim_(model),
+        camera_(model),
+        renderer_(robot, camera_.intrinsics(), options),
+        state_(robot) {}
+
+  DepthAgreement compare(const Eigen::VectorXd& q) {
+    sim_.set_joint_positions(q);
+    camera_.render(sim_.data(), DepthContent::kRobot, mujoco);
+    forward_kinematics(robot_, to_tracker(robot_, *model_, q), state_);
+    renderer_.render(state_, tracker);
+    return compare_depth(tracker, mujoco, 2e-3);
+  }
+
+  DepthImage mujoco, tracker;  // of the last pose compared
+
+ private:
+  std::shared_ptr<const SimModel> model_;
+  const RobotModel& robot_;
+  Simulator sim_;
+  DepthCamera camera_;
+  DepthRenderer renderer_;
+  KinematicsState state_;
+};
+
 // Renders at 160x120 for the scene's initial pose (if any) and perturbed
 // poses around it, and compares the tracker's render with MuJoCo's. With
 // `geometry`, the tracker's meshes are simplified as a tracker with that
@@ -186,25 +243,12 @@ void check_render(const Robot& r, const std::map<std::string, double>& home,
     std::printf("%s: %d triangles drawn of %d\n", r.name, robot.num_drawn_triangles(), full);
     EXPECT_LT(robot.num_drawn_triangles(), full);
   }
-  Simulator sim(model);
-  DepthCamera camera(model);
   RenderOptions options;
   options.near_m = float(scene.near_m);  // clip where MuJoCo clips
-  DepthRenderer renderer(robot, camera.intrinsics(), options);
-  KinematicsState state(robot);
-  DepthImage mujoco, tracker;
-  std::mt19937 rng(30);
-  std::normal_distribution<double> perturb(0, 0.15);
+  BothRenders renders(model, robot, options);
+  PosesAroundHome poses(*model, 30, 0.15);
   for (int trial = 0; trial < 6; ++trial) {
-    Eigen::VectorXd q = model->initial_joints;
-    if (trial > 0)
-      for (Eigen::Index i = 0; i < q.size(); ++i)
-        q[i] = std::clamp(q[i] + perturb(rng), model->joint_lower[i], model->joint_upper[i]);
-    sim.set_joint_positions(q);
-    camera.render(sim.data(), DepthContent::kRobot, mujoco);
-    forward_kinematics(robot, to_tracker(robot, *model, q), state);
-    renderer.render(state, tracker);
-    const DepthAgreement a = compare_depth(tracker, mujoco, 2e-3);
+    const DepthAgreement a = renders.compare(poses.next());
     std::printf("%s configuration %d: %s\n", r.name, trial, a.summary().c_str());
     SCOPED_TRACE("configuration " + std::to_string(trial) + ": " + a.summary());
     EXPECT_GT(a.pixels_both, 300);  // the robot is in view
@@ -216,8 +260,8 @@ void check_render(const Robot& r, const std::map<std::string, double>& home,
     // Simplified: within 2 mm plus the bound of the level drawn there (the
     // bound times the depth over the nearest range, levels of detail).
     int both = 0, within = 0;
-    for (std::size_t i = 0; i < tracker.depth_m.size(); ++i) {
-      const double t = tracker.depth_m[i], m = mujoco.depth_m[i];
+    for (std::size_t i = 0; i < renders.tracker.depth_m.size(); ++i) {
+      const double t = renders.tracker.depth_m[i], m = renders.mujoco.depth_m[i];
       if (!(t > 0 && m > 0)) continue;
       ++both;
       within += std::abs(t - m) <= 2e-3 + bound_m * std::max(1.0, t / geometry->nearest_range_m);
@@ -263,23 +307,10 @@ TEST(TrackerAgreement, RenderDefaultSceneWithTheTrackersDefaults) {
   RobotModelOptions options;  // defaults, less the (zero) virtual camera joints
   options.add_virtual_camera_joints = false;
   const RobotModel robot = RobotModel::from_urdf_file(scene.urdf_path.string(), options);
-  Simulator sim(model);
-  DepthCamera camera(model);
-  DepthRenderer renderer(robot, camera.intrinsics());
-  KinematicsState state(robot);
-  DepthImage mujoco, tracker;
-  std::mt19937 rng(7);
-  std::normal_distribution<double> perturb(0, 0.1);
+  BothRenders renders(model, robot);
+  PosesAroundHome poses(*model, 7, 0.1);
   for (int trial = 0; trial < 4; ++trial) {
-    Eigen::VectorXd q = model->initial_joints;
-    if (trial > 0)
-      for (Eigen::Index i = 0; i < q.size(); ++i)
-        q[i] = std::clamp(q[i] + perturb(rng), model->joint_lower[i], model->joint_upper[i]);
-    sim.set_joint_positions(q);
-    camera.render(sim.data(), DepthContent::kRobot, mujoco);
-    forward_kinematics(robot, to_tracker(robot, *model, q), state);
-    renderer.render(state, tracker);
-    const DepthAgreement a = compare_depth(tracker, mujoco, 2e-3);
+    const DepthAgreement a = renders.compare(poses.next());
     std::printf("default scene configuration %d: %s\n", trial, a.summary().c_str());
     SCOPED_TRACE("configuration " + std::to_string(trial) + ": " + a.summary());
     EXPECT_GT(a.pixels_both, 2000);

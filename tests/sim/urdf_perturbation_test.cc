@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 
+#include "../expect_error.h"
 #include "arttrack/sim/simulator.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
@@ -23,6 +24,7 @@ namespace arttrack::sim {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::expect_error_naming;
 
 Eigen::Matrix3d rpy(double r, double p, double y) {
   return (Eigen::AngleAxisd(y, Eigen::Vector3d::UnitZ()) *
@@ -167,12 +169,7 @@ TEST(UrdfPerturbation, BadNamesAndValuesAreInputErrors) {
   p = {};
   p.camera_link = "base_link";  // the root has no parent joint
   p.T_nominal_true_camera.translation() << 0.01, 0, 0;
-  try {
-    perturb(p);
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("base_link"), std::string::npos) << e.what();
-  }
+  expect_error_naming([&] { perturb(p); }, "base_link");
   JointOriginChange c;
   c.joint = "neck";
   p = {};

@@ -15,7 +15,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include "../error_of.h"
+#include "../expect_error.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/worker_pool.h"
 
@@ -498,18 +498,16 @@ TEST(WorkerPool, CoversEveryIndexOnceWithContiguousChunks) {
 TEST(CoordinateParticleFilter, RejectsBadBlocks) {
   EXPECT_THROW(CoordinateParticleFilter(3, {}), InputError);
   EXPECT_THROW(CoordinateParticleFilter(3, {{"empty", {}}}), InputError);
-  try {
-    CoordinateParticleFilter(3, {{"arm", {0, 1}}, {"head", {1, 2}}});
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("head"), std::string::npos);
-  }
-  try {
-    CoordinateParticleFilter(3, {{"camera", {0, 3}}});
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("camera"), std::string::npos);
-  }
+  test_support::expect_error_naming(
+      [] {
+        CoordinateParticleFilter(3, {{"arm", {0, 1}}, {"head", {1, 2}}});
+      },
+      "head");
+  test_support::expect_error_naming(
+      [] {
+        CoordinateParticleFilter(3, {{"camera", {0, 3}}});
+      },
+      "camera");
   CoordinateParticleFilterParams bad;
   bad.num_particles = 0;
   EXPECT_THROW(CoordinateParticleFilter(1, {{"a", {0}}}, bad), InputError);

@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
@@ -307,13 +308,9 @@ TEST(DepthLikelihood, RejectsBadParameters) {
   EXPECT_THROW(DepthLikelihood{p}, InputError);
   p = {};
   p.occlusion_prior = 1.5;
-  try {
-    p.validate("tracker.yaml depth");
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("occlusion_prior"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("tracker.yaml"), std::string::npos);
-  }
+  const std::string error = test_support::error_of([&] { p.validate("tracker.yaml depth"); });
+  EXPECT_NE(error.find("occlusion_prior"), std::string::npos) << error;
+  EXPECT_NE(error.find("tracker.yaml"), std::string::npos) << error;
 }
 
 }  // namespace

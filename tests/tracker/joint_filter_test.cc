@@ -7,10 +7,13 @@
 #include <random>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "../expect_error.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
 namespace {
+
+using test_support::expect_error_naming;
 
 // Two encoder joints with different noises (one without bias) and two
 // virtual joints.
@@ -272,13 +275,11 @@ TEST(JointFilter, PerJointParamsAppliesOverridesAndRejectsUnknownJoints) {
   ASSERT_EQ(params.size(), 3u);
   EXPECT_EQ(params[0].encoder_noise_rad, defaults.encoder_noise_rad);
   EXPECT_EQ(params[1].encoder_noise_rad, 0.05);
-  try {
+  const std::string error = test_support::error_of([&] {
     per_joint_params(names, defaults, {{"wrist", special}}, "cfg.yaml joints");
-    FAIL() << "unknown joint accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("wrist"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("cfg.yaml"), std::string::npos);
-  }
+  });
+  EXPECT_NE(error.find("wrist"), std::string::npos) << error;
+  EXPECT_NE(error.find("cfg.yaml"), std::string::npos) << error;
   const std::vector<std::string> cams = {"cam_x"};
   EXPECT_THROW(per_joint_params(cams, VirtualJointParams{}, {{"cam_q", VirtualJointParams{}}}, "v"),
                InputError);
@@ -290,12 +291,11 @@ TEST(JointFilter, RejectsBadInput) {
   EXPECT_THROW(JointFilterModel({"j"}, {bad_c}), InputError);
   JointFilterParams bad_q;
   bad_q.encoder_noise_rad = -1;
-  try {
-    JointFilterModel({"ok", "elbow"}, {JointFilterParams{}, bad_q});
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("elbow"), std::string::npos);
-  }
+  expect_error_naming(
+      [&] {
+        JointFilterModel({"ok", "elbow"}, {JointFilterParams{}, bad_q});
+      },
+      "elbow");
   EXPECT_THROW(JointFilterModel({"j", "j"}, {JointFilterParams{}, JointFilterParams{}}),
                InputError);
   EXPECT_THROW(JointFilterModel({"j"}, {}), InputError);
@@ -307,12 +307,7 @@ TEST(JointFilter, RejectsBadInput) {
   EXPECT_THROW(predict_joints(model, -1e-3, b), InputError);
   EXPECT_THROW(predict_joints(model, std::nan(""), b), InputError);
   const std::vector<double> nan_reading = {0.1, std::nan("")};
-  try {
-    filter_joints(model, 1e-3, nan_reading, b);
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("elbow"), std::string::npos);
-  }
+  expect_error_naming([&] { filter_joints(model, 1e-3, nan_reading, b); }, "elbow");
   const std::vector<double> too_few = {0.1};
   EXPECT_THROW(update_encoders(model, too_few, b), InputError);
   EXPECT_EQ(b.mean_a, before.mean_a);  // nothing changed

@@ -8,17 +8,8 @@
 #include <new>
 #include <random>
 
+#include "../count_allocations.h"
 #include "arttrack/tracker/robot_model.h"
-
-// Counts heap allocations, to check that forward kinematics allocates nothing.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace arttrack {
 namespace {

@@ -10,8 +10,9 @@
 #include <map>
 #include <numbers>
 
-#include "../error_of.h"
-#include "../scratch_dir.h"
+#include "../expect_error.h"
+#include "../mesh_checks.h"
+#include "../test_files.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
@@ -19,43 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder per test for the files it writes.
-fs::path test_dir() {
-  return test_support::program_scratch_dir().subfolder(
-      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
-
-// Volume enclosed by a closed mesh (divergence theorem); positive when the
-// triangles face outwards.
-double signed_volume(const TriangleMesh& mesh) {
-  double volume = 0;
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    const Eigen::Vector3d a = mesh.vertices_m[t[0]].cast<double>();
-    const Eigen::Vector3d b = mesh.vertices_m[t[1]].cast<double>();
-    const Eigen::Vector3d c = mesh.vertices_m[t[2]].cast<double>();
-    volume += a.dot(b.cross(c)) / 6;
-  }
-  return volume;
-}
-
-// Every directed edge is matched by the opposite edge of exactly one other
-// triangle: the surface is closed and consistently wound.
-bool closed_and_consistent(const TriangleMesh& mesh) {
-  std::map<std::pair<int, int>, int> directed;
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-  }
-  for (const auto& [edge, count] : directed) {
-    if (count != 1) return false;
-    auto it = directed.find({edge.second, edge.first});
-    if (it == directed.end() || it->second != 1) return false;
-  }
-  return true;
-}
+using test_support::closed_and_consistent;
+using test_support::expect_error_naming;
+using test_support::fresh_test_dir;
+using test_support::kUnitCubeObj;
+using test_support::signed_volume_m3;
+using test_support::write_file;
 
 bool has_vertex(const TriangleMesh& mesh, const Eigen::Vector3f& p, float tol = 1e-6f) {
   for (const Eigen::Vector3f& v : mesh.vertices_m) {
@@ -101,7 +71,7 @@ constexpr char kTwoMeshDae[] = R"(<?xml version="1.0" encoding="utf-8"?>
 )";
 
 TEST(MeshLoader, DaeLoadsEverySubMeshWithNodeTransformsAndUnits) {
-  const fs::path path = test_dir() / "two.dae";
+  const fs::path path = fresh_test_dir() / "two.dae";
   write_file(path, kTwoMeshDae);
   const TriangleMesh mesh = load_mesh(path.string());
   EXPECT_EQ(mesh.triangles.size(), 3u);  // the triangle and the quad's two halves
@@ -124,7 +94,7 @@ TEST(MeshLoader, DaeLoadsEverySubMeshWithNodeTransformsAndUnits) {
 // file, tests/fuzz/regressions/mesh/collada_oom), naming the file, the
 // element, its line and the problem.
 TEST(MeshLoader, DaeInconsistentWithItsCountsIsRefusedNamingTheElement) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   const auto error_with = [&](const std::string& from, const std::string& to) {
     std::string text = kTwoMeshDae;
     const std::size_t at = text.find(from);
@@ -188,7 +158,7 @@ void write_binary_stl(const fs::path& path, const std::vector<std::array<float, 
 }
 
 TEST(MeshLoader, BinaryStlWithSolidHeaderAndScale) {
-  const fs::path path = test_dir() / "square.stl";
+  const fs::path path = fresh_test_dir() / "square.stl";
   write_binary_stl(path, {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}});
   const TriangleMesh mesh = load_mesh(path.string(), Eigen::Vector3d(2, 3, 4));
   ASSERT_EQ(mesh.triangles.size(), 2u);
@@ -199,68 +169,41 @@ TEST(MeshLoader, BinaryStlWithSolidHeaderAndScale) {
   }
 }
 
-// A unit cube of six quads wound counter-clockwise seen from outside.
-constexpr char kCubeObj[] = R"(# unit cube
-v 0 0 0
-v 1 0 0
-v 1 1 0
-v 0 1 0
-v 0 0 1
-v 1 0 1
-v 1 1 1
-v 0 1 1
-f 1 4 3 2
-f 5 6 7 8
-f 1 2 6 5
-f 2 3 7 6
-f 3 4 8 7
-f 4 1 5 8
-)";
-
 TEST(MeshLoader, ObjQuadsAreTriangulatedClosedAndOutward) {
-  const fs::path path = test_dir() / "cube.obj";
-  write_file(path, kCubeObj);
+  const fs::path path = fresh_test_dir() / "cube.obj";
+  write_file(path, kUnitCubeObj);
   const TriangleMesh mesh = load_mesh(path.string());
   EXPECT_EQ(mesh.triangles.size(), 12u);
   EXPECT_EQ(mesh.vertices_m.size(), 8u);
   EXPECT_TRUE(closed_and_consistent(mesh));
-  EXPECT_NEAR(signed_volume(mesh), 1.0, 1e-6);
+  EXPECT_NEAR(signed_volume_m3(mesh), 1.0, 1e-6);
 }
 
 TEST(MeshLoader, MissingAndGarbageFilesNameTheFile) {
-  const fs::path dir = test_dir();
-  try {
-    load_mesh((dir / "nowhere.stl").string());
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("nowhere.stl"), std::string::npos) << e.what();
-  }
+  const fs::path dir = fresh_test_dir();
+  expect_error_naming([&] { load_mesh((dir / "nowhere.stl").string()); }, "nowhere.stl");
   write_file(dir / "garbage.obj", "this is not a mesh\n");
-  try {
-    load_mesh((dir / "garbage.obj").string());
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("garbage.obj"), std::string::npos) << e.what();
-  }
+  expect_error_naming([&] { load_mesh((dir / "garbage.obj").string()); }, "garbage.obj");
 }
 
 TEST(MeshLoader, PrimitivesAreClosedOutwardWithTheRightVolume) {
   const double pi = std::numbers::pi;
   const TriangleMesh box = make_box(Eigen::Vector3d(0.2, 0.3, 0.4));
   EXPECT_TRUE(closed_and_consistent(box));
-  EXPECT_NEAR(signed_volume(box), 0.2 * 0.3 * 0.4, 1e-8);
+  EXPECT_NEAR(signed_volume_m3(box), 0.2 * 0.3 * 0.4, 1e-8);
 
   // The area-preserving polygon makes the cylinder's volume exact.
   const TriangleMesh cylinder = make_cylinder(0.05, 0.3, 32);
   EXPECT_TRUE(closed_and_consistent(cylinder));
-  EXPECT_NEAR(signed_volume(cylinder), pi * 0.05 * 0.05 * 0.3, 1e-7);
+  EXPECT_NEAR(signed_volume_m3(cylinder), pi * 0.05 * 0.05 * 0.3, 1e-7);
   EXPECT_EQ(cylinder.triangles.size(), 4u * 32);
 
   // The sphere is scaled to hold the sphere's volume, at any tessellation.
   for (int segments : {6, 12, 16, 48}) {
     const TriangleMesh sphere = make_sphere(0.1, segments);
     EXPECT_TRUE(closed_and_consistent(sphere));
-    EXPECT_NEAR(signed_volume(sphere), 4.0 / 3 * pi * 1e-3, 1e-6 * 4.0 / 3 * pi * 1e-3) << segments;
+    EXPECT_NEAR(signed_volume_m3(sphere), 4.0 / 3 * pi * 1e-3, 1e-6 * 4.0 / 3 * pi * 1e-3)
+        << segments;
   }
 }
 
@@ -271,7 +214,7 @@ TEST(MeshLoader, AppendWithMirrorKeepsTrianglesOutward) {
   T.translation() = Eigen::Vector3d(1, 2, 3);
   mirrored.append(make_box(Eigen::Vector3d(0.1, 0.2, 0.3)), T);
   EXPECT_TRUE(closed_and_consistent(mirrored));
-  EXPECT_NEAR(signed_volume(mirrored), 0.1 * 0.2 * 0.3, 1e-7);
+  EXPECT_NEAR(signed_volume_m3(mirrored), 0.1 * 0.2 * 0.3, 1e-7);
 }
 
 }  // namespace

@@ -8,12 +8,16 @@
 #include <memory>
 #include <utility>
 
+#include "../mesh_checks.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 
 namespace arttrack {
 namespace {
+
+using test_support::closed_and_consistent;
+using test_support::signed_volume_m3;
 
 double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                               const Eigen::Vector3d& b) {
@@ -56,28 +60,6 @@ double largest_vertex_distance(const TriangleMesh& original, const TriangleMesh&
   return largest;
 }
 
-double signed_volume(const TriangleMesh& mesh) {
-  double volume = 0;
-  for (const Eigen::Vector3i& t : mesh.triangles)
-    volume += mesh.vertices_m[t[0]].cast<double>().dot(mesh.vertices_m[t[1]].cast<double>().cross(
-                  mesh.vertices_m[t[2]].cast<double>())) /
-              6;
-  return volume;
-}
-
-// Closed and consistently wound: every directed edge once, its reverse once.
-bool closed_and_consistent(const TriangleMesh& mesh) {
-  std::map<std::pair<int, int>, int> edges;
-  for (const Eigen::Vector3i& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
-  for (const auto& [edge, count] : edges) {
-    if (count != 1) return false;
-    const auto reverse = edges.find({edge.second, edge.first});
-    if (reverse == edges.end() || reverse->second != 1) return false;
-  }
-  return true;
-}
-
 TEST(SimplifyMesh, FineSculptedSphereKeepsItsSurfaceWithinTheBoundAndStaysClosed) {
   // 128 meridians, 64 bands (16 000 triangles) on a 6 cm sphere whose radius
   // undulates by 5%: a smooth CAD-like surface tessellated far below a
@@ -97,7 +79,7 @@ TEST(SimplifyMesh, FineSculptedSphereKeepsItsSurfaceWithinTheBoundAndStaysClosed
   // lie within the bound of the new surface (its vertices are original ones).
   EXPECT_LE(largest_vertex_distance(fine, s.mesh), bound_m);
   EXPECT_TRUE(closed_and_consistent(s.mesh));
-  EXPECT_NEAR(signed_volume(s.mesh), signed_volume(fine), 0.02 * signed_volume(fine));
+  EXPECT_NEAR(signed_volume_m3(s.mesh), signed_volume_m3(fine), 0.02 * signed_volume_m3(fine));
 }
 
 TEST(SimplifyMesh, ZeroErrorKeepsEveryTriangleAndSplitVerticesAreMerged) {

@@ -11,7 +11,7 @@
 #include <random>
 
 #include "../error_of.h"
-#include "../scratch_dir.h"
+#include "../test_files.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/model_limits.h"
@@ -23,15 +23,9 @@ using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
-// A fresh folder per test for the files it writes.
-fs::path test_dir() {
-  return test_support::program_scratch_dir().subfolder(
-      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
+using test_support::fresh_test_dir;
+using test_support::kUnitCubeObj;
+using test_support::write_file;
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -112,7 +106,7 @@ TEST(RobotModel, WithoutVirtualJointsTheCameraIsTheNominalFrame) {
 }
 
 TEST(RobotModel, LookupErrorsNameTheItemAndTheFile) {
-  const fs::path path = test_dir() / "tree.urdf";
+  const fs::path path = fresh_test_dir() / "tree.urdf";
   write_file(path, kTree);
   const RobotModel model = RobotModel::from_urdf_file(path.string());
   std::string msg = error_of([&] { model.joint_index("elbow"); });
@@ -125,7 +119,7 @@ TEST(RobotModel, LookupErrorsNameTheItemAndTheFile) {
 }
 
 TEST(RobotModel, FileErrorsNameTheFile) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   std::string msg = error_of([&] { RobotModel::from_urdf_file((dir / "absent.urdf").string()); });
   EXPECT_TRUE(contains(msg, "absent.urdf")) << msg;
 
@@ -151,7 +145,7 @@ std::string joint_urdf(const std::string& type, const std::string& axis = "0 0 1
 }
 
 TEST(RobotModel, UnsupportedJointTypesNameTheJointAndFile) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   for (const std::string type : {"ball", "floating", "planar"}) {
     const fs::path path = dir / (type + ".urdf");
     write_file(path, joint_urdf(type));
@@ -177,7 +171,7 @@ constexpr char kLoop[] = R"(<robot name="loop">
 )";
 
 TEST(RobotModel, KinematicLoopNamesTheLinkAndBothJoints) {
-  const fs::path path = test_dir() / "loop.urdf";
+  const fs::path path = fresh_test_dir() / "loop.urdf";
   write_file(path, kLoop);
   const std::string msg = error_of([&] { RobotModel::from_urdf_file(path.string()); });
   EXPECT_TRUE(contains(msg, path.string()) && contains(msg, "link 'upper'") &&
@@ -188,7 +182,7 @@ TEST(RobotModel, KinematicLoopNamesTheLinkAndBothJoints) {
 // Geometry the simulator rejects is refused here too, naming the file, the
 // link or joint and what would be right.
 TEST(RobotModel, GeometryTheSimulatorRejectsIsRefused) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   auto load = [&](const std::string& name, const std::string& geometry,
                   const std::string& limit = R"(lower="-1" upper="1")") {
     const fs::path path = dir / (name + ".urdf");
@@ -300,7 +294,7 @@ TEST(RobotModel, MimicJointsFollowTheirLeaderWithoutStateOfTheirOwn) {
 }
 
 TEST(RobotModel, MimicOfAMissingJointOrACycleNamesTheJointAndFile) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   RobotModelOptions options;
   options.camera_frame = "camera";
   const fs::path missing = dir / "missing.urdf";
@@ -333,29 +327,13 @@ constexpr char kMeshes[] = R"(<robot name="m">
 </robot>
 )";
 
-constexpr char kCubeObj[] = R"(v 0 0 0
-v 1 0 0
-v 1 1 0
-v 0 1 0
-v 0 0 1
-v 1 0 1
-v 1 1 1
-v 0 1 1
-f 1 4 3 2
-f 5 6 7 8
-f 1 2 6 5
-f 2 3 7 6
-f 3 4 8 7
-f 4 1 5 8
-)";
-
 TEST(RobotModel, MeshesResolveScaleAndPlaceEveryVisual) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   // The package mesh is only under <search folder>/NAME/rest.
   fs::create_directories(dir / "pkg" / "my_models" / "meshes");
   fs::create_directories(dir / "urdf" / "meshes");
-  write_file(dir / "pkg" / "my_models" / "meshes" / "pkg_cube.obj", kCubeObj);
-  write_file(dir / "urdf" / "meshes" / "cube.obj", kCubeObj);
+  write_file(dir / "pkg" / "my_models" / "meshes" / "pkg_cube.obj", kUnitCubeObj);
+  write_file(dir / "urdf" / "meshes" / "cube.obj", kUnitCubeObj);
   write_file(dir / "urdf" / "robot.urdf", kMeshes);
   RobotModelOptions options;
   options.mesh_search_paths = {(dir / "pkg").string()};
@@ -375,7 +353,7 @@ TEST(RobotModel, MeshesResolveScaleAndPlaceEveryVisual) {
 }
 
 TEST(RobotModel, MissingMeshNamesMeshLinkAndFile) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   write_file(dir / "robot.urdf", kMeshes);
   const std::string msg =
       error_of([&] { RobotModel::from_urdf_file((dir / "robot.urdf").string()); });
@@ -386,7 +364,7 @@ TEST(RobotModel, MissingMeshNamesMeshLinkAndFile) {
   fs::create_directories(dir / "meshes");
   write_file(dir / "meshes" / "cube.obj", "not a mesh\n");
   fs::create_directories(dir / "my_models" / "meshes");
-  write_file(dir / "my_models" / "meshes" / "pkg_cube.obj", kCubeObj);
+  write_file(dir / "my_models" / "meshes" / "pkg_cube.obj", kUnitCubeObj);
   const std::string msg2 =
       error_of([&] { RobotModel::from_urdf_file((dir / "robot.urdf").string()); });
   EXPECT_TRUE(contains(msg2, "cube.obj") && contains(msg2, "'base_link'")) << msg2;
@@ -458,7 +436,7 @@ std::string chain_urdf(int links, int depth) {
 // Bounds before cost (model_limits.h): links, joints and chain depth are
 // checked right after parsing, naming the file, the count and the limit.
 TEST(RobotModel, SizeLimitsAreCheckedRightAfterParsing) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   write_file(dir / "long_chain.urdf", chain_urdf(2000, 2000));
   const auto start = std::chrono::steady_clock::now();
   std::string msg =
@@ -479,7 +457,7 @@ TEST(RobotModel, SizeLimitsAreCheckedRightAfterParsing) {
 }
 
 TEST(RobotModel, MeshTrianglesAreBoundedBeforeABinaryStlIsRead) {
-  const fs::path dir = test_dir();
+  const fs::path dir = fresh_test_dir();
   // A binary STL's header declares more triangles than the limit; the
   // triangles themselves are never read (the file is only as long as
   // declared: 84 + 50 n bytes, sparse here).
@@ -536,11 +514,11 @@ TEST(RobotModel, TextFromAFileIsNamedAsTheFile) {
 // package://NAME/... as ROS finds it without a search path: an ancestor
 // folder whose package.xml names the package (the simulator looks there too).
 TEST(RobotModel, PackageFoundThroughPackageXml) {
-  const fs::path dir = test_dir() / "my_robot_description";
+  const fs::path dir = fresh_test_dir() / "my_robot_description";
   fs::create_directories(dir / "urdf");
   fs::create_directories(dir / "meshes");
   write_file(dir / "package.xml", "<package><name>my_robot</name></package>");
-  write_file(dir / "meshes" / "pkg_cube.obj", kCubeObj);
+  write_file(dir / "meshes" / "pkg_cube.obj", kUnitCubeObj);
   write_file(dir / "urdf" / "robot.urdf", R"(<robot name="r"><link name="camera_optical_frame">
     <visual><geometry><mesh filename="package://my_robot/meshes/pkg_cube.obj"/></geometry>
     </visual></link></robot>)");

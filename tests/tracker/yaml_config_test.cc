@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../error_of.h"
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 
@@ -12,14 +13,7 @@ namespace arttrack {
 namespace {
 namespace fs = std::filesystem;
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test_support::error_of;
 
 class YamlConfigTest : public ::testing::Test {
  protected:
@@ -56,19 +50,19 @@ TEST_F(YamlConfigTest, ExtendsAListMergesInOrder) {
   EXPECT_EQ(root.child("a").required<int>("z"), 3);
   EXPECT_NO_THROW(root.finish());
   const auto empty = write("empty.yaml", "extends: []\n");
-  EXPECT_NE(message_of([&] { load_yaml_file(empty); }).find("empty.yaml: key 'extends' must be"),
+  EXPECT_NE(error_of([&] { load_yaml_file(empty); }).find("empty.yaml: key 'extends' must be"),
             std::string::npos);
 }
 
 TEST_F(YamlConfigTest, ExtendsCycleIsAnError) {
   write("a.yaml", "extends: b.yaml\n");
   const auto b = write("b.yaml", "extends: a.yaml\n");
-  EXPECT_NE(message_of([&] { load_yaml_file(b); }).find("cycle"), std::string::npos);
+  EXPECT_NE(error_of([&] { load_yaml_file(b); }).find("cycle"), std::string::npos);
 }
 
 TEST_F(YamlConfigTest, ExtendingAFolderIsAnError) {
   const std::string a = write("a.yaml", "extends: " + dir_.string() + "\n");
-  EXPECT_NE(message_of([&] { load_yaml_file(a); }).find(dir_.string() + ": is a folder"),
+  EXPECT_NE(error_of([&] { load_yaml_file(a); }).find(dir_.string() + ": is a folder"),
             std::string::npos);
 }
 
@@ -82,9 +76,9 @@ TEST_F(YamlConfigTest, AliasBombIsRefused) {
     text += "]\n";
   }
   const std::string a = write("a.yaml", text);
-  EXPECT_NE(message_of([&] { load_yaml_file(a); }).find("values once its aliases are expanded"),
+  EXPECT_NE(error_of([&] { load_yaml_file(a); }).find("values once its aliases are expanded"),
             std::string::npos);
-  EXPECT_NE(message_of([&] { load_yaml_string(text, "s.yaml"); }).find("s.yaml: more than"),
+  EXPECT_NE(error_of([&] { load_yaml_string(text, "s.yaml"); }).find("s.yaml: more than"),
             std::string::npos);
 }
 
@@ -92,42 +86,40 @@ TEST_F(YamlConfigTest, UnknownKeyIsNamedWithItsPathAndFile) {
   const auto f = write("c.yaml", "camera: {fovy_deg: 45, fvoy: 3}\n");
   ConfigNode root = ConfigNode::root(load_yaml_file(f));
   EXPECT_EQ(root.child("camera").required<double>("fovy_deg"), 45);
-  const std::string msg = message_of([&] { root.finish(); });
+  const std::string msg = error_of([&] { root.finish(); });
   EXPECT_NE(msg.find("camera.fvoy"), std::string::npos) << msg;
   EXPECT_NE(msg.find("c.yaml"), std::string::npos) << msg;
 }
 
 TEST_F(YamlConfigTest, WrongTypeAndRangeAreNamed) {
   ConfigNode root = ConfigNode::root(load_yaml_string("rate_hz: fast\nc: 1.5\n", "t.yaml"));
-  EXPECT_NE(
-      message_of([&] { root.number("rate_hz", 1, 0, 10); }).find("'rate_hz' must be a number"),
-      std::string::npos);
-  EXPECT_NE(message_of([&] { root.number("c", 0.5, 0, 1); }).find("out of range"),
+  EXPECT_NE(error_of([&] { root.number("rate_hz", 1, 0, 10); }).find("'rate_hz' must be a number"),
             std::string::npos);
-  EXPECT_NE(message_of([&] { root.required<double>("missing"); }).find("'missing' is required"),
+  EXPECT_NE(error_of([&] { root.number("c", 0.5, 0, 1); }).find("out of range"), std::string::npos);
+  EXPECT_NE(error_of([&] { root.required<double>("missing"); }).find("'missing' is required"),
             std::string::npos);
 }
 
 TEST_F(YamlConfigTest, MalformedYamlNamesFileAndLine) {
   const auto f = write("bad.yaml", "a: 1\nb: [1, 2\n");
-  const std::string msg = message_of([&] { load_yaml_file(f); });
+  const std::string msg = error_of([&] { load_yaml_file(f); });
   EXPECT_NE(msg.find("bad.yaml:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("malformed"), std::string::npos) << msg;
-  EXPECT_NE(message_of([&] { load_yaml_file((dir_ / "none.yaml").string()); }).find("not found"),
+  EXPECT_NE(error_of([&] { load_yaml_file((dir_ / "none.yaml").string()); }).find("not found"),
             std::string::npos);
 }
 
 // yaml-cpp keeps both entries of a duplicated key and a lookup takes one.
 TEST_F(YamlConfigTest, DuplicatedKeyNamesFileKeyAndLine) {
   const auto f = write("dup.yaml", "a: 1\ncamera:\n  fovy_deg: 45\n  width: 64\n  fovy_deg: 60\n");
-  const std::string msg = message_of([&] { load_yaml_file(f); });
+  const std::string msg = error_of([&] { load_yaml_file(f); });
   EXPECT_NE(msg.find("dup.yaml:5:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'camera.fovy_deg' appears twice (first at line 3)"), std::string::npos)
       << msg;
-  const std::string top = message_of([&] { load_yaml_string("x: 1\ny: 2\nx: 3\n", "t.yaml"); });
+  const std::string top = error_of([&] { load_yaml_string("x: 1\ny: 2\nx: 3\n", "t.yaml"); });
   EXPECT_NE(top.find("t.yaml:3: key 'x' appears twice"), std::string::npos) << top;
   const std::string in_list =
-      message_of([&] { load_yaml_string("l:\n  - {n: 1, n: 2}\n", "t.yaml"); });
+      error_of([&] { load_yaml_string("l:\n  - {n: 1, n: 2}\n", "t.yaml"); });
   EXPECT_NE(in_list.find("'l[0].n'"), std::string::npos) << in_list;
 }
 
@@ -140,9 +132,8 @@ TEST_F(YamlConfigTest, OverridesCreateAndReplaceKeys) {
   EXPECT_EQ(root.child("encoders").required<double>("bias_deg"), 5);
   EXPECT_EQ(root.child("camera").required<double>("delay_s"), 0.1);
   EXPECT_EQ(root.required<std::vector<int>>("list").size(), 2u);
-  EXPECT_NE(message_of([&] { apply_override(doc, "novalue"); }).find("key=value"),
-            std::string::npos);
-  EXPECT_NE(message_of([&] { apply_override(doc, "encoders.bias_deg.x=1"); }).find("not a map"),
+  EXPECT_NE(error_of([&] { apply_override(doc, "novalue"); }).find("key=value"), std::string::npos);
+  EXPECT_NE(error_of([&] { apply_override(doc, "encoders.bias_deg.x=1"); }).find("not a map"),
             std::string::npos);
 }
 
@@ -165,10 +156,10 @@ TEST(KeyPath, ParsesNamesAndIndices) {
 TEST(KeyPath, MalformedPathsAreErrorsNamingTheKey) {
   for (const char* key : {"", "a..b", "a.", ".a", "[0].x", "a[x]", "a[", "a[]", "a]", "a[0]b",
                           "a[1.5]", "a[99999999999]"}) {
-    const std::string msg = message_of([&] { parse_key_path(key); });
+    const std::string msg = error_of([&] { parse_key_path(key); });
     EXPECT_NE(msg.find(std::string("key '") + key + "'"), std::string::npos) << key << ": " << msg;
   }
-  const std::string negative = message_of([&] { parse_key_path("encoders[-1].offset_deg"); });
+  const std::string negative = error_of([&] { parse_key_path("encoders[-1].offset_deg"); });
   EXPECT_NE(negative.find("key 'encoders[-1].offset_deg' has a negative index '[-1]'"),
             std::string::npos)
       << negative;
@@ -208,10 +199,10 @@ TEST(KeyPath, OverridesReachListElementsAndKeepTheRest) {
 
 TEST(KeyPath, IndexPastTheEndNamesTheKeyAndTheLength) {
   YamlDocument doc = load_yaml_string(kLists, "l.yaml");
-  std::string msg = message_of([&] { apply_override(doc, "a.b[2].c=1"); });
+  std::string msg = error_of([&] { apply_override(doc, "a.b[2].c=1"); });
   EXPECT_NE(msg.find("override 'a.b[2].c=1': 'a.b' has 2 element(s): no [2]"), std::string::npos)
       << msg;
-  msg = message_of([&] { apply_override(doc, "m[0][5]=1"); });
+  msg = error_of([&] { apply_override(doc, "m[0][5]=1"); });
   EXPECT_NE(msg.find("'m[0]' has 2 element(s): no [5]"), std::string::npos) << msg;
   // Nothing was added: a list is never grown.
   EXPECT_EQ(doc.root["a"]["b"].size(), 2u);
@@ -220,25 +211,25 @@ TEST(KeyPath, IndexPastTheEndNamesTheKeyAndTheLength) {
 
 TEST(KeyPath, IndexIntoANonListAndKeyIntoAListAreErrors) {
   YamlDocument doc = load_yaml_string(kLists, "l.yaml");
-  std::string msg = message_of([&] { apply_override(doc, "a[0]=1"); });
+  std::string msg = error_of([&] { apply_override(doc, "a[0]=1"); });
   EXPECT_NE(msg.find("'a' is a map, not a list to index with [0]"), std::string::npos) << msg;
-  msg = message_of([&] { apply_override(doc, "s[0]=1"); });
+  msg = error_of([&] { apply_override(doc, "s[0]=1"); });
   EXPECT_NE(msg.find("'s' is '5', not a list to index with [0]"), std::string::npos) << msg;
-  msg = message_of([&] { apply_override(doc, "x.y[0]=1"); });
+  msg = error_of([&] { apply_override(doc, "x.y[0]=1"); });
   EXPECT_NE(msg.find("'x.y' is missing, not a list to index with [0]"), std::string::npos) << msg;
-  msg = message_of([&] { apply_override(doc, "a.b.c=1"); });
+  msg = error_of([&] { apply_override(doc, "a.b.c=1"); });
   EXPECT_NE(msg.find("'a.b' is not a map (a list of 2: index it, e.g. a.b[0])"), std::string::npos)
       << msg;
-  msg = message_of([&] { apply_override(doc, "l[0].x=1"); });
+  msg = error_of([&] { apply_override(doc, "l[0].x=1"); });
   EXPECT_NE(msg.find("'l[0]' is not a map"), std::string::npos) << msg;
-  msg = message_of([&] { apply_override(doc, "l[-1]=1"); });
+  msg = error_of([&] { apply_override(doc, "l[-1]=1"); });
   EXPECT_NE(msg.find("override 'l[-1]=1': key 'l[-1]' has a negative index"), std::string::npos)
       << msg;
 }
 
 TEST_F(YamlConfigTest, ChoiceRejectsUnknownValue) {
   ConfigNode root = ConfigNode::root(load_yaml_string("method: fusion\n", "m.yaml"));
-  const std::string msg = message_of([&] {
+  const std::string msg = error_of([&] {
     root.choice("method", "full_fusion", {"full_fusion", "encoders_only"});
   });
   EXPECT_NE(msg.find("not one of"), std::string::npos) << msg;
