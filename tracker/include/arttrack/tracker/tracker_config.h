@@ -154,7 +154,11 @@ struct TrackerConfig {
     // camera's roll and sideways shift from both arms' biases: with noisy
     // depth the search settled a camera 1-2 degrees of roll off in some
     // runs, and the images after it, counted as evidence for that place,
-    // claimed 0.1 degrees (docs/accuracy.md, "Realistic conditions").
+    // claimed 0.1 degrees. Held, the realistic files' camera offset was
+    // within 2 sigma 62-86% of the time instead of 50-79%, but an arm
+    // behind a board was lost in 2 of 6 sculpted/occlusion runs (0 of 6
+    // searched): not the default (docs/accuracy.md, "The camera held at
+    // the first image").
     bool search_camera = true;
   };
   Acquisition acquisition;
