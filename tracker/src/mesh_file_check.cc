@@ -201,7 +201,10 @@ class ColladaCheck {
       stride = std::max(stride, offset + 1);
       bound.emplace_back(offset, input_items(*input));
     }
-    if (stride == 0 && count > 0) fail(&primitive, "no <input>");
+    if (stride == 0) {  // nothing to index (and no stride to split a <p> by)
+      if (count > 0 || primitive.FirstChildElement("p")) fail(&primitive, "no <input>");
+      return;
+    }
     std::vector<std::uint64_t> limit(stride, ~std::uint64_t(0));
     for (const auto& [offset, items] : bound) limit[offset] = std::min(limit[offset], items);
 
