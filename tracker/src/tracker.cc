@@ -153,7 +153,6 @@ struct Tracker::Impl {
   DepthLikelihood likelihood;
   std::mt19937_64 rng;
   std::vector<double> prior_std;
-  std::vector<double> first_search_std;  // the first image's search (acquisition.search_camera)
   std::thread worker;
 
   // Acquisition: an annealed coarse-to-fine search (root-to-hand blocks of
@@ -303,7 +302,6 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     if (config.method != TrackingMethod::kFullFusion) cpf_params.bandwidth_factor = 0;
     cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), cpf_params);
     prior_std.assign(n, 0.0);
-    first_search_std.assign(n, 0.0);
 
     health_check.emplace(*model, n_phys, config.health, config.depth_model.max_range_m);
     health = health_check->initial_health();
@@ -462,7 +460,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     // With acquisition.search_camera false the camera is held at its prior:
     // one image does not tell the camera's roll and sideways shift from
     // both arms' biases (tracker_config.h), and the images after it do.
-    first_search_std.assign(prior_std.begin(), prior_std.end());
+    std::vector<double> first_search_std = prior_std;  // once per tracker
     if (!config.acquisition.search_camera)
       for (int j = n_phys; j < n; ++j) first_search_std[j] = 0;
     acquire(prior.mean_a, first_search_std, camera, image.image);

@@ -241,14 +241,15 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels}});
 
   TrackerConfig::Acquisition& a = c.acquisition;
-  read_numbers(root.child("acquisition"), {{"passes", &a.passes},
-                                           {"coarse_noise_std_m", &a.coarse_noise_std_m},
-                                           {"proposal_shrink", &a.proposal_shrink},
-                                           {"period_s", &a.period_s},
-                                           {"bias_std_deg", &a.bias_std_rad, kRadPerDeg},
-                                           {"accept_margin_nats", &a.accept_margin_nats},
-                                           {"searches", &a.searches}});
-  a.search_camera = root.child("acquisition").get<bool>("search_camera", a.search_camera);
+  const ConfigNode acquisition = root.child("acquisition");
+  read_numbers(acquisition, {{"passes", &a.passes},
+                             {"coarse_noise_std_m", &a.coarse_noise_std_m},
+                             {"proposal_shrink", &a.proposal_shrink},
+                             {"period_s", &a.period_s},
+                             {"bias_std_deg", &a.bias_std_rad, kRadPerDeg},
+                             {"accept_margin_nats", &a.accept_margin_nats},
+                             {"searches", &a.searches}});
+  a.search_camera = acquisition.get<bool>("search_camera", a.search_camera);
   TrackerConfig::Health& h = c.health;
   read_numbers(root.child("health"),
                {{"explained_m", &h.explained_m},
