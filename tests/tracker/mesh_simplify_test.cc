@@ -60,26 +60,72 @@ double largest_vertex_distance(const TriangleMesh& original, const TriangleMesh&
   return largest;
 }
 
-TEST(SimplifyMesh, FineSculptedSphereKeepsItsSurfaceWithinTheBoundAndStaysClosed) {
-  // 128 meridians, 64 bands (16 000 triangles) on a 6 cm sphere whose radius
-  // undulates by 5%: a smooth CAD-like surface tessellated far below a
-  // millimetre, as makers publish them.
+// Signed distances from each vertex of `original`'s triangles to the
+// surface of `simplified`, by brute force: to the nearest triangle, positive
+// on the side its normal points to (outside a closed mesh wound outwards).
+std::vector<double> signed_vertex_distances(const TriangleMesh& original,
+                                            const TriangleMesh& simplified) {
+  std::vector<bool> used(original.vertices_m.size(), false);
+  for (const Eigen::Vector3i& t : original.triangles)
+    for (int k = 0; k < 3; ++k) used[std::size_t(t[k])] = true;
+  std::vector<double> distances;
+  for (std::size_t i = 0; i < original.vertices_m.size(); ++i) {
+    if (!used[i]) continue;
+    const Eigen::Vector3d p = original.vertices_m[i].cast<double>();
+    double nearest = INFINITY, sign = 1;
+    for (const Eigen::Vector3i& t : simplified.triangles) {
+      const Eigen::Vector3d a = simplified.vertices_m[t[0]].cast<double>();
+      const Eigen::Vector3d b = simplified.vertices_m[t[1]].cast<double>();
+      const Eigen::Vector3d c = simplified.vertices_m[t[2]].cast<double>();
+      const double d = point_triangle_distance(p, a, b, c);
+      if (d < nearest) nearest = d, sign = (b - a).cross(c - a).dot(p - a) >= 0 ? 1 : -1;
+    }
+    distances.push_back(sign * nearest);
+  }
+  return distances;
+}
+
+// 128 meridians, 64 bands (16 000 triangles) on a 6 cm sphere whose radius
+// undulates by 5%: a smooth CAD-like surface tessellated far below a
+// millimetre, as makers publish them.
+TriangleMesh sculpted_sphere() {
   TriangleMesh fine = make_sphere(0.06, 128);
   for (Eigen::Vector3f& v : fine.vertices_m) {
     const double azimuth = std::atan2(v.y(), v.x());
     const double polar = std::acos(std::clamp(double(v.z()) / v.norm(), -1.0, 1.0));
     v *= float(1 + 0.05 * std::sin(6 * azimuth) * std::sin(5 * polar));
   }
+  return fine;
+}
+
+TEST(SimplifyMesh, FineSculptedSphereKeepsItsSurfaceWithinTheBoundAndStaysClosed) {
+  const TriangleMesh fine = sculpted_sphere();
   const double bound_m = 1e-3;
   const SimplifiedMesh s = simplify_mesh(fine, bound_m);
   EXPECT_LT(s.mesh.triangles.size() * 8, fine.triangles.size())
       << s.mesh.triangles.size() << " of " << fine.triangles.size();
   EXPECT_LE(s.error_m, bound_m);
   // Independent of the simplifier's own estimate: the original's vertices
-  // lie within the bound of the new surface (its vertices are original ones).
+  // lie within the bound of the new surface.
   EXPECT_LE(largest_vertex_distance(fine, s.mesh), bound_m);
   EXPECT_TRUE(closed_and_consistent(s.mesh));
   EXPECT_NEAR(signed_volume_m3(s.mesh), signed_volume_m3(fine), 0.02 * signed_volume_m3(fine));
+}
+
+TEST(SimplifyMesh, SimplifiedSurfaceStraddlesTheOriginal) {
+  // Edge collapses leave the larger faces of a convex part inside it: drawn
+  // as they are, the part sits up to the sag too far from the camera. The
+  // fit moves the vertices so that the original lies on both sides of the
+  // new surface (without it: mean 0.11 mm outside here) and as near as least
+  // squares can (RMS 0.13 mm with it).
+  const TriangleMesh fine = sculpted_sphere();
+  const double bound_m = 1e-3;
+  const std::vector<double> d = signed_vertex_distances(fine, simplify_mesh(fine, bound_m).mesh);
+  double sum = 0, sum_sq = 0;
+  for (double x : d) sum += x, sum_sq += x * x;
+  const double mean_m = sum / double(d.size()), rms_m = std::sqrt(sum_sq / double(d.size()));
+  EXPECT_LT(std::abs(mean_m), 0.02 * bound_m) << mean_m;
+  EXPECT_LT(rms_m, 0.15 * bound_m) << rms_m;
 }
 
 TEST(SimplifyMesh, ZeroErrorKeepsEveryTriangleAndSplitVerticesAreMerged) {

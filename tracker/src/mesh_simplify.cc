@@ -2,6 +2,8 @@
 
 #include <meshoptimizer.h>
 
+#include <Eigen/SparseCholesky>
+
 #include <algorithm>
 #include <limits>
 #include <vector>
@@ -10,28 +12,37 @@ namespace arttrack {
 
 namespace {
 
-// Distance from p to triangle abc: the closest point by Voronoi region
-// (Ericson, Real-Time Collision Detection, 5.1.5).
-double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+// The point of triangle abc closest to p, as weights of a, b and c: by
+// Voronoi region (Ericson, Real-Time Collision Detection, 5.1.5).
+Eigen::Vector3d closest_point_weights(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                      const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.norm();
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
   const Eigen::Vector3d bp = p - b;
   const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.norm();
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (ap - d1 / (d1 - d3) * ab).norm();
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
   const Eigen::Vector3d cp = p - c;
   const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.norm();
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (ap - d2 / (d2 - d6) * ac).norm();
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return (bp - (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b)).norm();
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
   const double denom = 1 / (va + vb + vc);
-  return (ap - ab * (vb * denom) - ac * (vc * denom)).norm();
+  const double v = vb * denom, w = vc * denom;
+  return {1 - v - w, v, w};
 }
 
 // A mesh's triangles in a uniform grid over a box, to measure distances up
@@ -86,14 +97,14 @@ class TriangleGrid {
   double largest_distance(const std::vector<Eigen::Vector3d>& points) const {
     double largest = 0;
     for (const Eigen::Vector3d& p : points) {
-      const Eigen::Array3i c = cell_of(p);
-      const std::size_t cell = std::size_t((c.x() * size_.y() + c.y()) * size_.z() + c.z());
+      const std::size_t cell = cell_index(cell_of(p));
       double nearest = std::numeric_limits<double>::infinity();
       for (std::size_t k = first_[cell]; k < first_[cell + 1]; ++k) {
         const Corners& t = corners_[std::size_t(triangles_[k])];
         // The distance to the plane bounds the distance to the triangle.
         if (std::abs(t.normal.dot(p - t.p[0])) >= nearest) continue;
-        nearest = std::min(nearest, point_triangle_distance(p, t.p[0], t.p[1], t.p[2]));
+        nearest = std::min(nearest,
+                           (p - t.point(closest_point_weights(p, t.p[0], t.p[1], t.p[2]))).norm());
         if (nearest <= largest) break;  // this point cannot raise the largest distance
       }
       if (nearest > limit_m_) return std::numeric_limits<double>::infinity();
@@ -102,7 +113,31 @@ class TriangleGrid {
     return largest;
   }
 
+  // The point of the mesh nearest to p (inside the box) within the limit:
+  // its triangle (-1 when none is within the limit) and the triangle's
+  // corners' weights.
+  struct Nearest {
+    int triangle = -1;
+    Eigen::Vector3d weights = Eigen::Vector3d::Zero();
+  };
+  Nearest nearest(const Eigen::Vector3d& p) const {
+    const std::size_t cell = cell_index(cell_of(p));
+    Nearest found;
+    double nearest_m = limit_m_;
+    for (std::size_t k = first_[cell]; k < first_[cell + 1]; ++k) {
+      const Corners& t = corners_[std::size_t(triangles_[k])];
+      if (std::abs(t.normal.dot(p - t.p[0])) >= nearest_m) continue;
+      const Eigen::Vector3d weights = closest_point_weights(p, t.p[0], t.p[1], t.p[2]);
+      const double distance_m = (p - t.point(weights)).norm();
+      if (distance_m < nearest_m) nearest_m = distance_m, found = {triangles_[k], weights};
+    }
+    return found;
+  }
+
  private:
+  std::size_t cell_index(const Eigen::Array3i& c) const {
+    return std::size_t((c.x() * size_.y() + c.y()) * size_.z() + c.z());
+  }
   Eigen::Array3i cell_of(const Eigen::Vector3d& p) const {
     return (((p - lo_) / cell_m_).array().floor().cast<int>().max(0)).min(size_ - 1);
   }
@@ -117,6 +152,9 @@ class TriangleGrid {
   struct Corners {
     Eigen::Vector3d p[3];
     Eigen::Vector3d normal;  // unit; zero for a degenerate triangle
+    Eigen::Vector3d point(const Eigen::Vector3d& weights) const {
+      return weights[0] * p[0] + weights[1] * p[1] + weights[2] * p[2];
+    }
   };
   std::vector<Corners> corners_;  // per triangle
   Eigen::Vector3d lo_;
@@ -148,41 +186,86 @@ std::vector<Eigen::Vector3d> surface_samples(const TriangleMesh& mesh, bool with
   return points;
 }
 
-double signed_volume(const TriangleMesh& mesh) {
-  double volume = 0;
-  for (const Eigen::Vector3i& t : mesh.triangles)
-    volume += mesh.vertices_m[t[0]].cast<double>().dot(mesh.vertices_m[t[1]].cast<double>().cross(
-                  mesh.vertices_m[t[2]].cast<double>())) /
-              6;
-  return volume;
+// The area around each vertex, m^2: a third of each triangle's it is a
+// corner of. And each vertex's normal: unit, area-weighted over those
+// triangles (zero for a vertex of degenerate ones only).
+void vertex_areas_and_normals(const TriangleMesh& mesh, std::vector<double>* area_m2,
+                              std::vector<Eigen::Vector3d>* normals) {
+  area_m2->assign(mesh.vertices_m.size(), 0);
+  if (normals) normals->assign(mesh.vertices_m.size(), Eigen::Vector3d::Zero());
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices_m[t[0]].cast<double>();
+    const Eigen::Vector3d n =
+        (mesh.vertices_m[t[1]].cast<double>() - a).cross(mesh.vertices_m[t[2]].cast<double>() - a);
+    for (int k = 0; k < 3; ++k) {
+      (*area_m2)[std::size_t(t[k])] += n.norm() / 6;
+      if (normals) (*normals)[std::size_t(t[k])] += n;
+    }
+  }
+  if (normals)
+    for (Eigen::Vector3d& n : *normals)
+      if (n.norm() > 0) n.normalize();
 }
 
 // Edge collapses keep vertices on the original surface, so the new, larger
-// faces of a convex part lie inside it: rendered, the whole part sits up to
-// the sag further away, a bias the tracker's estimate takes on (the camera
-// moved by a millimetre). Moves every vertex by the same distance along its
-// normal (area-weighted) so that the mesh encloses the original's volume:
-// the faces then straddle the original surface. Clamped to half the bound;
-// a mesh that is not closed gets no meaningful volume, and the measurement
-// that follows keeps the bound whatever this does.
-TriangleMesh volume_preserving(const TriangleMesh& simplified, double original_volume,
+// faces of a convex part lie inside it and those of a concave part outside:
+// rendered, a part sits up to the sag away from where it is, a bias the
+// tracker's estimate takes on (a millimetre of camera offset). Moves each
+// vertex along its normal so that the new surface fits the original in the
+// least-squares sense: the original's vertices, weighted by the area around
+// each, against the planes of the new faces nearest to them (point to plane,
+// linear in the moves), with a small penalty on the moves that keeps a vertex
+// no point sees in place. Twice, the second time from the nearest faces after
+// the first moves. Moves are clamped to the bound; the measurement that
+// follows keeps the bound whatever this does.
+TriangleMesh fitted_to_surface(const TriangleMesh& simplified,
+                               const std::vector<Eigen::Vector3d>& original_points,
+                               const std::vector<double>& original_area_m2,
+                               const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                double max_error_m) {
+  constexpr int kIterations = 2;
+  constexpr double kMovePenalty = 1e-3;  // per m^2 of a vertex's own area
   TriangleMesh out = simplified;
-  std::vector<Eigen::Vector3d> normals(simplified.vertices_m.size(), Eigen::Vector3d::Zero());
-  double area = 0;
-  for (const Eigen::Vector3i& t : simplified.triangles) {
-    const Eigen::Vector3d a = simplified.vertices_m[t[0]].cast<double>();
-    const Eigen::Vector3d n = (simplified.vertices_m[t[1]].cast<double>() - a)
-                                  .cross(simplified.vertices_m[t[2]].cast<double>() - a);
-    area += 0.5 * n.norm();
-    for (int k = 0; k < 3; ++k) normals[std::size_t(t[k])] += n;
-  }
-  if (!(area > 0)) return out;
-  const double offset_m = std::clamp((original_volume - signed_volume(simplified)) / area,
-                                     -0.5 * max_error_m, 0.5 * max_error_m);
-  for (std::size_t v = 0; v < normals.size(); ++v) {
-    const double n = normals[v].norm();
-    if (n > 0) out.vertices_m[v] += (offset_m / n * normals[v]).cast<float>();
+  const Eigen::Index vertex_count = Eigen::Index(simplified.vertices_m.size());
+  std::vector<double> area_m2;
+  std::vector<Eigen::Vector3d> normals;
+  vertex_areas_and_normals(simplified, &area_m2, &normals);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int iteration = 0; iteration < kIterations; ++iteration) {
+    const TriangleGrid grid(out, lo, hi, max_error_m);
+    entries.clear();
+    Eigen::VectorXd gradient = Eigen::VectorXd::Zero(vertex_count);
+    for (std::size_t i = 0; i < original_points.size(); ++i) {
+      const TriangleGrid::Nearest found = grid.nearest(original_points[i]);
+      if (found.triangle < 0) continue;
+      const Eigen::Vector3i& t = out.triangles[std::size_t(found.triangle)];
+      const Eigen::Vector3d a = out.vertices_m[t[0]].cast<double>();
+      const Eigen::Vector3d b = out.vertices_m[t[1]].cast<double>();
+      const Eigen::Vector3d c = out.vertices_m[t[2]].cast<double>();
+      const Eigen::Vector3d face_normal = (b - a).cross(c - a).normalized();
+      const Eigen::Vector3d& w = found.weights;
+      const double distance_m =
+          face_normal.dot(w[0] * a + w[1] * b + w[2] * c - original_points[i]);
+      Eigen::Vector3d slope;  // d distance / d move of each corner
+      for (int k = 0; k < 3; ++k) slope[k] = w[k] * face_normal.dot(normals[std::size_t(t[k])]);
+      const double weight = original_area_m2[i];
+      for (int j = 0; j < 3; ++j) {
+        gradient[t[j]] += weight * distance_m * slope[j];
+        for (int k = 0; k < 3; ++k) entries.emplace_back(t[j], t[k], weight * slope[j] * slope[k]);
+      }
+    }
+    for (Eigen::Index v = 0; v < vertex_count; ++v)
+      entries.emplace_back(v, v, kMovePenalty * area_m2[std::size_t(v)] + 1e-30);
+    Eigen::SparseMatrix<double> normal_matrix(vertex_count, vertex_count);
+    normal_matrix.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal_matrix);
+    if (solver.info() != Eigen::Success) break;
+    const Eigen::VectorXd move_m = solver.solve(-gradient);
+    if (solver.info() != Eigen::Success || !move_m.allFinite()) break;
+    for (Eigen::Index v = 0; v < vertex_count; ++v)
+      out.vertices_m[std::size_t(v)] +=
+          (std::clamp(move_m[v], -max_error_m, max_error_m) * normals[std::size_t(v)])
+              .cast<float>();
   }
   return out;
 }
@@ -235,13 +318,14 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
   std::vector<unsigned> reduced;
   std::vector<Eigen::Vector3f> reduced_vertices = welded;
   const TriangleMesh original = indexed_mesh(welded, indices);
-  const double original_volume = signed_volume(original);
   const float scale = meshopt_simplifyScale(welded[0].data(), unique, kStride);
   const std::vector<Eigen::Vector3d> original_points = surface_samples(original, false);
+  std::vector<double> original_area_m2;  // per original point (= vertex)
+  vertex_areas_and_normals(original, &original_area_m2, nullptr);
   Eigen::Vector3d lo = original_points[0], hi = lo;
   for (const Eigen::Vector3d& p : original_points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   // The original's grid serves every attempt (the new surface lies within
-  // its bounding box but for the volume-preserving offset, within the bound:
+  // its bounding box but for the fit's moves, within the bound:
   // points outside count in the boundary cells).
   const TriangleGrid original_grid(original, lo, hi, max_error_m);
   // Simplifies for `request_m`; keeps the result when it holds the bound.
@@ -252,8 +336,8 @@ SimplifiedMesh simplify_mesh(const TriangleMesh& mesh, double max_error_m) {
         /*target_index_count=*/0, float(request_m / scale), /*options=*/0, nullptr);
     if (count == 0 || count >= index_count) return false;
     candidate.resize(count);
-    TriangleMesh simplified =
-        volume_preserving(indexed_mesh(welded, candidate), original_volume, max_error_m);
+    TriangleMesh simplified = fitted_to_surface(indexed_mesh(welded, candidate), original_points,
+                                                original_area_m2, lo, hi, max_error_m);
     double error_m =
         TriangleGrid(simplified, lo, hi, max_error_m).largest_distance(original_points);
     if (error_m <= max_error_m)
