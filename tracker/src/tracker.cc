@@ -21,6 +21,7 @@
 #include "arttrack/tracker/gaussian_fold.h"
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/mesh_simplify.h"
@@ -104,12 +105,6 @@ std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const R
   return simplified;
 }
 
-// The configuration, validated before any member is built from it.
-const TrackerConfig& validated(const TrackerConfig& config) {
-  config.validate(config.source);
-  return config;
-}
-
 }  // namespace
 
 struct Tracker::Impl {
@@ -117,16 +112,20 @@ struct Tracker::Impl {
        const std::vector<std::string>& encoder_joints);
   ~Impl();
 
+  // What the model and configuration decide once (tracker_setup.h), and
+  // the names the members below read it by.
+  const TrackerSetup setup;
+  const std::shared_ptr<const RobotModel>& model = setup.model;
+  const TrackerConfig& config = setup.config;
+  const int n = setup.n, n_phys = setup.n_phys;
+  const std::vector<int>& encoder_dof = setup.encoder_dof;
+  const std::vector<int>& ee_links = setup.ee_links;
+  const bool use_encoders = setup.use_encoders, use_images = setup.use_images;
+  const std::unique_ptr<const JointFilterModel>& filter_model = setup.filter_model;
+  const std::vector<char>& bias_estimated = setup.bias_estimated;  // per physical DOF
+
   // All members below `mutex` are guarded by it, except the image-update
   // machinery, which only the thread doing the update touches.
-  std::shared_ptr<const RobotModel> model;
-  TrackerConfig config;
-  int n = 0;                     // DOFs: physical then virtual (the model's order = the bank's)
-  int n_phys = 0;                // physical joints
-  std::vector<int> encoder_dof;  // reading index -> DOF
-  std::vector<int> ee_links;
-  bool use_encoders = true, use_images = true;
-  std::unique_ptr<JointFilterModel> filter_model;
 
   mutable std::mutex mutex;
   std::condition_variable wake, idle;
@@ -158,7 +157,6 @@ struct Tracker::Impl {
   // Acquisition: an annealed coarse-to-fine search (root-to-hand blocks of
   // the joints whose bias is estimated, then the camera) over one image.
   bool acquisition_on = false;
-  std::vector<char> bias_estimated;  // per physical DOF
   std::unique_ptr<CoordinateParticleFilter> search_cpf;
   std::unique_ptr<HypothesisEvaluator> search_evaluator;
   std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
@@ -224,56 +222,7 @@ struct Tracker::Impl {
 
 Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
                     const std::vector<std::string>& encoder_joints)
-    : model(std::move(m)), config(validated(c)), likelihood(c.depth_model), rng(c.seed) {
-  n = model->num_joints();
-  for (int j = 0; j < n; ++j)
-    if (!model->is_virtual_joint(j)) ++n_phys;
-  if (n - n_phys != 6)
-    throw InputError(model->source() + ": the tracker needs the six virtual camera joints");
-  use_encoders = config.method != TrackingMethod::kVisionOnly;
-  use_images = config.method != TrackingMethod::kEncodersOnly;
-
-  // Encoder order -> DOFs: every physical joint exactly once.
-  if (use_encoders) {
-    std::vector<int> seen(n_phys, 0);
-    for (const std::string& name : encoder_joints) {
-      const int dof = model->joint_index(name);
-      if (model->is_virtual_joint(dof))
-        throw InputError("encoder joint '" + name + "' is a virtual camera joint");
-      if (seen[dof]++) throw InputError("encoder joint '" + name + "' is listed twice");
-      encoder_dof.push_back(dof);
-    }
-    for (int j = 0; j < n_phys; ++j)
-      if (!seen[j])
-        throw InputError("no encoder reading for joint '" + model->joint_name(j) +
-                         "' (every physical joint needs one, except for vision_only)");
-  }
-  for (const std::string& ee : config.end_effectors) ee_links.push_back(model->link_index(ee));
-
-  // Joint filter bank in DOF order.
-  std::vector<std::string> phys_names(model->joint_names().begin(),
-                                      model->joint_names().begin() + n_phys);
-  std::vector<std::string> virtual_names(model->joint_names().begin() + n_phys,
-                                         model->joint_names().end());
-  JointFilterParams defaults = config.joint_defaults;
-  if (config.method == TrackingMethod::kCameraOffsetOnly) defaults.estimate_bias = false;
-  if (config.method == TrackingMethod::kVisionOnly) {
-    defaults.estimate_bias = false;
-    defaults.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
-  }
-  auto overrides = config.joint_overrides;
-  for (auto& [name, p] : overrides) {
-    if (config.method != TrackingMethod::kFullFusion) p.estimate_bias = false;
-    if (config.method == TrackingMethod::kVisionOnly)
-      p.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
-  }
-  auto phys_params = per_joint_params(phys_names, defaults, overrides, config.source);
-  std::vector<VirtualJointParams> virtual_params;
-  for (int k = 0; k < 6; ++k)
-    virtual_params.push_back(k < 3 ? config.camera_translation : config.camera_rotation);
-  filter_model =
-      std::make_unique<JointFilterModel>(phys_names, phys_params, virtual_names, virtual_params);
-
+    : setup(std::move(m), c, encoder_joints), likelihood(c.depth_model), rng(c.seed) {
   belief = initial_joint_belief(*filter_model, std::vector<double>(n_phys, 0.0));
   readings_bank.assign(n_phys, 0.0);
   buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, config.buffer_capacity);
@@ -309,8 +258,6 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     check_kinematics = KinematicsState(*model);
     check_q = Eigen::VectorXd::Zero(n);
 
-    bias_estimated.assign(n_phys, 0);
-    for (int j = 0; j < n_phys; ++j) bias_estimated[j] = phys_params[j].estimate_bias;
     acquisition_on = config.method == TrackingMethod::kFullFusion && config.acquisition.passes > 1;
     if (acquisition_on) {
       std::vector<SamplingBlock> search_blocks;
@@ -348,7 +295,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     for (int j = 0; j < n; ++j) {
       if (!sampled[j]) continue;
       if (j < n_phys && use_encoders) {
-        if (!phys_params[j].estimate_bias) continue;
+        if (!bias_estimated[j]) continue;
         states.push_back({j, PosteriorCovariance::Kind::kBias,
                           filter_model->bias_decay_rate_per_s()[j],
                           filter_model->bias_rate_var()[j]});
@@ -836,52 +783,6 @@ void Tracker::Impl::worker_loop() {
     updating = false;
     idle.notify_all();
   }
-}
-
-std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config) {
-  std::vector<SamplingBlock> blocks;
-  if (config.method == TrackingMethod::kEncodersOnly) return blocks;
-  if (!config.blocks.empty()) {
-    for (const auto& b : config.blocks) {
-      SamplingBlock block{b.name, {}};
-      for (const std::string& joint : b.joints) {
-        try {
-          block.coordinates.push_back(model.joint_index(joint));
-        } catch (const InputError& e) {
-          throw InputError(config.source + ": block '" + b.name + "': " + e.what());
-        }
-      }
-      blocks.push_back(std::move(block));
-    }
-  } else {
-    // One block per joint, virtual ones included. A single six-dimensional
-    // camera block settles in local optima (a roll and pitch that mimic a
-    // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
-    // which coordinate-wise sampling avoids. A joint whose bias is not
-    // estimated follows its encoder: sampling it would spend particles on
-    // what the encoder already says (a humanoid's fingers, eyes and neck).
-    const auto sampled = [&](int dof) {
-      if (model.is_virtual_joint(dof) || config.method == TrackingMethod::kVisionOnly) return true;
-      if (config.method != TrackingMethod::kFullFusion) return false;
-      const auto it = config.joint_overrides.find(model.joint_name(dof));
-      return it != config.joint_overrides.end() ? it->second.estimate_bias
-                                                : config.joint_defaults.estimate_bias;
-    };
-    // Physical joints from the hand to the root of each chain (reverse
-    // depth-first order), then the virtual ones.
-    const int n = model.num_joints();
-    for (int j = n - 1; j >= 0; --j)
-      if (!model.is_virtual_joint(j) && sampled(j)) blocks.push_back({model.joint_name(j), {j}});
-    for (int j = 0; j < n; ++j)
-      if (model.is_virtual_joint(j)) blocks.push_back({model.joint_name(j), {j}});
-  }
-  if (config.method == TrackingMethod::kCameraOffsetOnly) {
-    // Encoders are trusted: only the virtual joints are sampled.
-    for (auto& b : blocks)
-      std::erase_if(b.coordinates, [&](int j) { return !model.is_virtual_joint(j); });
-    std::erase_if(blocks, [](const SamplingBlock& b) { return b.coordinates.empty(); });
-  }
-  return blocks;
 }
 
 Tracker::Tracker(std::shared_ptr<const RobotModel> model, const TrackerConfig& config,
