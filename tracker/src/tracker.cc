@@ -21,6 +21,7 @@
 #include "arttrack/tracker/gaussian_fold.h"
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/estimate_report.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
@@ -142,8 +143,7 @@ struct Tracker::Impl {
   bool updating = false;  // an asynchronous image update is running
   bool stop = false;
   TrackerStats stats;
-  mutable KinematicsState estimate_kinematics;
-  mutable Eigen::VectorXd estimate_q;
+  mutable EstimateReport report{setup};  // estimate()'s (estimate_report.h)
 
   // Image update machinery (one update at a time).
   std::unique_ptr<WorkerPool> pool;
@@ -228,8 +228,6 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
   buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, config.buffer_capacity);
   image_state.assign(5 * n, 0.0);
   state_scratch.assign(5 * n, 0.0);
-  estimate_kinematics = KinematicsState(*model);
-  estimate_q = Eigen::VectorXd::Zero(n);
   if (!use_encoders) {
     // Vision only starts from a given configuration (set_initial_configuration).
     for (int j = 0; j < n_phys; ++j) {
@@ -935,96 +933,7 @@ TrackerEstimate Tracker::estimate() const {
   std::lock_guard lock(s.mutex);
   if (!s.initialized) throw InputError("tracker estimate asked for before any joint measurement");
   TrackerEstimate e;
-  e.time_s = s.time_s;
-  e.joint_names.assign(s.model->joint_names().begin(), s.model->joint_names().begin() + s.n_phys);
-  e.angle_rad.resize(s.n_phys);
-  e.angle_std_rad.resize(s.n_phys);
-  e.bias_rad.resize(s.n_phys);
-  e.bias_std_rad.resize(s.n_phys);
-  const bool raw = s.config.method == TrackingMethod::kEncodersOnly;
-  const auto var_q = s.filter_model->encoder_var_rad2();
-  // Encoders only: the reading, off by a bias it does not estimate (bias
-  // std 0), which the bias prior's stationary variance describes.
-  // Otherwise, until the full covariance below says more: the filter's angle
-  // variance, but never below the encoder's noise. An image's fold-back
-  // leaves the moments of collapsed particles (about 0) in the filter, and a
-  // joint whose bias is fixed (the dual-arm head) then claimed 1e-10 rad
-  // against a 1 mrad error: its truth lay within 2 sigma in 0% of samples.
-  const auto var_b0 = s.filter_model->initial_var_b();
-  for (int j = 0; j < s.n_phys; ++j) {
-    e.angle_rad[j] = raw ? s.readings_bank[j] : s.belief.mean_a[j];
-    e.angle_std_rad[j] =
-        std::sqrt(raw ? var_q[j] + var_b0[j] : std::max(s.belief.var_a[j], var_q[j]));
-    e.bias_rad[j] = raw ? 0.0 : s.belief.mean_b[j];
-    e.bias_std_rad[j] = raw ? 0.0 : std::sqrt(std::max(0.0, s.belief.var_b[j]));
-  }
-  for (int k = 0; k < 6; ++k) {
-    const int j = s.n_phys + k;
-    e.camera_offset[k] = raw ? 0.0 : s.belief.mean_a[j];
-    e.camera_offset_std[k] = raw ? 0.0 : std::sqrt(s.belief.var_a[j]);
-  }
-  // After the first image, the DOFs the images inform report the full
-  // covariance's marginals (posterior_covariance.h), predicted to now.
-  const PosteriorCovariance& cov = s.published_covariance;
-  Eigen::MatrixXd angle_cov;
-  if (cov.started()) {
-    PosteriorCovariance now = cov;
-    now.predict_to(std::max(cov.time_s(), s.time_s));
-    angle_cov = now.angle_covariance();
-    for (int i = 0; i < now.size(); ++i) {
-      const PosteriorCovariance::State& st = now.states()[std::size_t(i)];
-      const double var = std::max(0.0, angle_cov(i, i));
-      if (st.kind == PosteriorCovariance::Kind::kBias) {
-        e.bias_std_rad[st.dof] = std::sqrt(var);
-        angle_cov(i, i) = var + var_q[st.dof];  // a = q - b: plus the encoder's noise
-        e.angle_std_rad[st.dof] = std::sqrt(angle_cov(i, i));
-      } else if (st.dof < s.n_phys) {
-        e.angle_std_rad[st.dof] = std::sqrt(var);
-      } else {
-        e.camera_offset_std[st.dof - s.n_phys] = std::sqrt(var);
-      }
-    }
-  }
-  for (int j = 0; j < s.n_phys; ++j) s.estimate_q[j] = e.angle_rad[j];
-  for (int k = 0; k < 6; ++k) s.estimate_q[s.n_phys + k] = e.camera_offset[k];
-  forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
-  for (int link : s.ee_links)
-    e.T_camera_ee.push_back(T_camera_link(*s.model, s.estimate_kinematics, link));
-  // End-effector covariance: J diag(var) J^T, J by central differences of
-  // the kinematics in each DOF (position, and rotation vector of the change).
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> jacobians(
-      s.ee_links.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, s.n));
-  Eigen::VectorXd variance(s.n);
-  for (int j = 0; j < s.n; ++j) {
-    const double sd = j < s.n_phys ? e.angle_std_rad[j] : e.camera_offset_std[j - s.n_phys];
-    variance[j] = sd * sd;
-    if (!(sd > 0)) continue;
-    constexpr double kStep = 1e-6;
-    const double q0 = s.estimate_q[j];
-    std::vector<Eigen::Isometry3d> plus(s.ee_links.size());
-    s.estimate_q[j] = q0 + kStep;
-    forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
-    for (std::size_t k = 0; k < s.ee_links.size(); ++k)
-      plus[k] = T_camera_link(*s.model, s.estimate_kinematics, s.ee_links[k]);
-    s.estimate_q[j] = q0 - kStep;
-    forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
-    for (std::size_t k = 0; k < s.ee_links.size(); ++k) {
-      const Eigen::Isometry3d minus = T_camera_link(*s.model, s.estimate_kinematics, s.ee_links[k]);
-      jacobians[k].col(j).head<3>() = (plus[k].translation() - minus.translation()) / (2 * kStep);
-      const Eigen::AngleAxisd turn(plus[k].linear() * minus.linear().transpose());
-      jacobians[k].col(j).tail<3>() = turn.angle() * turn.axis() / (2 * kStep);
-    }
-    s.estimate_q[j] = q0;
-  }
-  // The DOFs' covariance: independent, but where the full covariance knows better.
-  Eigen::MatrixXd dof_cov = variance.asDiagonal();
-  if (cov.started()) {
-    for (int a = 0; a < cov.size(); ++a)
-      for (int b = 0; b < cov.size(); ++b)
-        dof_cov(cov.states()[std::size_t(a)].dof, cov.states()[std::size_t(b)].dof) =
-            angle_cov(a, b);
-  }
-  for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
+  s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance, e);
   e.health = s.published_health;
   return e;
 }
