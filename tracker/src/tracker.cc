@@ -22,6 +22,7 @@
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/image_information.h"
 #include "arttrack/tracker/internal/estimate_report.h"
+#include "arttrack/tracker/internal/render_geometry.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
@@ -73,38 +74,6 @@ struct PendingImage {
   CameraIntrinsics camera;
   Clock::time_point received;  // add_depth_image was called
 };
-
-// `model` with its meshes simplified to bound_m (RobotModel::
-// with_simplified_meshes), shared by the trackers of a process that track
-// the same model at the same bound (a scenario's methods and runs):
-// simplifying a maker's meshes takes a quarter of a second per 150 000
-// triangles. An entry lives as long as its source model.
-std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
-                                                   double bound_m, double nearest_range_m,
-                                                   int levels, double& error_m) {
-  struct Entry {
-    std::weak_ptr<const RobotModel> source;
-    double bound_m, nearest_range_m;
-    int levels;
-    double error_m;
-    std::shared_ptr<const RobotModel> simplified;
-  };
-  static std::mutex mutex;
-  static std::vector<Entry> cache;
-  std::lock_guard lock(mutex);
-  std::erase_if(cache, [](const Entry& e) { return e.source.expired(); });
-  for (const Entry& e : cache) {
-    if (e.source.lock() == model && e.bound_m == bound_m && e.nearest_range_m == nearest_range_m &&
-        e.levels == levels) {
-      error_m = e.error_m;
-      return e.simplified;
-    }
-  }
-  auto simplified = std::make_shared<const RobotModel>(
-      model->with_simplified_meshes(bound_m, &error_m, nearest_range_m, levels));
-  cache.push_back({model, bound_m, nearest_range_m, levels, error_m, simplified});
-  return simplified;
-}
 
 }  // namespace
 
@@ -172,17 +141,11 @@ struct Tracker::Impl {
   bool periodic_search = false;     // the current reacquire() is the periodic one
   TrackingHealth health;            // the image thread's
   TrackingHealth published_health;  // guarded by mutex
-  // The model the image updates draw: `model` with its meshes simplified for
-  // the camera at the likelihood's resolution (TrackerConfig::geometry), and
-  // the evaluators that draw it; made by use_camera() at the first image.
-  std::shared_ptr<const RobotModel> render_model;
-  double render_error_bound_m = -1, render_error_m = 0;
-  // Rendering the estimate (health, acquisition checks) at the likelihood's resolution.
-  std::unique_ptr<DepthRenderer> check_renderer;
-  CameraIntrinsics check_camera;
-  KinematicsState check_kinematics;
+  // The robot the image updates draw for the image's camera, and its
+  // renderer of the estimate (health, searches, covariance; render_geometry.h);
+  // the evaluators that draw it are made by use_camera() with it.
+  RenderGeometry geometry{setup.model, setup.config.geometry};
   Eigen::VectorXd check_q;
-  DepthImage check_image;
 
   // The reported uncertainty (posterior_covariance.h): the image thread's,
   // and the copy estimate() reads (guarded by mutex).
@@ -253,7 +216,6 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     health_check.emplace(*model, n_phys, config.health, config.depth_model.max_range_m);
     health = health_check->initial_health();
     part_open.assign(n, 0);
-    check_kinematics = KinematicsState(*model);
     check_q = Eigen::VectorXd::Zero(n);
 
     acquisition_on = config.method == TrackingMethod::kFullFusion && config.acquisition.passes > 1;
@@ -394,7 +356,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   const CameraIntrinsics camera =
       subsampled_intrinsics(image.camera, likelihood.width(), likelihood.height());
   likelihood.set_observation(image.image);
-  if (!check_renderer || check_camera != camera) use_camera(camera);
+  if (!geometry.has_camera(camera)) use_camera(camera);
   double search_ms = 0;
   const double beta = config.likelihood_exponent;
   const bool first = images_seen++ == 0;
@@ -446,7 +408,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     }
   }
   update_covariance(prior, t);
-  check.update(prior.mean_a, image.image, image.stamp_s, *check_renderer, health);
+  check.update(prior.mean_a, image.image, image.stamp_s, geometry.renderer(), health);
   if (config.asynchronous) lock.lock();
   published_health = health;
   published_covariance = covariance;
@@ -478,31 +440,21 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   stats.last_evaluations_per_image = cpf->num_evaluations();
   stats.likelihood_evaluations += cpf->num_evaluations();
   stats.model_triangles = model->num_drawn_triangles();
-  stats.drawn_triangles = render_model->num_drawn_triangles();
-  stats.mesh_error_bound_m = std::max(0.0, render_error_bound_m);
-  stats.mesh_error_m = render_error_m;
+  stats.drawn_triangles = geometry.drawn_model().num_drawn_triangles();
+  stats.mesh_error_bound_m = std::max(0.0, geometry.error_bound_m());
+  stats.mesh_error_m = geometry.error_m();
   stats.images.add({image.stamp_s, ms_since(start), ms_since(refilter_start), search_ms,
                     ms_since(image.received)});
 }
 
-// The geometry for a camera (at the likelihood's resolution): the model's
-// meshes simplified to a fraction of this camera's pixel (mesh_simplify.h),
-// once per error bound, and the renderers and evaluators that draw them.
+// The geometry for a camera (at the likelihood's resolution, render_geometry.h),
+// and the evaluators that draw it when it changed.
 void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
-  check_camera = camera;
-  const TrackerConfig::Geometry& g = config.geometry;
-  const double bound_m = g.error_bound_m(camera);
-  if (!render_model || bound_m != render_error_bound_m) {
-    render_error_bound_m = bound_m;
-    render_error_m = 0;
-    render_model = bound_m > 0 ? simplified_model(model, bound_m, g.nearest_range_m,
-                                                  g.coarser_levels, render_error_m)
-                               : model;
-    evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
-    if (search_cpf)
-      search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());
-  }
-  check_renderer = std::make_unique<DepthRenderer>(*render_model, camera);
+  if (!geometry.use_camera(camera)) return;
+  evaluator = std::make_unique<HypothesisEvaluator>(geometry.drawn_model(), cpf->blocks());
+  if (search_cpf)
+    search_evaluator =
+        std::make_unique<HypothesisEvaluator>(geometry.drawn_model(), search_cpf->blocks());
 }
 
 // Annealed search (Deutscher et al.'s annealing, as coarse-to-fine depth
@@ -554,10 +506,7 @@ void Tracker::Impl::acquire(std::span<const double> mean, std::span<const double
 
 // The tempered image log-likelihood ratio of the robot at q (every DOF).
 double Tracker::Impl::score(std::span<const double> q) {
-  for (int j = 0; j < n; ++j) check_q[j] = q[j];
-  forward_kinematics(*model, check_q, check_kinematics);
-  check_renderer->render(check_kinematics, check_image);
-  return config.likelihood_exponent * likelihood.log_ratio(check_image);
+  return geometry.score(q, likelihood, config.likelihood_exponent);
 }
 
 // Augmented-MCL-style re-acquisition (Thrun et al., Probabilistic Robotics):
@@ -649,7 +598,7 @@ void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> readi
     // result the image prefers.)
     if (gain > config.acquisition.accept_margin_nats &&
         (check.chain_poor(c) || periodic_search ||
-         check.supports_chain(candidate, c, observed, *check_renderer,
+         check.supports_chain(candidate, c, observed, geometry.renderer(),
                               health.chains[c].weakest_part_explained_fraction))) {
       current_score = candidate_score;  // the next chain is compared with this one taken
       for (int j : chain) {
@@ -700,7 +649,7 @@ void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
   }
   for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
   const Eigen::MatrixXd& info =
-      information->compute(*check_renderer, {check_q.data(), std::size_t(n)}, likelihood);
+      information->compute(geometry.renderer(), {check_q.data(), std::size_t(n)}, likelihood);
   if (refine_on && !any_reopened && information->pixels_used() > 0)
     health.refinements_accepted += refine(belief, info, information->gradient());
   const double discount =
