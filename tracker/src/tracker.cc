@@ -21,8 +21,9 @@
 #include "arttrack/tracker/gaussian_fold.h"
 #include "arttrack/tracker/hypothesis_evaluator.h"
 #include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/acquisition.h"
 #include "arttrack/tracker/internal/estimate_report.h"
-#include "arttrack/tracker/internal/render_geometry.h"
+#include "arttrack/tracker/internal/image_filter.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
@@ -59,12 +60,6 @@ void load_belief(std::span<const double> in, JointBelief& b) {
   std::copy(in.begin() + 2 * n, in.begin() + 3 * n, b.var_a.begin());
   std::copy(in.begin() + 3 * n, in.begin() + 4 * n, b.cov_ab.begin());
   std::copy(in.begin() + 4 * n, in.begin() + 5 * n, b.var_b.begin());
-}
-
-// log N(x; mean, sd^2) up to its constant: a prior's term in a search's target.
-double gaussian_log_kernel(double x, double mean, double sd) {
-  const double u = (x - mean) / sd;
-  return -0.5 * u * u;
 }
 
 struct PendingImage {
@@ -114,37 +109,18 @@ struct Tracker::Impl {
   TrackerStats stats;
   mutable EstimateReport report{setup};  // estimate()'s (estimate_report.h)
 
-  // Image update machinery (one update at a time).
-  std::unique_ptr<WorkerPool> pool;
-  std::unique_ptr<CoordinateParticleFilter> cpf;
-  std::unique_ptr<HypothesisEvaluator> evaluator;
-  DepthLikelihood likelihood;
-  std::mt19937_64 rng;
+  // Image update machinery (one update at a time): the image's particle
+  // filter and the robot it draws (image_filter.h), the searches
+  // (acquisition.h), the health check and the counts that trigger them.
+  std::unique_ptr<ImageFilter> image_filter;
+  std::unique_ptr<Acquisition> acquisition;
   std::vector<double> prior_std;
   std::thread worker;
-
-  // Acquisition: an annealed coarse-to-fine search (root-to-hand blocks of
-  // the joints whose bias is estimated, then the camera) over one image.
-  bool acquisition_on = false;
-  std::unique_ptr<CoordinateParticleFilter> search_cpf;
-  std::unique_ptr<HypothesisEvaluator> search_evaluator;
-  std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
-  std::vector<double> search_mean, search_std, open_mean, open_std, candidate;
-  std::vector<double> found_mean, found_variance;  // acquire()'s best search
   std::vector<double> reading_at_t;  // encoder readings at the image's time (DOF order)
-  double last_acquisition_s = kNoTime;
   int images_seen = 0;
-  // The health check and the counts that trigger the searches (images only).
   std::optional<HealthCheck> health_check;
-  bool confirming_search = false;   // the current reacquire() is for unconfirmed chains
-  std::vector<char> part_open;      // per DOF: searched by the current confirming search
-  bool periodic_search = false;     // the current reacquire() is the periodic one
   TrackingHealth health;            // the image thread's
   TrackingHealth published_health;  // guarded by mutex
-  // The robot the image updates draw for the image's camera, and its
-  // renderer of the estimate (health, searches, covariance; render_geometry.h);
-  // the evaluators that draw it are made by use_camera() with it.
-  RenderGeometry geometry{setup.model, setup.config.geometry};
   Eigen::VectorXd check_q;
 
   // The reported uncertainty (posterior_covariance.h): the image thread's,
@@ -163,14 +139,6 @@ struct Tracker::Impl {
   Eigen::VectorXd refine_x;
   std::vector<double> refine_spread;
 
-  void use_camera(const CameraIntrinsics& camera);
-  void search(std::span<const double> mean, std::span<const double> stddev,
-              const CameraIntrinsics& camera, const DepthImage& observed);
-  void acquire(std::span<const double> mean, std::span<const double> stddev,
-               const CameraIntrinsics& camera, const DepthImage& observed);
-  double score(std::span<const double> q);
-  void reacquire(JointBelief& belief, std::span<const double> reading,
-                 const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
   void update_covariance(JointBelief& belief, double time_s);
   bool refine(JointBelief& belief, const Eigen::MatrixXd& information,
               const Eigen::VectorXd& gradient);
@@ -185,7 +153,7 @@ struct Tracker::Impl {
 
 Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
                     const std::vector<std::string>& encoder_joints)
-    : setup(std::move(m), c, encoder_joints), likelihood(c.depth_model), rng(c.seed) {
+    : setup(std::move(m), c, encoder_joints) {
   belief = initial_joint_belief(*filter_model, std::vector<double>(n_phys, 0.0));
   readings_bank.assign(n_phys, 0.0);
   buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, config.buffer_capacity);
@@ -202,53 +170,18 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
   }
 
   if (use_images) {
-    std::vector<SamplingBlock> blocks = sampling_blocks(*model, config);
-    pool = std::make_unique<WorkerPool>(config.threads);
-    // The variance floor is full fusion's (its bias fold-back is what a
-    // collapsed variance pins); the paper's other methods keep its moment
-    // matching (with it, camera_offset_only's left hand on arm__constant_bias
-    // went from 232 to 253 mm, no better than the encoders).
-    CoordinateParticleFilterParams cpf_params = config.particle_filter;
-    if (config.method != TrackingMethod::kFullFusion) cpf_params.bandwidth_factor = 0;
-    cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), cpf_params);
+    image_filter = std::make_unique<ImageFilter>(setup);
     prior_std.assign(n, 0.0);
 
     health_check.emplace(*model, n_phys, config.health, config.depth_model.max_range_m);
     health = health_check->initial_health();
-    part_open.assign(n, 0);
     check_q = Eigen::VectorXd::Zero(n);
-
-    acquisition_on = config.method == TrackingMethod::kFullFusion && config.acquisition.passes > 1;
-    if (acquisition_on) {
-      std::vector<SamplingBlock> search_blocks;
-      for (int j = 0; j < n_phys; ++j)
-        if (bias_estimated[j]) search_blocks.push_back({model->joint_name(j), {j}});
-      for (int j = n_phys; j < n; ++j) search_blocks.push_back({model->joint_name(j), {j}});
-      search_cpf =
-          std::make_unique<CoordinateParticleFilter>(n, search_blocks, config.particle_filter);
-      const int K = config.acquisition.passes;
-      for (int k = 0; k + 1 < K; ++k) {
-        // Depth noise from coarse to the pixel model's, geometrically.
-        DepthModelParams p = config.depth_model;
-        p.noise_std_m =
-            config.acquisition.coarse_noise_std_m *
-            std::pow(config.depth_model.noise_std_m / config.acquisition.coarse_noise_std_m,
-                     double(k) / double(K - 1));
-        search_likelihoods.emplace_back(p);
-      }
-      search_mean.assign(n, 0.0);
-      search_std.assign(n, 0.0);
-      open_mean.assign(n, 0.0);
-      open_std.assign(n, 0.0);
-      found_mean.assign(n, 0.0);
-      found_variance.assign(n, 0.0);
-      candidate.assign(n, 0.0);
-    }
+    acquisition = std::make_unique<Acquisition>(setup);
     // The reported covariance's states: every DOF the particle filter samples,
     // but the encoder joints whose bias is not estimated (their encoder says
     // their angle).
     std::vector<char> sampled(n, 0);
-    for (const SamplingBlock& b : cpf->blocks())
+    for (const SamplingBlock& b : image_filter->filter().blocks())
       for (int j : b.coordinates) sampled[j] = 1;
     std::vector<PosteriorCovariance::State> states;
     std::vector<int> dofs;
@@ -345,7 +278,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   std::copy(prior.mean_a.begin(), prior.mean_a.end(), prior_mean.begin());
   // The encoder readings at the image's time (DOF order), for acquisitions.
   reading_at_t.clear();  // keeps its capacity: no allocation after the first image
-  if (acquisition_on) {
+  if (acquisition->on()) {
     const int i = buffer->last_at_or_before(t);
     if (i >= 0) {
       const auto m = buffer->measurement(i);
@@ -353,62 +286,31 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     }
   }
   if (config.asynchronous) lock.unlock();
+  const DepthLikelihood& likelihood = image_filter->likelihood();
   const CameraIntrinsics camera =
       subsampled_intrinsics(image.camera, likelihood.width(), likelihood.height());
-  likelihood.set_observation(image.image);
-  if (!geometry.has_camera(camera)) use_camera(camera);
+  if (image_filter->set_image(image.image, camera))
+    acquisition->draw(image_filter->geometry().drawn_model());
   double search_ms = 0;
-  const double beta = config.likelihood_exponent;
   const bool first = images_seen++ == 0;
-  if (acquisition_on && first) {
-    // The first image: the prior is the encoders' (bias prior around the
-    // readings); search it coarse to fine, then target it from there.
-    const auto search_start = Clock::now();
-    // With acquisition.search_camera false the camera is held at its prior:
-    // one image does not tell the camera's roll and sideways shift from
-    // both arms' biases (tracker_config.h), and the images after it do.
-    std::vector<double> first_search_std = prior_std;  // once per tracker
-    if (!config.acquisition.search_camera)
-      for (int j = n_phys; j < n; ++j) first_search_std[j] = 0;
-    acquire(prior.mean_a, first_search_std, camera, image.image);
-    if (!config.acquisition.search_camera)
-      for (int j = n_phys; j < n; ++j) found_variance[j] = prior.var_a[j];
-    fold_angle_posteriors(found_mean, found_variance, prior);
-    health.last_acquisition_ms = search_ms = ms_since(search_start);
-    ++health.acquisitions;
-    last_acquisition_s = t;
+  if (acquisition->on() && first) {
+    search_ms = acquisition->acquire_first(*image_filter, image.image, prior_std, t, prior, health);
   } else {
-    evaluator->begin_run(camera, likelihood, prior.mean_a);
-    cpf->run(prior.mean_a, prior_std, prior.mean_a, prior_std, beta, *evaluator, rng, *pool);
-    fold_angle_posteriors(cpf->mean(), cpf->variance(), prior);
+    image_filter->run(prior.mean_a, prior_std, prior.mean_a, prior_std);
+    fold_angle_posteriors(image_filter->filter().mean(), image_filter->filter().variance(), prior);
   }
   HealthCheck& check = *health_check;
-  if (acquisition_on && !first && !reading_at_t.empty()) {
-    const bool periodic =
-        config.acquisition.period_s > 0 && t - last_acquisition_s >= config.acquisition.period_s;
-    // A re-acquisition that did not help (the chain still poor) is retried
-    // after twice as many poor images each time, up to 16 times as many: a
-    // tracker that stays lost (a wrong model, images that do not match the
-    // joints) must not spend every image on searches.
-    const int due = config.health.lost_after_images << std::min(check.failed_reacquisitions(), 4);
-    // Unconfirmed chains (ChainHealth::unconfirmed) are searched with a
-    // back-off of their own: an occluded hand stays unconfirmed, and the
-    // search must not run at every image while it is hidden.
-    const int due_unconfirmed = config.health.lost_after_images
-                                << std::min(check.failed_confirmations(), 5);
-    bool confirm = false;
-    for (std::size_t c = 0; c < check.chains().size(); ++c)
-      confirm = confirm || check.unconfirmed_images(c) >= due_unconfirmed;
-    const bool poor = check.poor_images() >= due;
-    if (periodic || poor || confirm) {
-      periodic_search = periodic && !poor && !confirm;
-      confirming_search = confirm && !poor;
-      reacquire(prior, reading_at_t, camera, image.image, t);
+  if (acquisition->on() && !first && !reading_at_t.empty()) {
+    const SearchKind kind = acquisition->due_search(check, t);
+    if (kind != SearchKind::kNone) {
+      acquisition->reacquire(kind, *image_filter, image.image, check, reading_at_t, t, prior,
+                             health, reopened);
       search_ms = health.last_acquisition_ms;
     }
   }
   update_covariance(prior, t);
-  check.update(prior.mean_a, image.image, image.stamp_s, geometry.renderer(), health);
+  check.update(prior.mean_a, image.image, image.stamp_s, image_filter->geometry().renderer(),
+               health);
   if (config.asynchronous) lock.lock();
   published_health = health;
   published_covariance = covariance;
@@ -437,190 +339,16 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   }
   belief = prior;
   ++stats.images_applied;
-  stats.last_evaluations_per_image = cpf->num_evaluations();
-  stats.likelihood_evaluations += cpf->num_evaluations();
+  const int evaluations = image_filter->filter().num_evaluations();
+  const RenderGeometry& geometry = image_filter->geometry();
+  stats.last_evaluations_per_image = evaluations;
+  stats.likelihood_evaluations += evaluations;
   stats.model_triangles = model->num_drawn_triangles();
   stats.drawn_triangles = geometry.drawn_model().num_drawn_triangles();
   stats.mesh_error_bound_m = std::max(0.0, geometry.error_bound_m());
   stats.mesh_error_m = geometry.error_m();
   stats.images.add({image.stamp_s, ms_since(start), ms_since(refilter_start), search_ms,
                     ms_since(image.received)});
-}
-
-// The geometry for a camera (at the likelihood's resolution, render_geometry.h),
-// and the evaluators that draw it when it changed.
-void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
-  if (!geometry.use_camera(camera)) return;
-  evaluator = std::make_unique<HypothesisEvaluator>(geometry.drawn_model(), cpf->blocks());
-  if (search_cpf)
-    search_evaluator =
-        std::make_unique<HypothesisEvaluator>(geometry.drawn_model(), search_cpf->blocks());
-}
-
-// Annealed search (Deutscher et al.'s annealing, as coarse-to-fine depth
-// noise): pass k targets prior x likelihood_k, likelihood_k with the depth
-// noise of search_likelihoods[k], proposing around pass k-1's mean with the
-// prior's standard deviations times shrink^k. Leaves in search_mean and
-// search_std the proposal of the final pass.
-void Tracker::Impl::search(std::span<const double> mean, std::span<const double> stddev,
-                           const CameraIntrinsics& camera, const DepthImage& observed) {
-  std::copy(mean.begin(), mean.end(), search_mean.begin());
-  double scale = 1;
-  for (std::size_t k = 0; k < search_likelihoods.size(); ++k) {
-    for (int j = 0; j < n; ++j) search_std[j] = scale * stddev[j];
-    search_likelihoods[k].set_observation(observed);
-    search_evaluator->begin_run(camera, search_likelihoods[k], search_mean);
-    search_cpf->run(mean, stddev, search_mean, search_std, config.likelihood_exponent,
-                    *search_evaluator, rng, *pool);
-    std::copy(search_cpf->mean().begin(), search_cpf->mean().end(), search_mean.begin());
-    scale *= config.acquisition.proposal_shrink;
-  }
-  for (int j = 0; j < n; ++j) search_std[j] = scale * stddev[j];
-}
-
-// acquisition.searches independent annealed searches from the prior N(mean,
-// stddev^2), each with its own random draws and a final pass that targets
-// the prior; leaves in found_mean and found_variance the final pass whose
-// mean the image plus the prior prefer. One search lands in a wrong mode now
-// and then (bias_jump, 8 seeds: a hand left 10 cm off for 3 s, an arm 6 cm
-// off from the first image, both rated "tracking"; docs/accuracy.md).
-void Tracker::Impl::acquire(std::span<const double> mean, std::span<const double> stddev,
-                            const CameraIntrinsics& camera, const DepthImage& observed) {
-  double best_target = -std::numeric_limits<double>::infinity();
-  for (int attempt = 0; attempt < config.acquisition.searches; ++attempt) {
-    search(mean, stddev, camera, observed);
-    evaluator->begin_run(camera, likelihood, search_mean);
-    cpf->run(mean, stddev, search_mean, search_std, config.likelihood_exponent, *evaluator, rng,
-             *pool);
-    const std::span<const double> found = cpf->mean();
-    double target = score(found);
-    for (int j = 0; j < n; ++j)
-      if (stddev[j] > 0) target += gaussian_log_kernel(found[j], mean[j], stddev[j]);
-    // The first search always fills found_* (even if its target is NaN).
-    if (!(target > best_target) && attempt > 0) continue;
-    best_target = target;
-    std::copy(found.begin(), found.end(), found_mean.begin());
-    std::copy(cpf->variance().begin(), cpf->variance().end(), found_variance.begin());
-  }
-}
-
-// The tempered image log-likelihood ratio of the robot at q (every DOF).
-double Tracker::Impl::score(std::span<const double> q) {
-  return geometry.score(q, likelihood, config.likelihood_exponent);
-}
-
-// Augmented-MCL-style re-acquisition (Thrun et al., Probabilistic Robotics):
-// re-open the prior of every joint whose bias is estimated to the encoders'
-// reading with a broad bias (acquisition.bias_std_rad), search it, and let
-// each chain take the result when the image plus that prior prefer it by
-// accept_margin_nats. A chain that settled in a wrong mode gets out; one
-// that is right keeps its belief.
-void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> reading,
-                              const CameraIntrinsics& camera, const DepthImage& observed,
-                              double time_s) {
-  const auto start = Clock::now();
-  HealthCheck& check = *health_check;
-  const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
-  const auto var_q = filter_model->encoder_var_rad2();
-  for (int j = 0; j < n; ++j) {
-    const bool open = j < n_phys && bias_estimated[j];
-    open_mean[j] = open ? reading[j] : belief.mean_a[j];
-    open_std[j] = std::sqrt(open ? var_b + var_q[j] : std::max(0.0, belief.var_a[j]));
-  }
-  if (confirming_search) {
-    // Only each unconfirmed chain's weakest part is searched; the rest of
-    // the estimate, which the image confirms, is held (a zero proposal std).
-    // A search of the whole arm from the encoders finds the same wrong wrist
-    // the first one did; with the arm held, the hand's few DOFs are searched
-    // with every particle.
-    std::fill(part_open.begin(), part_open.end(), 0);
-    for (std::size_t c = 0; c < check.chains().size(); ++c) {
-      if (check.unconfirmed_images(c) == 0) continue;
-      const std::vector<int>& chain = check.chains()[c];
-      for (const auto& [dof, links] : check.parts(c)) {
-        if (dof != health.chains[c].weakest_part_joint) continue;
-        for (int k : chain)
-          if (links[std::size_t(model->joint_child_link(k))]) part_open[k] = 1;
-        // And the joint above it: the wrong hand measured came with the two
-        // wrist joints off in opposite senses (15 and 17 degrees). Each
-        // search in a row that left the chain unconfirmed opens one joint
-        // more up the chain: after an encoder slip of three wrist joints
-        // the part and the joint above it were searched for 1.5 s with the
-        // third joint held 30 degrees off.
-        int above = 1 + check.failed_confirmations();
-        for (int l = model->link(model->joint_child_link(dof)).parent; l >= 0 && above > 0;
-             l = model->link(l).parent) {
-          const int up = model->link(l).dof;
-          if (up < 0 || model->is_virtual_joint(up)) continue;
-          if (std::find(chain.begin(), chain.end(), up) == chain.end()) break;
-          part_open[up] = 1;
-          --above;
-        }
-      }
-    }
-    for (int j = 0; j < n; ++j) {
-      if (part_open[j]) continue;
-      open_mean[j] = belief.mean_a[j];
-      open_std[j] = 0;
-    }
-  }
-  auto log_prior = [&](int j, double a) {
-    return gaussian_log_kernel(a, open_mean[j], open_std[j]);
-  };
-  acquire(open_mean, open_std, camera, observed);
-  const std::vector<double>& found = found_mean;
-  const std::vector<double>& found_var = found_variance;
-  std::copy(belief.mean_a.begin(), belief.mean_a.end(), candidate.begin());
-  double current_score = score(candidate);
-  for (std::size_t c = 0; c < check.chains().size(); ++c) {
-    const std::vector<int>& chain = check.chains()[c];
-    // Triggered by the health check, only the chains it found poor may
-    // change: a chain out of view (no verdict) keeps what the encoders say,
-    // rather than a search placing it over some other surface.
-    const bool unconfirmed = check.unconfirmed_images(c) > 0;
-    if (!periodic_search && !check.chain_poor(c) && !unconfirmed) continue;
-    double gain = 0;
-    bool differs = false;
-    for (int j : chain) {
-      if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
-      gain += log_prior(j, found[j]) - log_prior(j, belief.mean_a[j]);
-      candidate[j] = found[j];
-      differs = true;
-    }
-    if (!differs) continue;
-    const double candidate_score = score(candidate);
-    gain += candidate_score - current_score;
-    // A chain that nothing contradicts (only unconfirmed: part of it
-    // unexplained, as behind a panel close in front of it) takes only a
-    // result that the image confirms, or explains better than the estimate. Else the search trades
-    // the arm's visible pixels for another surface (the panel's) or hides it behind the occluder,
-    // and the arm leaves where the encoders and its learned biases put it. (Checked only for a
-    // result the image prefers.)
-    if (gain > config.acquisition.accept_margin_nats &&
-        (check.chain_poor(c) || periodic_search ||
-         check.supports_chain(candidate, c, observed, geometry.renderer(),
-                              health.chains[c].weakest_part_explained_fraction))) {
-      current_score = candidate_score;  // the next chain is compared with this one taken
-      for (int j : chain) {
-        if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
-        const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};
-        belief.set_joint(j, fold_angle_marginal(reopened, found[j], found_var[j]));
-        this->reopened[j] = 1;
-      }
-      ++health.chains_reacquired;
-    } else {
-      for (int j : chain) candidate[j] = belief.mean_a[j];
-    }
-  }
-  ++health.acquisitions;
-  health.last_acquisition_ms = ms_since(start);
-  last_acquisition_s = time_s;
-  if (confirming_search) {
-    check.confirming_search_ran();
-    confirming_search = false;
-    return;
-  }
-  check.reacquisition_ran();
 }
 
 // The reported covariance after an image at time_s (belief: after its
@@ -649,7 +377,8 @@ void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
   }
   for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
   const Eigen::MatrixXd& info =
-      information->compute(geometry.renderer(), {check_q.data(), std::size_t(n)}, likelihood);
+      information->compute(image_filter->geometry().renderer(), {check_q.data(), std::size_t(n)},
+                           image_filter->likelihood());
   if (refine_on && !any_reopened && information->pixels_used() > 0)
     health.refinements_accepted += refine(belief, info, information->gradient());
   const double discount =
@@ -691,7 +420,7 @@ bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& informati
   auto target = [&](double fraction) {
     for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
     for (int i = 0; i < m; ++i) check_q[states[std::size_t(i)].dof] += fraction * step[i];
-    return refinement->log_prior(fraction) + score({check_q.data(), std::size_t(n)});
+    return refinement->log_prior(fraction) + image_filter->score({check_q.data(), std::size_t(n)});
   };
   const double current = target(0);
   double best = current, best_fraction = 0;
@@ -836,7 +565,7 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
     }
   // Only the likelihood's resolution is kept: the likelihood would subsample
   // to it anyway, and a 640x480 copy per image is 64 times the memory.
-  const int W = s.likelihood.width(), H = s.likelihood.height();
+  const int W = s.config.depth_model.width, H = s.config.depth_model.height;
   DepthImage kept;
   if (s.use_images)
     kept = image.width == W && image.height == H ? image : subsample_depth(image, W, H);
