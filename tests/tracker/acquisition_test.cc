@@ -12,10 +12,7 @@
 namespace arttrack {
 namespace {
 
-using test_support::arm_model;
-using test_support::kCamera;
-using test_support::render_truth;
-using test_support::small_config;
+using namespace test_support;  // the planar arm (planar_arm.h)
 
 constexpr double kTrueShoulder = 0.4, kTrueElbow = -0.6;
 constexpr double kBias = 0.25;  // rad, on both encoders (14 degrees)

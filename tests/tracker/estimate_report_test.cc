@@ -11,8 +11,7 @@
 namespace arttrack {
 namespace {
 
-using test_support::arm_model;
-using test_support::small_config;
+using namespace test_support;  // the planar arm (planar_arm.h)
 
 // Encoders only: the readings, with the encoder noise and the bias prior's
 // stationary spread; no bias, no camera offset.

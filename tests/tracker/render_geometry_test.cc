@@ -9,9 +9,7 @@
 namespace arttrack {
 namespace {
 
-using test_support::arm_model;
-using test_support::kCamera;
-using test_support::render_truth;
+using namespace test_support;  // the planar arm (planar_arm.h)
 
 // The score is beta log p(z | r(q)) / p(z | no robot) of the robot drawn at
 // q: the same number as rendering it by hand; the truth scores best.

@@ -10,9 +10,7 @@
 namespace arttrack {
 namespace {
 
-using test_support::arm_model;
-using test_support::error_of;
-using test_support::small_config;
+using namespace test_support;  // the planar arm (planar_arm.h)
 
 TEST(TrackerSetup, MapsTheEncodersOrderToDofsAndNamesTheEndEffectors) {
   const auto model = arm_model();
