@@ -72,6 +72,16 @@ void check_dt(double dt_s) {
   }
 }
 
+// The prediction of joint j over the transition `bias` (paper Eqs. (4) and
+// (5)): the angle's random walk, the bias's Ornstein-Uhlenbeck decay.
+inline void predict_one(const BiasTransition& bias, double dt_s, double rate_a, double rate_b,
+                        double& mb, double& paa, double& pab, double& pbb) {
+  mb *= bias.phi;
+  paa += rate_a * dt_s;
+  pab *= bias.phi;
+  pbb = bias.phi * bias.phi * pbb + rate_b * bias.var_per_rate;
+}
+
 // One Kalman measurement update of joint j with reading q, H = [1 1],
 // Joseph form P' = (I - K H) P (I - K H)^T + R K K^T: a sum of two positive
 // semi-definite terms, so the covariance stays PSD under rounding.
@@ -244,10 +254,7 @@ void predict_joints(const JointFilterModel& model, double dt_s, JointBelief& bel
   BiasTransition bias(dt_s);
   for (int j = 0; j < n; ++j) {
     bias.set(k[j]);
-    mb[j] *= bias.phi;
-    paa[j] += rate_a[j] * dt_s;
-    pab[j] *= bias.phi;
-    pbb[j] = bias.phi * bias.phi * pbb[j] + rate_b[j] * bias.var_per_rate;
+    predict_one(bias, dt_s, rate_a[j], rate_b[j], mb[j], paa[j], pab[j], pbb[j]);
   }
 }
 
@@ -281,10 +288,7 @@ void filter_joints(const JointFilterModel& model, double dt_s, std::span<const d
   BiasTransition bias(dt_s);
   for (int j = 0; j < ne; ++j) {
     bias.set(k[j]);
-    mb[j] *= bias.phi;
-    paa[j] += rate_a[j] * dt_s;
-    pab[j] *= bias.phi;
-    pbb[j] = bias.phi * bias.phi * pbb[j] + rate_b[j] * bias.var_per_rate;
+    predict_one(bias, dt_s, rate_a[j], rate_b[j], mb[j], paa[j], pab[j], pbb[j]);
     update_one(encoder_rad[j], r[j], ma[j], mb[j], paa[j], pab[j], pbb[j]);
   }
   // Virtual joints: random walk only (no bias, no encoder).

@@ -7,27 +7,15 @@
 #include <deque>
 #include <limits>
 #include <mutex>
-#include <optional>
-#include <random>
-#include <set>
 #include <sstream>
 #include <thread>
 
 #include "arttrack/tracker/belief_buffer.h"
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
-#include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/gaussian_fold.h"
-#include "arttrack/tracker/hypothesis_evaluator.h"
-#include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/estimate_report.h"
+#include "arttrack/tracker/internal/image_update.h"
+#include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/joint_filter.h"
-#include "arttrack/tracker/kinematics.h"
-#include "arttrack/tracker/mesh_simplify.h"
-#include "arttrack/tracker/posterior_covariance.h"
-#include "arttrack/tracker/worker_pool.h"
-#include "health_check.h"
-#include "mean_refinement.h"
 
 namespace arttrack {
 namespace {
@@ -58,12 +46,6 @@ void load_belief(std::span<const double> in, JointBelief& b) {
   std::copy(in.begin() + 4 * n, in.begin() + 5 * n, b.var_b.begin());
 }
 
-// log N(x; mean, sd^2) up to its constant: a prior's term in a search's target.
-double gaussian_log_kernel(double x, double mean, double sd) {
-  const double u = (x - mean) / sd;
-  return -0.5 * u * u;
-}
-
 struct PendingImage {
   double stamp_s;
   double apply_time_s;  // stamp minus the camera delay
@@ -72,62 +54,21 @@ struct PendingImage {
   Clock::time_point received;  // add_depth_image was called
 };
 
-// `model` with its meshes simplified to bound_m (RobotModel::
-// with_simplified_meshes), shared by the trackers of a process that track
-// the same model at the same bound (a scenario's methods and runs):
-// simplifying a maker's meshes takes a quarter of a second per 150 000
-// triangles. An entry lives as long as its source model.
-std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
-                                                   double bound_m, double nearest_range_m,
-                                                   int levels, double& error_m) {
-  struct Entry {
-    std::weak_ptr<const RobotModel> source;
-    double bound_m, nearest_range_m;
-    int levels;
-    double error_m;
-    std::shared_ptr<const RobotModel> simplified;
-  };
-  static std::mutex mutex;
-  static std::vector<Entry> cache;
-  std::lock_guard lock(mutex);
-  std::erase_if(cache, [](const Entry& e) { return e.source.expired(); });
-  for (const Entry& e : cache) {
-    if (e.source.lock() == model && e.bound_m == bound_m && e.nearest_range_m == nearest_range_m &&
-        e.levels == levels) {
-      error_m = e.error_m;
-      return e.simplified;
-    }
-  }
-  auto simplified = std::make_shared<const RobotModel>(
-      model->with_simplified_meshes(bound_m, &error_m, nearest_range_m, levels));
-  cache.push_back({model, bound_m, nearest_range_m, levels, error_m, simplified});
-  return simplified;
-}
-
-// The configuration, validated before any member is built from it.
-const TrackerConfig& validated(const TrackerConfig& config) {
-  config.validate(config.source);
-  return config;
-}
-
 }  // namespace
 
+// The tracker: the inputs (checked, then filtered or queued), the threads
+// and locks, and the estimate. An image's update is ImageUpdate's
+// (image_update.h); what the model and configuration decide once is the
+// TrackerSetup's (tracker_setup.h).
 struct Tracker::Impl {
   Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
        const std::vector<std::string>& encoder_joints);
   ~Impl();
 
-  // All members below `mutex` are guarded by it, except the image-update
-  // machinery, which only the thread doing the update touches.
-  std::shared_ptr<const RobotModel> model;
-  TrackerConfig config;
-  int n = 0;                     // DOFs: physical then virtual (the model's order = the bank's)
-  int n_phys = 0;                // physical joints
-  std::vector<int> encoder_dof;  // reading index -> DOF
-  std::vector<int> ee_links;
-  bool use_encoders = true, use_images = true;
-  std::unique_ptr<JointFilterModel> filter_model;
+  const TrackerSetup setup;
 
+  // All members below `mutex` are guarded by it, except `images` and
+  // `reading_at_t`, which only the thread doing the update touches.
   mutable std::mutex mutex;
   std::condition_variable wake, idle;
   bool initialized = false;
@@ -143,79 +84,19 @@ struct Tracker::Impl {
   bool updating = false;  // an asynchronous image update is running
   bool stop = false;
   TrackerStats stats;
-  mutable KinematicsState estimate_kinematics;
-  mutable Eigen::VectorXd estimate_q;
+  mutable EstimateReport report;  // estimate()'s (estimate_report.h)
+  // The image thread's health and covariance, as estimate() reads them.
+  TrackingHealth published_health;
+  PosteriorCovariance published_covariance;
 
-  // Image update machinery (one update at a time).
-  std::unique_ptr<WorkerPool> pool;
-  std::unique_ptr<CoordinateParticleFilter> cpf;
-  std::unique_ptr<HypothesisEvaluator> evaluator;
-  DepthLikelihood likelihood;
-  std::mt19937_64 rng;
-  std::vector<double> prior_std;
+  // The image update (use_images; one update at a time), and the encoder
+  // readings at the image's time (DOF order) its searches start from.
+  std::unique_ptr<ImageUpdate> images;
+  std::vector<double> reading_at_t;
   std::thread worker;
 
-  // Acquisition: an annealed coarse-to-fine search (root-to-hand blocks of
-  // the joints whose bias is estimated, then the camera) over one image.
-  bool acquisition_on = false;
-  std::vector<char> bias_estimated;  // per physical DOF
-  std::unique_ptr<CoordinateParticleFilter> search_cpf;
-  std::unique_ptr<HypothesisEvaluator> search_evaluator;
-  std::vector<DepthLikelihood> search_likelihoods;  // passes - 1, coarse to fine
-  std::vector<double> search_mean, search_std, open_mean, open_std, candidate;
-  std::vector<double> found_mean, found_variance;  // acquire()'s best search
-  std::vector<double> reading_at_t;  // encoder readings at the image's time (DOF order)
-  double last_acquisition_s = kNoTime;
-  int images_seen = 0;
-  // The health check and the counts that trigger the searches (images only).
-  std::optional<HealthCheck> health_check;
-  bool confirming_search = false;   // the current reacquire() is for unconfirmed chains
-  std::vector<char> part_open;      // per DOF: searched by the current confirming search
-  bool periodic_search = false;     // the current reacquire() is the periodic one
-  TrackingHealth health;            // the image thread's
-  TrackingHealth published_health;  // guarded by mutex
-  // The model the image updates draw: `model` with its meshes simplified for
-  // the camera at the likelihood's resolution (TrackerConfig::geometry), and
-  // the evaluators that draw it; made by use_camera() at the first image.
-  std::shared_ptr<const RobotModel> render_model;
-  double render_error_bound_m = -1, render_error_m = 0;
-  // Rendering the estimate (health, acquisition checks) at the likelihood's resolution.
-  std::unique_ptr<DepthRenderer> check_renderer;
-  CameraIntrinsics check_camera;
-  KinematicsState check_kinematics;
-  Eigen::VectorXd check_q;
-  DepthImage check_image;
-
-  // The reported uncertainty (posterior_covariance.h): the image thread's,
-  // and the copy estimate() reads (guarded by mutex).
-  PosteriorCovariance covariance, published_covariance;
-  std::unique_ptr<ImageInformation> information;
-  // uncertainty.model_error: the link shifts' variance averaged over images.
-  double model_error_var_m2 = 0, model_error_time_s = 0;
-  bool model_error_started = false;
-  Eigen::MatrixXd consider_cross;
-  Eigen::VectorXd covariance_start;
-  std::vector<char> reopened;      // per DOF: re-acquisition moved it at this image
-  bool refine_on = false;          // the Gauss-Newton refinement of the mean (full fusion)
-  std::vector<double> prior_mean;  // the image's prior mean, before the particle filter
-  std::optional<MeanRefinement> refinement;
-  Eigen::VectorXd refine_x;
-  std::vector<double> refine_spread;
-
-  void use_camera(const CameraIntrinsics& camera);
-  void search(std::span<const double> mean, std::span<const double> stddev,
-              const CameraIntrinsics& camera, const DepthImage& observed);
-  void acquire(std::span<const double> mean, std::span<const double> stddev,
-               const CameraIntrinsics& camera, const DepthImage& observed);
-  double score(std::span<const double> q);
-  void reacquire(JointBelief& belief, std::span<const double> reading,
-                 const CameraIntrinsics& camera, const DepthImage& observed, double time_s);
-  void update_covariance(JointBelief& belief, double time_s);
-  bool refine(JointBelief& belief, const Eigen::MatrixXd& information,
-              const Eigen::VectorXd& gradient);
-
   bool applicable(const PendingImage& p) const {
-    return !use_encoders || (initialized && p.apply_time_s <= time_s);
+    return !setup.use_encoders || (initialized && p.apply_time_s <= time_s);
   }
   void apply_pending_locked(std::unique_lock<std::mutex>& lock);
   void apply_image(PendingImage image, std::unique_lock<std::mutex>& lock);
@@ -224,161 +105,28 @@ struct Tracker::Impl {
 
 Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
                     const std::vector<std::string>& encoder_joints)
-    : model(std::move(m)), config(validated(c)), likelihood(c.depth_model), rng(c.seed) {
-  n = model->num_joints();
-  for (int j = 0; j < n; ++j)
-    if (!model->is_virtual_joint(j)) ++n_phys;
-  if (n - n_phys != 6)
-    throw InputError(model->source() + ": the tracker needs the six virtual camera joints");
-  use_encoders = config.method != TrackingMethod::kVisionOnly;
-  use_images = config.method != TrackingMethod::kEncodersOnly;
-
-  // Encoder order -> DOFs: every physical joint exactly once.
-  if (use_encoders) {
-    std::vector<int> seen(n_phys, 0);
-    for (const std::string& name : encoder_joints) {
-      const int dof = model->joint_index(name);
-      if (model->is_virtual_joint(dof))
-        throw InputError("encoder joint '" + name + "' is a virtual camera joint");
-      if (seen[dof]++) throw InputError("encoder joint '" + name + "' is listed twice");
-      encoder_dof.push_back(dof);
-    }
-    for (int j = 0; j < n_phys; ++j)
-      if (!seen[j])
-        throw InputError("no encoder reading for joint '" + model->joint_name(j) +
-                         "' (every physical joint needs one, except for vision_only)");
-  }
-  for (const std::string& ee : config.end_effectors) ee_links.push_back(model->link_index(ee));
-
-  // Joint filter bank in DOF order.
-  std::vector<std::string> phys_names(model->joint_names().begin(),
-                                      model->joint_names().begin() + n_phys);
-  std::vector<std::string> virtual_names(model->joint_names().begin() + n_phys,
-                                         model->joint_names().end());
-  JointFilterParams defaults = config.joint_defaults;
-  if (config.method == TrackingMethod::kCameraOffsetOnly) defaults.estimate_bias = false;
-  if (config.method == TrackingMethod::kVisionOnly) {
-    defaults.estimate_bias = false;
-    defaults.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
-  }
-  auto overrides = config.joint_overrides;
-  for (auto& [name, p] : overrides) {
-    if (config.method != TrackingMethod::kFullFusion) p.estimate_bias = false;
-    if (config.method == TrackingMethod::kVisionOnly)
-      p.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
-  }
-  auto phys_params = per_joint_params(phys_names, defaults, overrides, config.source);
-  std::vector<VirtualJointParams> virtual_params;
-  for (int k = 0; k < 6; ++k)
-    virtual_params.push_back(k < 3 ? config.camera_translation : config.camera_rotation);
-  filter_model =
-      std::make_unique<JointFilterModel>(phys_names, phys_params, virtual_names, virtual_params);
-
-  belief = initial_joint_belief(*filter_model, std::vector<double>(n_phys, 0.0));
+    : setup(std::move(m), c, encoder_joints), report(setup) {
+  const int n = setup.n, n_phys = setup.n_phys;
+  belief = initial_joint_belief(*setup.filter_model, std::vector<double>(n_phys, 0.0));
   readings_bank.assign(n_phys, 0.0);
-  buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, config.buffer_capacity);
+  buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, setup.config.buffer_capacity);
   image_state.assign(5 * n, 0.0);
   state_scratch.assign(5 * n, 0.0);
-  estimate_kinematics = KinematicsState(*model);
-  estimate_q = Eigen::VectorXd::Zero(n);
-  if (!use_encoders) {
+  if (!setup.use_encoders) {
     // Vision only starts from a given configuration (set_initial_configuration).
+    const RobotModel& model = *setup.model;
+    const double sd = setup.config.vision_only_initial_std_rad;
     for (int j = 0; j < n_phys; ++j) {
-      belief.mean_a[j] = std::clamp(0.0, model->joint_lower(j), model->joint_upper(j));
-      belief.var_a[j] = config.vision_only_initial_std_rad * config.vision_only_initial_std_rad;
+      belief.mean_a[j] = std::clamp(0.0, model.joint_lower(j), model.joint_upper(j));
+      belief.var_a[j] = sd * sd;
       belief.mean_b[j] = belief.cov_ab[j] = belief.var_b[j] = 0;
     }
     initialized = true;
   }
-
-  if (use_images) {
-    std::vector<SamplingBlock> blocks = sampling_blocks(*model, config);
-    pool = std::make_unique<WorkerPool>(config.threads);
-    // The variance floor is full fusion's (its bias fold-back is what a
-    // collapsed variance pins); the paper's other methods keep its moment
-    // matching (with it, camera_offset_only's left hand on arm__constant_bias
-    // went from 232 to 253 mm, no better than the encoders).
-    CoordinateParticleFilterParams cpf_params = config.particle_filter;
-    if (config.method != TrackingMethod::kFullFusion) cpf_params.bandwidth_factor = 0;
-    cpf = std::make_unique<CoordinateParticleFilter>(n, std::move(blocks), cpf_params);
-    prior_std.assign(n, 0.0);
-
-    health_check.emplace(*model, n_phys, config.health, config.depth_model.max_range_m);
-    health = health_check->initial_health();
-    part_open.assign(n, 0);
-    check_kinematics = KinematicsState(*model);
-    check_q = Eigen::VectorXd::Zero(n);
-
-    bias_estimated.assign(n_phys, 0);
-    for (int j = 0; j < n_phys; ++j) bias_estimated[j] = phys_params[j].estimate_bias;
-    acquisition_on = config.method == TrackingMethod::kFullFusion && config.acquisition.passes > 1;
-    if (acquisition_on) {
-      std::vector<SamplingBlock> search_blocks;
-      for (int j = 0; j < n_phys; ++j)
-        if (bias_estimated[j]) search_blocks.push_back({model->joint_name(j), {j}});
-      for (int j = n_phys; j < n; ++j) search_blocks.push_back({model->joint_name(j), {j}});
-      search_cpf =
-          std::make_unique<CoordinateParticleFilter>(n, search_blocks, config.particle_filter);
-      const int K = config.acquisition.passes;
-      for (int k = 0; k + 1 < K; ++k) {
-        // Depth noise from coarse to the pixel model's, geometrically.
-        DepthModelParams p = config.depth_model;
-        p.noise_std_m =
-            config.acquisition.coarse_noise_std_m *
-            std::pow(config.depth_model.noise_std_m / config.acquisition.coarse_noise_std_m,
-                     double(k) / double(K - 1));
-        search_likelihoods.emplace_back(p);
-      }
-      search_mean.assign(n, 0.0);
-      search_std.assign(n, 0.0);
-      open_mean.assign(n, 0.0);
-      open_std.assign(n, 0.0);
-      found_mean.assign(n, 0.0);
-      found_variance.assign(n, 0.0);
-      candidate.assign(n, 0.0);
-    }
-    // The reported covariance's states: every DOF the particle filter samples,
-    // but the encoder joints whose bias is not estimated (their encoder says
-    // their angle).
-    std::vector<char> sampled(n, 0);
-    for (const SamplingBlock& b : cpf->blocks())
-      for (int j : b.coordinates) sampled[j] = 1;
-    std::vector<PosteriorCovariance::State> states;
-    std::vector<int> dofs;
-    for (int j = 0; j < n; ++j) {
-      if (!sampled[j]) continue;
-      if (j < n_phys && use_encoders) {
-        if (!phys_params[j].estimate_bias) continue;
-        states.push_back({j, PosteriorCovariance::Kind::kBias,
-                          filter_model->bias_decay_rate_per_s()[j],
-                          filter_model->bias_rate_var()[j]});
-      } else {
-        states.push_back(
-            {j, PosteriorCovariance::Kind::kAngle, 0.0, filter_model->angle_rate_var()[j]});
-      }
-      dofs.push_back(j);
-    }
-    ImageInformationParams information_params;
-    information_params.link_shifts = config.model_error;
-    const int num_consider = config.model_error ? 3 * int(model->links_with_geometry().size()) : 0;
-    covariance = PosteriorCovariance(std::move(states), num_consider);
-    published_covariance = covariance;
-    information = std::make_unique<ImageInformation>(std::move(dofs), information_params);
-    covariance_start.resize(covariance.size());
-    reopened.assign(n, 0);
-    refine_on = config.method == TrackingMethod::kFullFusion && config.refine_mean;
-    prior_mean.assign(n, 0.0);
-    Eigen::VectorXd refine_var_q = Eigen::VectorXd::Zero(covariance.size());
-    for (int i = 0; i < covariance.size(); ++i) {
-      const auto& st = covariance.states()[std::size_t(i)];
-      if (st.kind == PosteriorCovariance::Kind::kBias)
-        refine_var_q[i] = filter_model->encoder_var_rad2()[st.dof];
-    }
-    refinement.emplace(std::move(refine_var_q), config.refinement_min_pixels,
-                       config.likelihood_exponent);
-    refine_x.resize(covariance.size());
-    refine_spread.resize(std::size_t(covariance.size()));
-    if (config.asynchronous) worker = std::thread([this] { worker_loop(); });
+  if (setup.use_images) {
+    images = std::make_unique<ImageUpdate>(setup);
+    published_covariance = images->covariance();
+    if (setup.config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
 }
 
@@ -395,7 +143,7 @@ Tracker::Impl::~Impl() {
 
 // Synchronous mode: applies every image that has become applicable, in order.
 void Tracker::Impl::apply_pending_locked(std::unique_lock<std::mutex>& lock) {
-  if (config.asynchronous) {
+  if (setup.config.asynchronous) {
     if (!pending.empty() && applicable(pending.front())) wake.notify_all();
     return;
   }
@@ -414,7 +162,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   // supersedes the entry's belief.
   JointBelief prior = belief;
   double base_time;
-  if (use_encoders) {
+  if (setup.use_encoders) {
     const int i = buffer->last_at_or_before(t);
     if (i < 0) {
       ++stats.images_dropped_too_old;
@@ -430,87 +178,31 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   } else {
     base_time = time_s == kNoTime ? t : time_s;
   }
-  predict_joints(*filter_model, t - base_time, prior);
+  predict_joints(*setup.filter_model, t - base_time, prior);
 
-  // The particle filter runs without the lock in asynchronous mode, so joint
-  // readings keep coming in.
-  for (int j = 0; j < n; ++j) prior_std[j] = std::sqrt(std::max(0.0, prior.var_a[j]));
-  std::copy(prior.mean_a.begin(), prior.mean_a.end(), prior_mean.begin());
   // The encoder readings at the image's time (DOF order), for acquisitions.
   reading_at_t.clear();  // keeps its capacity: no allocation after the first image
-  if (acquisition_on) {
+  if (images->wants_readings()) {
     const int i = buffer->last_at_or_before(t);
     if (i >= 0) {
       const auto m = buffer->measurement(i);
       reading_at_t.assign(m.begin(), m.end());
     }
   }
-  if (config.asynchronous) lock.unlock();
-  const CameraIntrinsics camera =
-      subsampled_intrinsics(image.camera, likelihood.width(), likelihood.height());
-  likelihood.set_observation(image.image);
-  if (!check_renderer || check_camera != camera) use_camera(camera);
-  double search_ms = 0;
-  const double beta = config.likelihood_exponent;
-  const bool first = images_seen++ == 0;
-  if (acquisition_on && first) {
-    // The first image: the prior is the encoders' (bias prior around the
-    // readings); search it coarse to fine, then target it from there.
-    const auto search_start = Clock::now();
-    // With acquisition.search_camera false the camera is held at its prior:
-    // one image does not tell the camera's roll and sideways shift from
-    // both arms' biases (tracker_config.h), and the images after it do.
-    std::vector<double> first_search_std = prior_std;  // once per tracker
-    if (!config.acquisition.search_camera)
-      for (int j = n_phys; j < n; ++j) first_search_std[j] = 0;
-    acquire(prior.mean_a, first_search_std, camera, image.image);
-    if (!config.acquisition.search_camera)
-      for (int j = n_phys; j < n; ++j) found_variance[j] = prior.var_a[j];
-    fold_angle_posteriors(found_mean, found_variance, prior);
-    health.last_acquisition_ms = search_ms = ms_since(search_start);
-    ++health.acquisitions;
-    last_acquisition_s = t;
-  } else {
-    evaluator->begin_run(camera, likelihood, prior.mean_a);
-    cpf->run(prior.mean_a, prior_std, prior.mean_a, prior_std, beta, *evaluator, rng, *pool);
-    fold_angle_posteriors(cpf->mean(), cpf->variance(), prior);
-  }
-  HealthCheck& check = *health_check;
-  if (acquisition_on && !first && !reading_at_t.empty()) {
-    const bool periodic =
-        config.acquisition.period_s > 0 && t - last_acquisition_s >= config.acquisition.period_s;
-    // A re-acquisition that did not help (the chain still poor) is retried
-    // after twice as many poor images each time, up to 16 times as many: a
-    // tracker that stays lost (a wrong model, images that do not match the
-    // joints) must not spend every image on searches.
-    const int due = config.health.lost_after_images << std::min(check.failed_reacquisitions(), 4);
-    // Unconfirmed chains (ChainHealth::unconfirmed) are searched with a
-    // back-off of their own: an occluded hand stays unconfirmed, and the
-    // search must not run at every image while it is hidden.
-    const int due_unconfirmed = config.health.lost_after_images
-                                << std::min(check.failed_confirmations(), 5);
-    bool confirm = false;
-    for (std::size_t c = 0; c < check.chains().size(); ++c)
-      confirm = confirm || check.unconfirmed_images(c) >= due_unconfirmed;
-    const bool poor = check.poor_images() >= due;
-    if (periodic || poor || confirm) {
-      periodic_search = periodic && !poor && !confirm;
-      confirming_search = confirm && !poor;
-      reacquire(prior, reading_at_t, camera, image.image, t);
-      search_ms = health.last_acquisition_ms;
-    }
-  }
-  update_covariance(prior, t);
-  check.update(prior.mean_a, image.image, image.stamp_s, *check_renderer, health);
-  if (config.asynchronous) lock.lock();
-  published_health = health;
-  published_covariance = covariance;
+  // The image update runs without the lock in asynchronous mode, so joint
+  // readings keep coming in.
+  if (setup.config.asynchronous) lock.unlock();
+  const double search_ms =
+      images->apply(image.image, image.camera, image.stamp_s, t, reading_at_t, prior);
+  if (setup.config.asynchronous) lock.lock();
+  published_health = images->health();
+  published_covariance = images->covariance();
 
   // Re-filter the joint readings after the image (paper Sec. IV-C).
   const auto refilter_start = Clock::now();
   image_time_s = t;
   save_belief(prior, image_state);
-  if (use_encoders) {
+  if (setup.use_encoders) {
     const int i = buffer->last_at_or_before(t);
     if (i < 0) {  // the buffer moved past the image while it was being applied
       ++stats.images_dropped_too_old;
@@ -518,304 +210,28 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
     }
     double previous = t;
     for (int k = i + 1; k < buffer->size(); ++k) {
-      filter_joints(*filter_model, buffer->time(k) - previous, buffer->measurement(k), prior);
+      filter_joints(*setup.filter_model, buffer->time(k) - previous, buffer->measurement(k), prior);
       save_belief(prior, buffer->mutable_state(k));
       previous = buffer->time(k);
     }
     // Bring the belief to the newest reading's time (it equals t when no
     // reading came after the image).
-    if (previous < time_s) predict_joints(*filter_model, time_s - previous, prior);
+    if (previous < time_s) predict_joints(*setup.filter_model, time_s - previous, prior);
   } else {
     time_s = t;
   }
   belief = prior;
   ++stats.images_applied;
-  stats.last_evaluations_per_image = cpf->num_evaluations();
-  stats.likelihood_evaluations += cpf->num_evaluations();
-  stats.model_triangles = model->num_drawn_triangles();
-  stats.drawn_triangles = render_model->num_drawn_triangles();
-  stats.mesh_error_bound_m = std::max(0.0, render_error_bound_m);
-  stats.mesh_error_m = render_error_m;
+  const int evaluations = images->filter().filter().num_evaluations();
+  const RenderGeometry& geometry = images->geometry();
+  stats.last_evaluations_per_image = evaluations;
+  stats.likelihood_evaluations += evaluations;
+  stats.model_triangles = setup.model->num_drawn_triangles();
+  stats.drawn_triangles = geometry.drawn_model().num_drawn_triangles();
+  stats.mesh_error_bound_m = std::max(0.0, geometry.error_bound_m());
+  stats.mesh_error_m = geometry.error_m();
   stats.images.add({image.stamp_s, ms_since(start), ms_since(refilter_start), search_ms,
                     ms_since(image.received)});
-}
-
-// The geometry for a camera (at the likelihood's resolution): the model's
-// meshes simplified to a fraction of this camera's pixel (mesh_simplify.h),
-// once per error bound, and the renderers and evaluators that draw them.
-void Tracker::Impl::use_camera(const CameraIntrinsics& camera) {
-  check_camera = camera;
-  const TrackerConfig::Geometry& g = config.geometry;
-  const double bound_m = g.error_bound_m(camera);
-  if (!render_model || bound_m != render_error_bound_m) {
-    render_error_bound_m = bound_m;
-    render_error_m = 0;
-    render_model = bound_m > 0 ? simplified_model(model, bound_m, g.nearest_range_m,
-                                                  g.coarser_levels, render_error_m)
-                               : model;
-    evaluator = std::make_unique<HypothesisEvaluator>(*render_model, cpf->blocks());
-    if (search_cpf)
-      search_evaluator = std::make_unique<HypothesisEvaluator>(*render_model, search_cpf->blocks());
-  }
-  check_renderer = std::make_unique<DepthRenderer>(*render_model, camera);
-}
-
-// Annealed search (Deutscher et al.'s annealing, as coarse-to-fine depth
-// noise): pass k targets prior x likelihood_k, likelihood_k with the depth
-// noise of search_likelihoods[k], proposing around pass k-1's mean with the
-// prior's standard deviations times shrink^k. Leaves in search_mean and
-// search_std the proposal of the final pass.
-void Tracker::Impl::search(std::span<const double> mean, std::span<const double> stddev,
-                           const CameraIntrinsics& camera, const DepthImage& observed) {
-  std::copy(mean.begin(), mean.end(), search_mean.begin());
-  double scale = 1;
-  for (std::size_t k = 0; k < search_likelihoods.size(); ++k) {
-    for (int j = 0; j < n; ++j) search_std[j] = scale * stddev[j];
-    search_likelihoods[k].set_observation(observed);
-    search_evaluator->begin_run(camera, search_likelihoods[k], search_mean);
-    search_cpf->run(mean, stddev, search_mean, search_std, config.likelihood_exponent,
-                    *search_evaluator, rng, *pool);
-    std::copy(search_cpf->mean().begin(), search_cpf->mean().end(), search_mean.begin());
-    scale *= config.acquisition.proposal_shrink;
-  }
-  for (int j = 0; j < n; ++j) search_std[j] = scale * stddev[j];
-}
-
-// acquisition.searches independent annealed searches from the prior N(mean,
-// stddev^2), each with its own random draws and a final pass that targets
-// the prior; leaves in found_mean and found_variance the final pass whose
-// mean the image plus the prior prefer. One search lands in a wrong mode now
-// and then (bias_jump, 8 seeds: a hand left 10 cm off for 3 s, an arm 6 cm
-// off from the first image, both rated "tracking"; docs/accuracy.md).
-void Tracker::Impl::acquire(std::span<const double> mean, std::span<const double> stddev,
-                            const CameraIntrinsics& camera, const DepthImage& observed) {
-  double best_target = -std::numeric_limits<double>::infinity();
-  for (int attempt = 0; attempt < config.acquisition.searches; ++attempt) {
-    search(mean, stddev, camera, observed);
-    evaluator->begin_run(camera, likelihood, search_mean);
-    cpf->run(mean, stddev, search_mean, search_std, config.likelihood_exponent, *evaluator, rng,
-             *pool);
-    const std::span<const double> found = cpf->mean();
-    double target = score(found);
-    for (int j = 0; j < n; ++j)
-      if (stddev[j] > 0) target += gaussian_log_kernel(found[j], mean[j], stddev[j]);
-    // The first search always fills found_* (even if its target is NaN).
-    if (!(target > best_target) && attempt > 0) continue;
-    best_target = target;
-    std::copy(found.begin(), found.end(), found_mean.begin());
-    std::copy(cpf->variance().begin(), cpf->variance().end(), found_variance.begin());
-  }
-}
-
-// The tempered image log-likelihood ratio of the robot at q (every DOF).
-double Tracker::Impl::score(std::span<const double> q) {
-  for (int j = 0; j < n; ++j) check_q[j] = q[j];
-  forward_kinematics(*model, check_q, check_kinematics);
-  check_renderer->render(check_kinematics, check_image);
-  return config.likelihood_exponent * likelihood.log_ratio(check_image);
-}
-
-// Augmented-MCL-style re-acquisition (Thrun et al., Probabilistic Robotics):
-// re-open the prior of every joint whose bias is estimated to the encoders'
-// reading with a broad bias (acquisition.bias_std_rad), search it, and let
-// each chain take the result when the image plus that prior prefer it by
-// accept_margin_nats. A chain that settled in a wrong mode gets out; one
-// that is right keeps its belief.
-void Tracker::Impl::reacquire(JointBelief& belief, std::span<const double> reading,
-                              const CameraIntrinsics& camera, const DepthImage& observed,
-                              double time_s) {
-  const auto start = Clock::now();
-  HealthCheck& check = *health_check;
-  const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
-  const auto var_q = filter_model->encoder_var_rad2();
-  for (int j = 0; j < n; ++j) {
-    const bool open = j < n_phys && bias_estimated[j];
-    open_mean[j] = open ? reading[j] : belief.mean_a[j];
-    open_std[j] = std::sqrt(open ? var_b + var_q[j] : std::max(0.0, belief.var_a[j]));
-  }
-  if (confirming_search) {
-    // Only each unconfirmed chain's weakest part is searched; the rest of
-    // the estimate, which the image confirms, is held (a zero proposal std).
-    // A search of the whole arm from the encoders finds the same wrong wrist
-    // the first one did; with the arm held, the hand's few DOFs are searched
-    // with every particle.
-    std::fill(part_open.begin(), part_open.end(), 0);
-    for (std::size_t c = 0; c < check.chains().size(); ++c) {
-      if (check.unconfirmed_images(c) == 0) continue;
-      const std::vector<int>& chain = check.chains()[c];
-      for (const auto& [dof, links] : check.parts(c)) {
-        if (dof != health.chains[c].weakest_part_joint) continue;
-        for (int k : chain)
-          if (links[std::size_t(model->joint_child_link(k))]) part_open[k] = 1;
-        // And the joint above it: the wrong hand measured came with the two
-        // wrist joints off in opposite senses (15 and 17 degrees). Each
-        // search in a row that left the chain unconfirmed opens one joint
-        // more up the chain: after an encoder slip of three wrist joints
-        // the part and the joint above it were searched for 1.5 s with the
-        // third joint held 30 degrees off.
-        int above = 1 + check.failed_confirmations();
-        for (int l = model->link(model->joint_child_link(dof)).parent; l >= 0 && above > 0;
-             l = model->link(l).parent) {
-          const int up = model->link(l).dof;
-          if (up < 0 || model->is_virtual_joint(up)) continue;
-          if (std::find(chain.begin(), chain.end(), up) == chain.end()) break;
-          part_open[up] = 1;
-          --above;
-        }
-      }
-    }
-    for (int j = 0; j < n; ++j) {
-      if (part_open[j]) continue;
-      open_mean[j] = belief.mean_a[j];
-      open_std[j] = 0;
-    }
-  }
-  auto log_prior = [&](int j, double a) {
-    return gaussian_log_kernel(a, open_mean[j], open_std[j]);
-  };
-  acquire(open_mean, open_std, camera, observed);
-  const std::vector<double>& found = found_mean;
-  const std::vector<double>& found_var = found_variance;
-  std::copy(belief.mean_a.begin(), belief.mean_a.end(), candidate.begin());
-  double current_score = score(candidate);
-  for (std::size_t c = 0; c < check.chains().size(); ++c) {
-    const std::vector<int>& chain = check.chains()[c];
-    // Triggered by the health check, only the chains it found poor may
-    // change: a chain out of view (no verdict) keeps what the encoders say,
-    // rather than a search placing it over some other surface.
-    const bool unconfirmed = check.unconfirmed_images(c) > 0;
-    if (!periodic_search && !check.chain_poor(c) && !unconfirmed) continue;
-    double gain = 0;
-    bool differs = false;
-    for (int j : chain) {
-      if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
-      gain += log_prior(j, found[j]) - log_prior(j, belief.mean_a[j]);
-      candidate[j] = found[j];
-      differs = true;
-    }
-    if (!differs) continue;
-    const double candidate_score = score(candidate);
-    gain += candidate_score - current_score;
-    // A chain that nothing contradicts (only unconfirmed: part of it
-    // unexplained, as behind a panel close in front of it) takes only a
-    // result that the image confirms, or explains better than the estimate. Else the search trades
-    // the arm's visible pixels for another surface (the panel's) or hides it behind the occluder,
-    // and the arm leaves where the encoders and its learned biases put it. (Checked only for a
-    // result the image prefers.)
-    if (gain > config.acquisition.accept_margin_nats &&
-        (check.chain_poor(c) || periodic_search ||
-         check.supports_chain(candidate, c, observed, *check_renderer,
-                              health.chains[c].weakest_part_explained_fraction))) {
-      current_score = candidate_score;  // the next chain is compared with this one taken
-      for (int j : chain) {
-        if (!bias_estimated[j] || !(open_std[j] > 0)) continue;
-        const AngleBiasGaussian reopened{reading[j], 0.0, var_b + var_q[j], -var_b, var_b};
-        belief.set_joint(j, fold_angle_marginal(reopened, found[j], found_var[j]));
-        this->reopened[j] = 1;
-      }
-      ++health.chains_reacquired;
-    } else {
-      for (int j : chain) candidate[j] = belief.mean_a[j];
-    }
-  }
-  ++health.acquisitions;
-  health.last_acquisition_ms = ms_since(start);
-  last_acquisition_s = time_s;
-  if (confirming_search) {
-    check.confirming_search_ran();
-    confirming_search = false;
-    return;
-  }
-  check.reacquisition_ran();
-}
-
-// The reported covariance after an image at time_s (belief: after its
-// fold-back). It starts from the prior's angle variances at the first image;
-// a chain that re-acquisition moved starts again from the broad prior it was
-// searched with.
-void Tracker::Impl::update_covariance(JointBelief& belief, double time_s) {
-  if (covariance.size() == 0) return;
-  const auto& states = covariance.states();
-  if (!covariance.started()) {
-    for (int i = 0; i < covariance.size(); ++i) {
-      const double sd = prior_std[states[std::size_t(i)].dof];
-      covariance_start[i] = sd * sd;
-    }
-    covariance.reset(covariance_start, time_s);
-  } else {
-    covariance.predict_to(time_s);
-  }
-  const double var_b = config.acquisition.bias_std_rad * config.acquisition.bias_std_rad;
-  bool any_reopened = false;
-  for (int i = 0; i < covariance.size(); ++i) {
-    const int dof = states[std::size_t(i)].dof;
-    if (reopened[dof]) covariance.restart_state(i, var_b);
-    any_reopened = any_reopened || reopened[dof];
-    reopened[dof] = 0;
-  }
-  for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
-  const Eigen::MatrixXd& info =
-      information->compute(*check_renderer, {check_q.data(), std::size_t(n)}, likelihood);
-  if (refine_on && !any_reopened && information->pixels_used() > 0)
-    health.refinements_accepted += refine(belief, info, information->gradient());
-  const double discount =
-      config.discount_correlated_residuals ? information->effective_pixel_fraction() : 1.0;
-  if (!config.model_error) {
-    covariance.update(info, config.image_information_scale * discount);
-    return;
-  }
-  // The link shifts' variance, averaged over time (one image's estimate is noisy).
-  const double sample = information->link_shift_variance_m2();
-  // From 0, so that the first images (the estimate still converging, its
-  // residuals large) weigh one image's share each.
-  const double dt = model_error_started ? std::max(0.0, time_s - model_error_time_s) : 1.0 / 30;
-  const double keep = std::exp(-dt / config.model_error_time_constant_s);
-  model_error_var_m2 = keep * model_error_var_m2 + (1 - keep) * sample;
-  model_error_time_s = time_s;
-  model_error_started = true;
-  health.model_error_std_m = std::sqrt(model_error_var_m2);
-  const double std_m = std::max(health.model_error_std_m, config.model_error_min_std_m);
-  consider_cross = information->shift_cross_information() * std_m;
-  covariance.update(info, consider_cross, config.image_information_scale * discount);
-}
-
-// The mean refinement (mean_refinement.h): the full step or its half when
-// it raises the target, prior x likelihood^beta, with the exact pixel model.
-bool Tracker::Impl::refine(JointBelief& belief, const Eigen::MatrixXd& information,
-                           const Eigen::VectorXd& gradient) {
-  const auto& states = covariance.states();
-  const int m = covariance.size();
-  for (int i = 0; i < m; ++i) {
-    const int dof = states[std::size_t(i)].dof;
-    refine_x[i] = belief.mean_a[dof] - prior_mean[dof];  // theta - mu
-    refine_spread[std::size_t(i)] = prior_std[dof];
-  }
-  if (!refinement->solve(covariance.nominal_angle_covariance(), refine_x, information, gradient,
-                         this->information->pixels_per_dof(), refine_spread))
-    return false;
-  const Eigen::VectorXd& step = refinement->step();
-  auto target = [&](double fraction) {
-    for (int j = 0; j < n; ++j) check_q[j] = belief.mean_a[j];
-    for (int i = 0; i < m; ++i) check_q[states[std::size_t(i)].dof] += fraction * step[i];
-    return refinement->log_prior(fraction) + score({check_q.data(), std::size_t(n)});
-  };
-  const double current = target(0);
-  double best = current, best_fraction = 0;
-  for (double fraction : {1.0, 0.5}) {
-    const double value = target(fraction);
-    if (value > best) {
-      best = value;
-      best_fraction = fraction;
-    }
-  }
-  if (best_fraction == 0) return false;
-  for (int i = 0; i < m; ++i) {
-    const int dof = states[std::size_t(i)].dof;
-    belief.set_joint(
-        dof, fold_angle_marginal(belief.joint(dof), belief.mean_a[dof] + best_fraction * step[i],
-                                 belief.var_a[dof]));
-  }
-  return true;
 }
 
 void Tracker::Impl::worker_loop() {
@@ -838,60 +254,14 @@ void Tracker::Impl::worker_loop() {
   }
 }
 
-std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config) {
-  std::vector<SamplingBlock> blocks;
-  if (config.method == TrackingMethod::kEncodersOnly) return blocks;
-  if (!config.blocks.empty()) {
-    for (const auto& b : config.blocks) {
-      SamplingBlock block{b.name, {}};
-      for (const std::string& joint : b.joints) {
-        try {
-          block.coordinates.push_back(model.joint_index(joint));
-        } catch (const InputError& e) {
-          throw InputError(config.source + ": block '" + b.name + "': " + e.what());
-        }
-      }
-      blocks.push_back(std::move(block));
-    }
-  } else {
-    // One block per joint, virtual ones included. A single six-dimensional
-    // camera block settles in local optima (a roll and pitch that mimic a
-    // sideways shift; see TrackerTest.CameraOffsetOnlyRecoversAMiscalibratedCamera),
-    // which coordinate-wise sampling avoids. A joint whose bias is not
-    // estimated follows its encoder: sampling it would spend particles on
-    // what the encoder already says (a humanoid's fingers, eyes and neck).
-    const auto sampled = [&](int dof) {
-      if (model.is_virtual_joint(dof) || config.method == TrackingMethod::kVisionOnly) return true;
-      if (config.method != TrackingMethod::kFullFusion) return false;
-      const auto it = config.joint_overrides.find(model.joint_name(dof));
-      return it != config.joint_overrides.end() ? it->second.estimate_bias
-                                                : config.joint_defaults.estimate_bias;
-    };
-    // Physical joints from the hand to the root of each chain (reverse
-    // depth-first order), then the virtual ones.
-    const int n = model.num_joints();
-    for (int j = n - 1; j >= 0; --j)
-      if (!model.is_virtual_joint(j) && sampled(j)) blocks.push_back({model.joint_name(j), {j}});
-    for (int j = 0; j < n; ++j)
-      if (model.is_virtual_joint(j)) blocks.push_back({model.joint_name(j), {j}});
-  }
-  if (config.method == TrackingMethod::kCameraOffsetOnly) {
-    // Encoders are trusted: only the virtual joints are sampled.
-    for (auto& b : blocks)
-      std::erase_if(b.coordinates, [&](int j) { return !model.is_virtual_joint(j); });
-    std::erase_if(blocks, [](const SamplingBlock& b) { return b.coordinates.empty(); });
-  }
-  return blocks;
-}
-
 Tracker::Tracker(std::shared_ptr<const RobotModel> model, const TrackerConfig& config,
                  const std::vector<std::string>& encoder_joints)
     : impl_(std::make_unique<Impl>(std::move(model), config, encoder_joints)) {}
 
 Tracker::~Tracker() = default;
 
-const RobotModel& Tracker::model() const { return *impl_->model; }
-const TrackerConfig& Tracker::config() const { return impl_->config; }
+const RobotModel& Tracker::model() const { return *impl_->setup.model; }
+const TrackerConfig& Tracker::config() const { return impl_->setup.config; }
 
 void Tracker::set_initial_configuration(const std::vector<std::string>& joints,
                                         std::span<const double> angles_rad) {
@@ -901,21 +271,21 @@ void Tracker::set_initial_configuration(const std::vector<std::string>& joints,
                      std::to_string(angles_rad.size()) + " angles");
   std::lock_guard lock(s.mutex);
   for (size_t k = 0; k < joints.size(); ++k) {
-    const int dof = s.model->joint_index(joints[k]);
+    const int dof = s.setup.model->joint_index(joints[k]);
     if (!std::isfinite(angles_rad[k]))
       throw InputError("initial configuration: joint '" + joints[k] + "' is not finite");
-    if (!s.use_encoders) s.belief.mean_a[dof] = angles_rad[k];
+    if (!s.setup.use_encoders) s.belief.mean_a[dof] = angles_rad[k];
   }
 }
 
 void Tracker::add_joint_measurement(double time_s, std::span<const double> angles_rad) {
   Impl& s = *impl_;
   std::unique_lock lock(s.mutex);
-  if (!s.use_encoders) return;  // vision only ignores the encoders
-  if (int(angles_rad.size()) != int(s.encoder_dof.size()))
+  if (!s.setup.use_encoders) return;  // vision only ignores the encoders
+  if (int(angles_rad.size()) != int(s.setup.encoder_dof.size()))
     throw InputError("joint measurement at " + std::to_string(time_s) + " s has " +
                      std::to_string(angles_rad.size()) + " values, expected " +
-                     std::to_string(s.encoder_dof.size()));
+                     std::to_string(s.setup.encoder_dof.size()));
   if (!std::isfinite(time_s)) throw InputError("joint measurement time stamp is not finite");
   if (s.initialized && time_s < s.time_s) {
     std::ostringstream os;
@@ -926,22 +296,23 @@ void Tracker::add_joint_measurement(double time_s, std::span<const double> angle
   }
   // One broken reading (1e300, NaN, a wrapped angle) would poison its
   // joint's filter for the rest of the run: the measurement is dropped.
-  const double margin = s.config.joint_limit_margin_rad;
+  const double margin = s.setup.config.joint_limit_margin_rad;
   for (size_t k = 0; k < angles_rad.size(); ++k) {
-    const int dof = s.encoder_dof[k];
-    if (!(angles_rad[k] >= s.model->joint_lower(dof) - margin &&
-          angles_rad[k] <= s.model->joint_upper(dof) + margin) ||
+    const int dof = s.setup.encoder_dof[k];
+    if (!(angles_rad[k] >= s.setup.model->joint_lower(dof) - margin &&
+          angles_rad[k] <= s.setup.model->joint_upper(dof) + margin) ||
         !std::isfinite(angles_rad[k])) {
       ++s.stats.joint_measurements_dropped;
       return;
     }
   }
-  for (size_t k = 0; k < angles_rad.size(); ++k) s.readings_bank[s.encoder_dof[k]] = angles_rad[k];
+  for (size_t k = 0; k < angles_rad.size(); ++k)
+    s.readings_bank[s.setup.encoder_dof[k]] = angles_rad[k];
   if (!s.initialized) {
-    s.belief = initial_joint_belief(*s.filter_model, s.readings_bank);
+    s.belief = initial_joint_belief(*s.setup.filter_model, s.readings_bank);
     s.initialized = true;
   } else {
-    filter_joints(*s.filter_model, time_s - s.time_s, s.readings_bank, s.belief);
+    filter_joints(*s.setup.filter_model, time_s - s.time_s, s.readings_bank, s.belief);
   }
   s.time_s = time_s;
   save_belief(s.belief, s.state_scratch);
@@ -988,16 +359,16 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
     }
   // Only the likelihood's resolution is kept: the likelihood would subsample
   // to it anyway, and a 640x480 copy per image is 64 times the memory.
-  const int W = s.likelihood.width(), H = s.likelihood.height();
+  const int W = s.setup.config.depth_model.width, H = s.setup.config.depth_model.height;
   DepthImage kept;
-  if (s.use_images)
+  if (s.setup.use_images)
     kept = image.width == W && image.height == H ? image : subsample_depth(image, W, H);
 
   std::unique_lock lock(s.mutex);
   // An image a clock apart from the joints' (a stamp in another epoch or
   // unit) would wait forever or be applied to a belief of another time.
-  if (s.use_encoders && s.initialized &&
-      !(std::abs(stamp_s - s.time_s) <= s.config.max_image_clock_offset_s)) {
+  if (s.setup.use_encoders && s.initialized &&
+      !(std::abs(stamp_s - s.time_s) <= s.setup.config.max_image_clock_offset_s)) {
     ++s.stats.images_received;
     ++s.stats.images_dropped_bad_stamp;
     return;
@@ -1011,10 +382,10 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   }
   s.last_stamp_s = stamp_s;
   ++s.stats.images_received;
-  if (!s.use_images) return;
+  if (!s.setup.use_images) return;
   s.pending.push_back(
-      {stamp_s, stamp_s - s.config.camera_delay_s, std::move(kept), camera, received});
-  while (int(s.pending.size()) > s.config.max_pending_images) {
+      {stamp_s, stamp_s - s.setup.config.camera_delay_s, std::move(kept), camera, received});
+  while (int(s.pending.size()) > s.setup.config.max_pending_images) {
     s.pending.pop_front();
     ++s.stats.images_dropped_backlog;
   }
@@ -1023,7 +394,7 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
 
 void Tracker::wait_until_idle() {
   Impl& s = *impl_;
-  if (!s.config.asynchronous || !s.worker.joinable()) return;
+  if (!s.setup.config.asynchronous || !s.worker.joinable()) return;
   std::unique_lock lock(s.mutex);
   s.idle.wait(
       lock, [&] { return !s.updating && (s.pending.empty() || !s.applicable(s.pending.front())); });
@@ -1034,96 +405,7 @@ TrackerEstimate Tracker::estimate() const {
   std::lock_guard lock(s.mutex);
   if (!s.initialized) throw InputError("tracker estimate asked for before any joint measurement");
   TrackerEstimate e;
-  e.time_s = s.time_s;
-  e.joint_names.assign(s.model->joint_names().begin(), s.model->joint_names().begin() + s.n_phys);
-  e.angle_rad.resize(s.n_phys);
-  e.angle_std_rad.resize(s.n_phys);
-  e.bias_rad.resize(s.n_phys);
-  e.bias_std_rad.resize(s.n_phys);
-  const bool raw = s.config.method == TrackingMethod::kEncodersOnly;
-  const auto var_q = s.filter_model->encoder_var_rad2();
-  // Encoders only: the reading, off by a bias it does not estimate (bias
-  // std 0), which the bias prior's stationary variance describes.
-  // Otherwise, until the full covariance below says more: the filter's angle
-  // variance, but never below the encoder's noise. An image's fold-back
-  // leaves the moments of collapsed particles (about 0) in the filter, and a
-  // joint whose bias is fixed (the dual-arm head) then claimed 1e-10 rad
-  // against a 1 mrad error: its truth lay within 2 sigma in 0% of samples.
-  const auto var_b0 = s.filter_model->initial_var_b();
-  for (int j = 0; j < s.n_phys; ++j) {
-    e.angle_rad[j] = raw ? s.readings_bank[j] : s.belief.mean_a[j];
-    e.angle_std_rad[j] =
-        std::sqrt(raw ? var_q[j] + var_b0[j] : std::max(s.belief.var_a[j], var_q[j]));
-    e.bias_rad[j] = raw ? 0.0 : s.belief.mean_b[j];
-    e.bias_std_rad[j] = raw ? 0.0 : std::sqrt(std::max(0.0, s.belief.var_b[j]));
-  }
-  for (int k = 0; k < 6; ++k) {
-    const int j = s.n_phys + k;
-    e.camera_offset[k] = raw ? 0.0 : s.belief.mean_a[j];
-    e.camera_offset_std[k] = raw ? 0.0 : std::sqrt(s.belief.var_a[j]);
-  }
-  // After the first image, the DOFs the images inform report the full
-  // covariance's marginals (posterior_covariance.h), predicted to now.
-  const PosteriorCovariance& cov = s.published_covariance;
-  Eigen::MatrixXd angle_cov;
-  if (cov.started()) {
-    PosteriorCovariance now = cov;
-    now.predict_to(std::max(cov.time_s(), s.time_s));
-    angle_cov = now.angle_covariance();
-    for (int i = 0; i < now.size(); ++i) {
-      const PosteriorCovariance::State& st = now.states()[std::size_t(i)];
-      const double var = std::max(0.0, angle_cov(i, i));
-      if (st.kind == PosteriorCovariance::Kind::kBias) {
-        e.bias_std_rad[st.dof] = std::sqrt(var);
-        angle_cov(i, i) = var + var_q[st.dof];  // a = q - b: plus the encoder's noise
-        e.angle_std_rad[st.dof] = std::sqrt(angle_cov(i, i));
-      } else if (st.dof < s.n_phys) {
-        e.angle_std_rad[st.dof] = std::sqrt(var);
-      } else {
-        e.camera_offset_std[st.dof - s.n_phys] = std::sqrt(var);
-      }
-    }
-  }
-  for (int j = 0; j < s.n_phys; ++j) s.estimate_q[j] = e.angle_rad[j];
-  for (int k = 0; k < 6; ++k) s.estimate_q[s.n_phys + k] = e.camera_offset[k];
-  forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
-  for (int link : s.ee_links)
-    e.T_camera_ee.push_back(T_camera_link(*s.model, s.estimate_kinematics, link));
-  // End-effector covariance: J diag(var) J^T, J by central differences of
-  // the kinematics in each DOF (position, and rotation vector of the change).
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> jacobians(
-      s.ee_links.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, s.n));
-  Eigen::VectorXd variance(s.n);
-  for (int j = 0; j < s.n; ++j) {
-    const double sd = j < s.n_phys ? e.angle_std_rad[j] : e.camera_offset_std[j - s.n_phys];
-    variance[j] = sd * sd;
-    if (!(sd > 0)) continue;
-    constexpr double kStep = 1e-6;
-    const double q0 = s.estimate_q[j];
-    std::vector<Eigen::Isometry3d> plus(s.ee_links.size());
-    s.estimate_q[j] = q0 + kStep;
-    forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
-    for (std::size_t k = 0; k < s.ee_links.size(); ++k)
-      plus[k] = T_camera_link(*s.model, s.estimate_kinematics, s.ee_links[k]);
-    s.estimate_q[j] = q0 - kStep;
-    forward_kinematics(*s.model, s.estimate_q, s.estimate_kinematics);
-    for (std::size_t k = 0; k < s.ee_links.size(); ++k) {
-      const Eigen::Isometry3d minus = T_camera_link(*s.model, s.estimate_kinematics, s.ee_links[k]);
-      jacobians[k].col(j).head<3>() = (plus[k].translation() - minus.translation()) / (2 * kStep);
-      const Eigen::AngleAxisd turn(plus[k].linear() * minus.linear().transpose());
-      jacobians[k].col(j).tail<3>() = turn.angle() * turn.axis() / (2 * kStep);
-    }
-    s.estimate_q[j] = q0;
-  }
-  // The DOFs' covariance: independent, but where the full covariance knows better.
-  Eigen::MatrixXd dof_cov = variance.asDiagonal();
-  if (cov.started()) {
-    for (int a = 0; a < cov.size(); ++a)
-      for (int b = 0; b < cov.size(); ++b)
-        dof_cov(cov.states()[std::size_t(a)].dof, cov.states()[std::size_t(b)].dof) =
-            angle_cov(a, b);
-  }
-  for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
+  s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance, e);
   e.health = s.published_health;
   return e;
 }

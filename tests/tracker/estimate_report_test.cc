@@ -1,0 +1,67 @@
+// EstimateReport (tracker/internal): what Tracker::estimate() reports from
+// a belief, the readings and the reported covariance.
+#include "arttrack/tracker/internal/estimate_report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "planar_arm.h"
+
+namespace arttrack {
+namespace {
+
+using namespace test_support;  // the planar arm (planar_arm.h)
+
+// Encoders only: the readings, with the encoder noise and the bias prior's
+// stationary spread; no bias, no camera offset.
+TEST(EstimateReport, EncodersOnlyReportsTheReadingsWithTheBiasPriorsSpread) {
+  const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kEncodersOnly),
+                           {"shoulder", "elbow"});
+  EstimateReport report(setup);
+  JointBelief belief = initial_joint_belief(*setup.filter_model, std::vector<double>{0.1, 0.2});
+  belief.mean_a[0] = 7;  // not what encoders only reports
+  const std::vector<double> readings{0.3, -0.2};
+  TrackerEstimate e;
+  report.fill(belief, readings, 2.5, PosteriorCovariance(), e);
+  EXPECT_EQ(e.time_s, 2.5);
+  EXPECT_EQ(e.joint_names, (std::vector<std::string>{"shoulder", "elbow"}));
+  EXPECT_EQ(e.angle_rad[0], 0.3);
+  EXPECT_EQ(e.angle_rad[1], -0.2);
+  const JointFilterParams& p = setup.config.joint_defaults;
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_DOUBLE_EQ(e.angle_std_rad[j],
+                     std::hypot(p.encoder_noise_rad, p.stationary_bias_std_rad()));
+    EXPECT_EQ(e.bias_rad[j], 0.0);
+    EXPECT_EQ(e.bias_std_rad[j], 0.0);
+  }
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(e.camera_offset[k], 0.0);
+  ASSERT_EQ(e.T_camera_ee.size(), 1u);
+}
+
+// The straight arm (both joints about x): the tool moves 0.55 m from the
+// shoulder's axis and 0.25 m from the elbow's, so its position covariance's
+// trace is 0.55^2 var_shoulder + 0.25^2 var_elbow and its rotation's
+// var_shoulder + var_elbow (the camera's variance 0).
+TEST(EstimateReport, EndEffectorCovarianceFollowsTheKinematics) {
+  const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
+                           {"shoulder", "elbow"});
+  EstimateReport report(setup);
+  JointBelief belief = initial_joint_belief(*setup.filter_model, std::vector<double>{0.0, 0.0});
+  const int shoulder = setup.model->joint_index("shoulder");
+  const int elbow = setup.model->joint_index("elbow");
+  belief.var_a[std::size_t(shoulder)] = 0.01 * 0.01;
+  belief.var_a[std::size_t(elbow)] = 0.02 * 0.02;
+  for (int j = setup.n_phys; j < setup.n; ++j) belief.var_a[std::size_t(j)] = 0;
+  TrackerEstimate e;
+  report.fill(belief, std::vector<double>{0.0, 0.0}, 0.0, PosteriorCovariance(), e);
+  EXPECT_DOUBLE_EQ(e.angle_std_rad[std::size_t(shoulder)], 0.01);
+  ASSERT_EQ(e.T_camera_ee_covariance.size(), 1u);
+  const Eigen::Matrix<double, 6, 6>& cov = e.T_camera_ee_covariance[0];
+  const double var_s = 0.01 * 0.01, var_e = 0.02 * 0.02;
+  EXPECT_NEAR((cov.topLeftCorner<3, 3>().trace()), 0.55 * 0.55 * var_s + 0.25 * 0.25 * var_e, 1e-9);
+  EXPECT_NEAR((cov.bottomRightCorner<3, 3>().trace()), var_s + var_e, 1e-9);
+}
+
+}  // namespace
+}  // namespace arttrack

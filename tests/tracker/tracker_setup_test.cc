@@ -1,0 +1,77 @@
+// TrackerSetup (tracker/internal): the wiring Tracker's constructor does
+// once, from the model, the configuration and the encoders' order.
+#include "arttrack/tracker/internal/tracker_setup.h"
+
+#include <gtest/gtest.h>
+
+#include "../error_of.h"
+#include "planar_arm.h"
+
+namespace arttrack {
+namespace {
+
+using namespace test_support;  // the planar arm (planar_arm.h)
+
+TEST(TrackerSetup, MapsTheEncodersOrderToDofsAndNamesTheEndEffectors) {
+  const auto model = arm_model();
+  const TrackerSetup s(model, small_config(TrackingMethod::kFullFusion), {"elbow", "shoulder"});
+  EXPECT_EQ(s.n, 8);
+  EXPECT_EQ(s.n_phys, 2);
+  EXPECT_TRUE(s.use_encoders);
+  EXPECT_TRUE(s.use_images);
+  EXPECT_EQ(s.encoder_dof,
+            (std::vector<int>{model->joint_index("elbow"), model->joint_index("shoulder")}));
+  EXPECT_EQ(s.ee_links, std::vector<int>{model->link_index("tool")});
+  EXPECT_EQ(s.filter_model->num_joints(), 8);
+  EXPECT_EQ(s.filter_model->num_encoder_joints(), 2);
+}
+
+// Only full fusion estimates biases, per joint as configured; vision only's
+// angles diffuse at its own rate; encoders only draws no image.
+TEST(TrackerSetup, TheMethodDecidesWhatIsEstimated) {
+  const auto model = arm_model();
+  const int shoulder = model->joint_index("shoulder"), elbow = model->joint_index("elbow");
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  JointFilterParams exact = c.joint_defaults;
+  exact.estimate_bias = false;
+  c.joint_overrides["shoulder"] = exact;
+  const TrackerSetup fusion(model, c, {"shoulder", "elbow"});
+  EXPECT_EQ(fusion.bias_estimated[std::size_t(shoulder)], 0);
+  EXPECT_EQ(fusion.bias_estimated[std::size_t(elbow)], 1);
+  EXPECT_EQ(fusion.filter_model->bias_rate_var()[shoulder], 0.0);
+  EXPECT_GT(fusion.filter_model->bias_rate_var()[elbow], 0.0);
+
+  c.method = TrackingMethod::kCameraOffsetOnly;
+  const TrackerSetup offset(model, c, {"shoulder", "elbow"});
+  EXPECT_EQ(offset.bias_estimated, std::vector<char>(2, 0));
+
+  c.method = TrackingMethod::kVisionOnly;
+  c.vision_only_angle_diffusion_rad_per_sqrt_s = 0.7;
+  const TrackerSetup vision(model, c, {});
+  EXPECT_FALSE(vision.use_encoders);
+  EXPECT_TRUE(vision.encoder_dof.empty());
+  EXPECT_EQ(vision.bias_estimated, std::vector<char>(2, 0));
+  EXPECT_DOUBLE_EQ(vision.filter_model->angle_rate_var()[elbow], 0.7 * 0.7);
+
+  c.method = TrackingMethod::kEncodersOnly;
+  EXPECT_FALSE(TrackerSetup(model, c, {"shoulder", "elbow"}).use_images);
+}
+
+TEST(TrackerSetup, RefusesAnEncoderOrderThatIsNotEveryPhysicalJointOnce) {
+  const auto model = arm_model();
+  const TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  EXPECT_EQ(error_of([&] {
+              TrackerSetup(model, c, {"shoulder", "shoulder"});
+            }),
+            "encoder joint 'shoulder' is listed twice");
+  EXPECT_EQ(error_of([&] {
+              TrackerSetup(model, c, {"shoulder", "camera_offset_x"});
+            }),
+            "encoder joint 'camera_offset_x' is a virtual camera joint");
+  EXPECT_EQ(error_of([&] { TrackerSetup(model, c, {"shoulder"}); }),
+            "no encoder reading for joint 'elbow' (every physical joint needs one, except for "
+            "vision_only)");
+}
+
+}  // namespace
+}  // namespace arttrack

@@ -1,0 +1,48 @@
+// What Tracker::estimate() reports from the tracker's state (TrackerEstimate,
+// tracker.h): angles and biases with their standard deviations, the camera
+// offset, the end effectors' poses in the camera frame and their 6x6
+// covariances.
+//
+// The standard deviations: for encoders_only, the reading's noise and the
+// bias prior's stationary variance (the bias it does not estimate);
+// otherwise the joint filters' angle variance, but never below the
+// encoder's noise, and, after the first image, the reported covariance's
+// marginals (reported_covariance.h) predicted to the estimate's time for
+// the DOFs the images inform. End-effector covariances are J C J^T, J the
+// kinematics' Jacobian by central differences (position, and the rotation
+// vector of the change), C the DOFs' covariance.
+//
+// Setup: the tracker's (tracker_setup.h). Workspace: the kinematics it
+// evaluates. Internal to the tracker (tracker/internal: not installed). Not
+// thread-safe: the tracker calls it under its lock.
+#pragma once
+
+#include <span>
+
+#include <Eigen/Core>
+
+#include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/kinematics.h"
+#include "arttrack/tracker/posterior_covariance.h"
+#include "arttrack/tracker/tracker.h"
+
+namespace arttrack {
+
+class EstimateReport {
+ public:
+  explicit EstimateReport(const TrackerSetup& setup);
+
+  // The estimate at time_s of `belief` (DOF order), with the newest encoder
+  // readings (physical DOFs; what encoders_only reports) and the reported
+  // covariance (not started: none yet). Leaves e.health alone.
+  void fill(const JointBelief& belief, std::span<const double> readings_rad, double time_s,
+            const PosteriorCovariance& covariance, TrackerEstimate& e);
+
+ private:
+  const TrackerSetup& setup_;
+  KinematicsState kinematics_;
+  Eigen::VectorXd q_;
+};
+
+}  // namespace arttrack

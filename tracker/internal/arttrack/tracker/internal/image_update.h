@@ -1,0 +1,73 @@
+// One depth image's update of the joint belief (docs/method.md, "Image
+// update" and "Beyond the paper"), between the prior the tracker predicted
+// to the image's time and the re-filtering of the readings after it (paper
+// Sec. IV-C, the tracker's): the particle filter over the image
+// (image_filter.h), or at the first image the acquisition's search
+// (acquisition.h); the re-acquisition the health check's counts call for;
+// the reported covariance (reported_covariance.h) with the mean's
+// refinement (refinement.h) between its halves; and the health check of
+// the result (health_check.h).
+//
+// Setup: the TrackerSetup and each component's own. Workspace: the
+// components' and the image's prior spread. Internal to the tracker
+// (tracker/internal: not installed). Not thread-safe: one image at a time,
+// on the thread that applies it, without the tracker's lock.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "arttrack/tracker/camera.h"
+#include "arttrack/tracker/internal/acquisition.h"
+#include "arttrack/tracker/internal/image_filter.h"
+#include "arttrack/tracker/internal/refinement.h"
+#include "arttrack/tracker/internal/reported_covariance.h"
+#include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/posterior_covariance.h"
+#include "arttrack/tracker/tracker.h"
+
+namespace arttrack {
+
+class HealthCheck;
+
+class ImageUpdate {
+ public:
+  explicit ImageUpdate(const TrackerSetup& setup);
+  ~ImageUpdate();
+
+  // Whether apply() wants the encoder readings at the image's time (the
+  // searches re-open the biases around them).
+  bool wants_readings() const { return acquisition_.on(); }
+
+  // Updates `belief`, the prior at time_s (the image's stamp_s minus the
+  // camera delay), with `image` at the likelihood's resolution, taken by
+  // `camera` (full resolution). `reading_at_time` (DOF order; empty: none)
+  // lets the searches after the first image run. Returns the search's time
+  // in ms (0: none ran).
+  double apply(const DepthImage& image, const CameraIntrinsics& camera, double stamp_s,
+               double time_s, std::span<const double> reading_at_time, JointBelief& belief);
+
+  // After apply(): what the tracker publishes and counts.
+  const TrackingHealth& health() const { return health_; }
+  const PosteriorCovariance& covariance() const { return covariance_.covariance(); }
+  const ImageFilter& filter() const { return filter_; }
+  const RenderGeometry& geometry() const { return filter_.geometry(); }
+
+ private:
+  const TrackerSetup& setup_;
+  ImageFilter filter_;
+  std::unique_ptr<HealthCheck> health_check_;
+  TrackingHealth health_;  // the image thread's; the tracker publishes copies
+  Acquisition acquisition_;
+  ReportedCovariance covariance_;
+  Refinement refinement_;
+  // Per image: the prior's angle means and standard deviations (DOF order),
+  // and the DOFs re-acquisition moved.
+  std::vector<double> prior_mean_, prior_std_;
+  std::vector<char> reopened_;
+  int images_seen_ = 0;
+};
+
+}  // namespace arttrack

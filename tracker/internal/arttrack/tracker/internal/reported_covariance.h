@@ -1,0 +1,93 @@
+// The covariance the tracker reports (docs/method.md, "Reported
+// covariance"): PosteriorCovariance (posterior_covariance.h) over the DOFs
+// the particle filter samples, each image's information about them
+// (image_information.h) folded in after the image's particle filter, and,
+// with uncertainty.model_error, the link shifts' variance estimated from the
+// images' residuals as consider parameters.
+//
+// An image's update comes in two halves, with the mean's refinement
+// (refinement.h) between them: begin_image() moves the covariance to the
+// image's time and computes the image's information at the filter's mean;
+// end_image() folds it in.
+//
+// Setup (ReportedCovarianceSetup): the states and what scales the images'
+// information. Workspace: the covariance, the information and the model
+// error's running average. Internal to the tracker (tracker/internal: not
+// installed). Not thread-safe: the image thread's.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/posterior_covariance.h"
+#include "arttrack/tracker/tracker.h"
+
+namespace arttrack {
+
+struct ReportedCovarianceSetup {
+  // `sampled`: the image filter's sampling blocks.
+  ReportedCovarianceSetup(const TrackerSetup& setup, const std::vector<SamplingBlock>& sampled);
+
+  // The states: every DOF the particle filter samples but the encoder
+  // joints whose bias is not estimated (their encoder says their angle); a
+  // bias for an encoder joint, an angle for the others. `dofs`: theirs.
+  std::vector<PosteriorCovariance::State> states;
+  std::vector<int> dofs;
+  int num_consider = 0;  // 3 per link with geometry with model_error, else 0
+  ImageInformationParams information;
+  double reopened_bias_var_rad2 = 0;  // (acquisition.bias_std_rad)^2
+  double image_information_scale = 1;
+  bool discount_correlated_residuals = true;
+  bool model_error = true;
+  double model_error_time_constant_s = 2;
+  double model_error_min_std_m = 0;
+};
+
+class ReportedCovariance {
+ public:
+  ReportedCovariance(const TrackerSetup& setup, const std::vector<SamplingBlock>& sampled);
+
+  const ReportedCovarianceSetup& setup() const { return setup_; }
+  const PosteriorCovariance& covariance() const { return covariance_; }
+
+  // The first half of an image's update at time_s: starts the covariance
+  // from the prior's angle variances (prior_std per DOF) at the first image,
+  // else predicts it to time_s; a DOF re-acquisition moved (`reopened`,
+  // cleared here) starts again from the broad prior it was searched with;
+  // then the image's information at the robot at `mean` (every DOF),
+  // rendered by `renderer` (the likelihood's size). Returns whether the
+  // mean may be refined on that information: some pixel informed it and no
+  // DOF was re-opened. No-op (false) without states.
+  bool begin_image(double time_s, std::span<const double> prior_std, std::vector<char>& reopened,
+                   std::span<const double> mean, DepthRenderer& renderer,
+                   const DepthLikelihood& likelihood);
+  // After begin_image(): the image's information, and what it knows.
+  const ImageInformation& information() const { return information_; }
+  const Eigen::MatrixXd& information_matrix() const { return information_.information_matrix(); }
+
+  // The second half: folds the image's information in, scaled by
+  // image_information_scale (and the effective pixel fraction with
+  // discount_correlated_residuals); with model_error, first averages the
+  // link shifts' variance over model_error_time_constant_s, which `health`
+  // reports (model_error_std_m). No-op without states.
+  void end_image(double time_s, TrackingHealth& health);
+
+ private:
+  const ReportedCovarianceSetup setup_;
+  PosteriorCovariance covariance_;
+  ImageInformation information_;
+  Eigen::VectorXd start_, q_;
+  // uncertainty.model_error: the link shifts' variance averaged over images.
+  double model_error_var_m2_ = 0, model_error_time_s_ = 0;
+  bool model_error_started_ = false;
+  Eigen::MatrixXd consider_cross_;
+};
+
+}  // namespace arttrack

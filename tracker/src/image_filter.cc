@@ -1,0 +1,38 @@
+#include "arttrack/tracker/internal/image_filter.h"
+
+#include "arttrack/tracker/tracker.h"
+
+namespace arttrack {
+namespace {
+
+CoordinateParticleFilterParams filter_params(const TrackerConfig& config) {
+  CoordinateParticleFilterParams params = config.particle_filter;
+  if (config.method != TrackingMethod::kFullFusion) params.bandwidth_factor = 0;
+  return params;
+}
+
+}  // namespace
+
+ImageFilter::ImageFilter(const TrackerSetup& setup)
+    : beta_(setup.config.likelihood_exponent),
+      pool_(setup.config.threads),
+      cpf_(setup.n, sampling_blocks(*setup.model, setup.config), filter_params(setup.config)),
+      likelihood_(setup.config.depth_model),
+      rng_(setup.config.seed),
+      geometry_(setup.model, setup.config.geometry) {}
+
+bool ImageFilter::set_image(const DepthImage& image, const CameraIntrinsics& camera) {
+  camera_ = camera;
+  likelihood_.set_observation(image);
+  if (geometry_.has_camera(camera) || !geometry_.use_camera(camera)) return false;
+  evaluator_ = std::make_unique<HypothesisEvaluator>(geometry_.drawn_model(), cpf_.blocks());
+  return true;
+}
+
+void ImageFilter::run(std::span<const double> prior_mean, std::span<const double> prior_std,
+                      std::span<const double> proposal_mean, std::span<const double> proposal_std) {
+  evaluator_->begin_run(camera_, likelihood_, proposal_mean);
+  cpf_.run(prior_mean, prior_std, proposal_mean, proposal_std, beta_, *evaluator_, rng_, pool_);
+}
+
+}  // namespace arttrack

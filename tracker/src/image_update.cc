@@ -1,0 +1,63 @@
+#include "arttrack/tracker/internal/image_update.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "health_check.h"
+
+namespace arttrack {
+
+ImageUpdate::ImageUpdate(const TrackerSetup& setup)
+    : setup_(setup),
+      filter_(setup),
+      health_check_(std::make_unique<HealthCheck>(*setup.model, setup.n_phys, setup.config.health,
+                                                  setup.config.depth_model.max_range_m)),
+      health_(health_check_->initial_health()),
+      acquisition_(setup),
+      covariance_(setup, filter_.filter().blocks()),
+      refinement_(setup, covariance_.setup().states),
+      prior_mean_(std::size_t(setup.n), 0.0),
+      prior_std_(std::size_t(setup.n), 0.0),
+      reopened_(std::size_t(setup.n), 0) {}
+
+ImageUpdate::~ImageUpdate() = default;
+
+double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_camera,
+                          double stamp_s, double time_s, std::span<const double> reading_at_time,
+                          JointBelief& belief) {
+  const int n = setup_.n;
+  for (int j = 0; j < n; ++j) prior_std_[j] = std::sqrt(std::max(0.0, belief.var_a[j]));
+  std::copy(belief.mean_a.begin(), belief.mean_a.end(), prior_mean_.begin());
+  const DepthLikelihood& likelihood = filter_.likelihood();
+  const CameraIntrinsics camera =
+      subsampled_intrinsics(full_camera, likelihood.width(), likelihood.height());
+  if (filter_.set_image(image, camera)) acquisition_.draw(filter_.geometry().drawn_model());
+  double search_ms = 0;
+  const bool first = images_seen_++ == 0;
+  if (acquisition_.on() && first) {
+    search_ms = acquisition_.acquire_first(filter_, image, prior_std_, time_s, belief, health_);
+  } else {
+    filter_.run(belief.mean_a, prior_std_, belief.mean_a, prior_std_);
+    fold_angle_posteriors(filter_.filter().mean(), filter_.filter().variance(), belief);
+  }
+  HealthCheck& check = *health_check_;
+  if (acquisition_.on() && !first && !reading_at_time.empty()) {
+    const SearchKind kind = acquisition_.due_search(check, time_s);
+    if (kind != SearchKind::kNone) {
+      acquisition_.reacquire(kind, filter_, image, check, reading_at_time, time_s, belief, health_,
+                             reopened_);
+      search_ms = health_.last_acquisition_ms;
+    }
+  }
+  DepthRenderer& renderer = filter_.geometry().renderer();
+  if (covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a, renderer, likelihood) &&
+      refinement_.on())
+    health_.refinements_accepted +=
+        refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,
+                           prior_std_, filter_, belief);
+  covariance_.end_image(time_s, health_);
+  check.update(belief.mean_a, image, stamp_s, renderer, health_);
+  return search_ms;
+}
+
+}  // namespace arttrack

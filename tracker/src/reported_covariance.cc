@@ -1,0 +1,94 @@
+#include "arttrack/tracker/internal/reported_covariance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace arttrack {
+
+ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
+                                                 const std::vector<SamplingBlock>& sampled_blocks)
+    : reopened_bias_var_rad2(setup.config.acquisition.bias_std_rad *
+                             setup.config.acquisition.bias_std_rad),
+      image_information_scale(setup.config.image_information_scale),
+      discount_correlated_residuals(setup.config.discount_correlated_residuals),
+      model_error(setup.config.model_error),
+      model_error_time_constant_s(setup.config.model_error_time_constant_s),
+      model_error_min_std_m(setup.config.model_error_min_std_m) {
+  const JointFilterModel& filter = *setup.filter_model;
+  std::vector<char> sampled(setup.n, 0);
+  for (const SamplingBlock& b : sampled_blocks)
+    for (int j : b.coordinates) sampled[j] = 1;
+  for (int j = 0; j < setup.n; ++j) {
+    if (!sampled[j]) continue;
+    if (j < setup.n_phys && setup.use_encoders) {
+      if (!setup.bias_estimated[j]) continue;
+      states.push_back({j, PosteriorCovariance::Kind::kBias, filter.bias_decay_rate_per_s()[j],
+                        filter.bias_rate_var()[j]});
+    } else {
+      states.push_back({j, PosteriorCovariance::Kind::kAngle, 0.0, filter.angle_rate_var()[j]});
+    }
+    dofs.push_back(j);
+  }
+  information.link_shifts = model_error;
+  num_consider = model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0;
+}
+
+ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
+                                       const std::vector<SamplingBlock>& sampled)
+    : setup_(setup, sampled),
+      covariance_(setup_.states, setup_.num_consider),
+      information_(setup_.dofs, setup_.information),
+      start_(covariance_.size()),
+      q_(setup.n) {}
+
+bool ReportedCovariance::begin_image(double time_s, std::span<const double> prior_std,
+                                     std::vector<char>& reopened, std::span<const double> mean,
+                                     DepthRenderer& renderer, const DepthLikelihood& likelihood) {
+  if (covariance_.size() == 0) return false;
+  const auto& states = covariance_.states();
+  if (!covariance_.started()) {
+    for (int i = 0; i < covariance_.size(); ++i) {
+      const double sd = prior_std[states[std::size_t(i)].dof];
+      start_[i] = sd * sd;
+    }
+    covariance_.reset(start_, time_s);
+  } else {
+    covariance_.predict_to(time_s);
+  }
+  bool any_reopened = false;
+  for (int i = 0; i < covariance_.size(); ++i) {
+    const int dof = states[std::size_t(i)].dof;
+    if (reopened[dof]) covariance_.restart_state(i, setup_.reopened_bias_var_rad2);
+    any_reopened = any_reopened || reopened[dof];
+    reopened[dof] = 0;
+  }
+  for (int j = 0; j < q_.size(); ++j) q_[j] = mean[j];
+  information_.compute(renderer, {q_.data(), std::size_t(q_.size())}, likelihood);
+  return !any_reopened && information_.pixels_used() > 0;
+}
+
+void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
+  if (covariance_.size() == 0) return;
+  const Eigen::MatrixXd& info = information_.information_matrix();
+  const double discount =
+      setup_.discount_correlated_residuals ? information_.effective_pixel_fraction() : 1.0;
+  if (!setup_.model_error) {
+    covariance_.update(info, setup_.image_information_scale * discount);
+    return;
+  }
+  // The link shifts' variance, averaged over time (one image's estimate is noisy).
+  const double sample = information_.link_shift_variance_m2();
+  // From 0, so that the first images (the estimate still converging, its
+  // residuals large) weigh one image's share each.
+  const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
+  const double keep = std::exp(-dt / setup_.model_error_time_constant_s);
+  model_error_var_m2_ = keep * model_error_var_m2_ + (1 - keep) * sample;
+  model_error_time_s_ = time_s;
+  model_error_started_ = true;
+  health.model_error_std_m = std::sqrt(model_error_var_m2_);
+  const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
+  consider_cross_ = information_.shift_cross_information() * std_m;
+  covariance_.update(info, consider_cross_, setup_.image_information_scale * discount);
+}
+
+}  // namespace arttrack
