@@ -20,44 +20,6 @@ using arttrack::test_support::tracker_config_error;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// The shipped file documents every key with the in-code defaults.
-TEST(TrackerConfigTest, DefaultFileEqualsTheBuiltInDefaults) {
-  const TrackerConfig file =
-      load_tracker_config(std::string(ARTTRACK_SOURCE_DIR) + "/tracker/config/default.yaml");
-  const TrackerConfig code;
-  EXPECT_EQ(file.method, code.method);
-  EXPECT_EQ(file.end_effectors, code.end_effectors);
-  EXPECT_NEAR(file.joint_defaults.encoder_noise_rad, code.joint_defaults.encoder_noise_rad, 1e-5);
-  EXPECT_NEAR(file.joint_defaults.angle_diffusion_rad_per_sqrt_s,
-              code.joint_defaults.angle_diffusion_rad_per_sqrt_s, 1e-3);
-  EXPECT_NEAR(file.joint_defaults.bias_diffusion_rad_per_sqrt_s,
-              code.joint_defaults.bias_diffusion_rad_per_sqrt_s, 1e-3);
-  EXPECT_EQ(file.joint_defaults.bias_decay_per_s, code.joint_defaults.bias_decay_per_s);
-  EXPECT_NEAR(file.camera_rotation.initial_std, code.camera_rotation.initial_std, 1e-3);
-  EXPECT_NEAR(file.camera_rotation.diffusion_per_sqrt_s, code.camera_rotation.diffusion_per_sqrt_s,
-              1e-4);
-  EXPECT_EQ(file.camera_translation.initial_std, code.camera_translation.initial_std);
-  EXPECT_EQ(file.depth_model.width, code.depth_model.width);
-  EXPECT_EQ(file.depth_model.occlusion_prior, code.depth_model.occlusion_prior);
-  EXPECT_EQ(file.depth_model.occluder_model, code.depth_model.occluder_model);
-  // Robot-agnostic: no per-joint overrides (the dual-arm robot's are in
-  // its scene, models/scene_default.yaml).
-  EXPECT_TRUE(code.joint_overrides.empty());
-  EXPECT_TRUE(file.joint_overrides.empty());
-  EXPECT_EQ(file.particle_filter.num_particles, code.particle_filter.num_particles);
-  EXPECT_EQ(file.particle_filter.bandwidth_factor, code.particle_filter.bandwidth_factor);
-  EXPECT_EQ(file.particle_filter.block_moments_below_nats,
-            code.particle_filter.block_moments_below_nats);
-  EXPECT_EQ(file.geometry.max_error_px, code.geometry.max_error_px);
-  EXPECT_EQ(file.geometry.nearest_range_m, code.geometry.nearest_range_m);
-  EXPECT_EQ(file.geometry.coarser_levels, code.geometry.coarser_levels);
-  EXPECT_EQ(file.acquisition.search_camera, code.acquisition.search_camera);
-  EXPECT_EQ(file.buffer_capacity, code.buffer_capacity);
-  EXPECT_EQ(file.asynchronous, code.asynchronous);
-  EXPECT_NEAR(file.joint_limit_margin_rad, code.joint_limit_margin_rad, 1e-12);
-  EXPECT_EQ(file.max_image_clock_offset_s, code.max_image_clock_offset_s);
-}
-
 TEST(TrackerConfigTest, ReadsGeometry) {
   const TrackerConfig c = tracker_config_from_yaml(
       load_yaml_string("geometry: {max_error_px: 0.5, nearest_range_m: 0.6}\n", "t.yaml"));
@@ -236,6 +198,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"particle_filter.max_kl_divergence", ".inf", ""},
     {"particle_filter.proposal_scale", "1e-6", "1e-7"},
     {"particle_filter.proposal_scale", "1e6", "1.1e6"},
+    {"particle_filter.no_evidence_nats", "0", "-1e-9"},
+    {"particle_filter.no_evidence_nats", ".inf", ""},
     {"particle_filter.bandwidth_factor", "0", "-0.1"},
     {"particle_filter.bandwidth_factor", "10", "10.1"},
     {"particle_filter.block_moments_below_nats", "0", "-0.1"},
