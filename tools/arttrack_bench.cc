@@ -59,13 +59,10 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::ordered_json;
 
-struct BenchArgs {
-  std::string scenario;
+struct BenchArgs : ScenarioArgs {
   int evaluations = 0;
   std::string resolution;
   std::string json_path;
-  long long seed = -1;
-  std::vector<std::string> overrides;
   int threads = -1;
   double soak_minutes = 0;
   int soak_frames = 30;

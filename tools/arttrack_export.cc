@@ -22,10 +22,7 @@
 namespace arttrack::cli {
 namespace {
 
-struct ExportArgs {
-  std::string scenario;
-  long long seed = -1;
-  std::vector<std::string> overrides;
+struct ExportArgs : ScenarioArgs {
   std::string out_dir;
   bool force = false;
 };

@@ -39,12 +39,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-struct RunArgs {
-  std::string scenario;
+struct RunArgs : ScenarioArgs {
   int runs = 0;
-  long long seed = -1;
   std::string methods;
-  std::vector<std::string> overrides;
   std::string out_dir;
   bool realtime = false;
   bool force = false;

@@ -31,13 +31,10 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-struct SweepArgs {
-  std::string scenario;
+struct SweepArgs : ScenarioArgs {
   std::vector<std::string> grid;
   int runs = 0;
-  long long seed = -1;
   std::string methods;
-  std::vector<std::string> overrides;
   std::string shard = "0/1";
   double fail_threshold_m = 0.05;
   std::string fail_statistic = "converged_p50_translation_m";

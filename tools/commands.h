@@ -58,6 +58,16 @@ inline std::string shorten_long_words(const std::string& message) {
   return out;
 }
 
+// The scenario a command simulates, as its command line gives it: the YAML
+// (add_scenario_argument()), --seed (add_seed_option(); -1: the scenario's
+// own) and the --set overrides in order (add_set_option()). The arguments of
+// run, sweep, export and bench extend it.
+struct ScenarioArgs {
+  std::string scenario;
+  long long seed = -1;
+  std::vector<std::string> overrides;
+};
+
 // Adds the subcommand `name`, whose options fill one Args that `run` is
 // called with once the command line is parsed (the callback owns it):
 // returns the subcommand and the Args to bind its options to.
