@@ -59,13 +59,10 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using Json = nlohmann::ordered_json;
 
-struct BenchArgs {
-  std::string scenario;
+struct BenchArgs : ScenarioArgs {
   int evaluations = 0;
   std::string resolution;
   std::string json_path;
-  long long seed = -1;
-  std::vector<std::string> overrides;
   int threads = -1;
   double soak_minutes = 0;
   int soak_frames = 30;
@@ -336,10 +333,9 @@ void run_bench(const BenchArgs& args) {
 }  // namespace
 
 void register_bench(CLI::App& app) {
-  auto args = std::make_shared<BenchArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "bench", "Time the full-fusion tracker on a scenario's measurement stream");
-  cmd->add_option("scenario", args->scenario, "Scenario YAML (default: scenarios/default.yaml)");
+  const auto [cmd, args] = add_command(
+      app, "bench", "Time the full-fusion tracker on a scenario's measurement stream", run_bench);
+  add_scenario_argument(cmd, args->scenario, /*has_default=*/true);
   cmd->add_option("--evaluations", args->evaluations,
                   "Likelihood evaluations per image: particles = ceil(N / blocks) "
                   "(default: the tracker configuration's particles)");
@@ -359,7 +355,6 @@ void register_bench(CLI::App& app) {
   cmd->add_option("--soak-frames", args->soak_frames,
                   "Distinct depth images the soak reuses (default 30)")
       ->check(CLI::Range(1, 3000));
-  cmd->callback([args] { run_bench(*args); });
 }
 
 }  // namespace arttrack::cli

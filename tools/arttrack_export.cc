@@ -22,10 +22,7 @@
 namespace arttrack::cli {
 namespace {
 
-struct ExportArgs {
-  std::string scenario;
-  long long seed = -1;
-  std::vector<std::string> overrides;
+struct ExportArgs : ScenarioArgs {
   std::string out_dir;
   bool force = false;
 };
@@ -46,16 +43,15 @@ void run_export(const ExportArgs& args) {
 }  // namespace
 
 void register_export(CLI::App& app) {
-  auto args = std::make_shared<ExportArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "export", "Simulate a scenario and write what the tracker receives as a dataset");
-  cmd->add_option("scenario", args->scenario, "Scenario YAML")->required();
+  const auto [cmd, args] = add_command(
+      app, "export", "Simulate a scenario and write what the tracker receives as a dataset",
+      run_export);
+  add_scenario_argument(cmd, args->scenario);
   add_seed_option(cmd, args->seed, "Scenario seed, as for arttrack run");
   add_set_option(cmd, args->overrides);
   add_out_and_force_options(cmd, args->out_dir, args->force, "Dataset folder to write",
                             "Overwrite a dataset already in --out")
       ->required();
-  cmd->callback([args] { run_export(*args); });
 }
 
 }  // namespace arttrack::cli

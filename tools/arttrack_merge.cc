@@ -43,12 +43,11 @@ void merge(const MergeArgs& args) {
 }  // namespace
 
 void register_merge(CLI::App& app) {
-  auto args = std::make_shared<MergeArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "merge", "Merge the parts of a sharded sweep (arttrack sweep --shard I/N) into one");
+  const auto [cmd, args] = add_command(
+      app, "merge", "Merge the parts of a sharded sweep (arttrack sweep --shard I/N) into one",
+      merge);
   cmd->add_option("parts", args->parts, "Output folders of the shard runs")->required();
   add_out_option(cmd, args->out_dir, "Folder for the merged outputs")->required();
-  cmd->callback([args] { merge(*args); });
 }
 
 }  // namespace arttrack::cli

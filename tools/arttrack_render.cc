@@ -108,9 +108,9 @@ void run(const RenderArgs& args) {
 }  // namespace
 
 void register_render(CLI::App& app) {
-  auto args = std::make_shared<RenderArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "render", "Render the simulator's depth and the tracker's robot render; compare them");
+  const auto [cmd, args] =
+      add_command(app, "render",
+                  "Render the simulator's depth and the tracker's robot render; compare them", run);
   cmd->add_option("scene", args->input,
                   "Scene or scenario YAML (default: models/scene_default.yaml)");
   add_seed_option(cmd, args->seed,
@@ -130,7 +130,6 @@ void register_render(CLI::App& app) {
           },
           "SECONDS"));
   add_out_option(cmd, args->out_dir, "Output folder")->required();
-  cmd->callback([args] { run(*args); });
 }
 
 }  // namespace arttrack::cli

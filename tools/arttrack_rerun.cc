@@ -47,17 +47,16 @@ void rerun(const RerunArgs& args) {
 }  // namespace
 
 void register_rerun(CLI::App& app) {
-  auto args = std::make_shared<RerunArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "rerun",
+  const auto [cmd, args] = add_command(
+      app, "rerun",
       "Run again a finished run from its output folder (its summary.json): same scenario, "
-      "overrides, tracker configuration, seeds and methods; byte-identical timeseries.csv");
+      "overrides, tracker configuration, seeds and methods; byte-identical timeseries.csv",
+      rerun);
   cmd->add_option("run_dir", args->run_dir, "Output folder of the run (holds summary.json)")
       ->required()
       ->check(non_empty_name());
   add_out_and_force_options(cmd, args->out_dir, args->force,
                             "Output folder (default: RUN_DIR/rerun)");
-  cmd->callback([args] { rerun(*args); });
 }
 
 }  // namespace arttrack::cli

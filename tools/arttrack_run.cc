@@ -39,12 +39,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-struct RunArgs {
-  std::string scenario;
+struct RunArgs : ScenarioArgs {
   int runs = 0;
-  long long seed = -1;
   std::string methods;
-  std::vector<std::string> overrides;
   std::string out_dir;
   bool realtime = false;
   bool force = false;
@@ -157,10 +154,10 @@ std::string written_files_text(const fs::path& dir, const std::vector<fs::path>&
 }
 
 void register_run(CLI::App& app) {
-  auto args = std::make_shared<RunArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "run", "Run a scenario: simulate, track with each method, score, write summary and series");
-  cmd->add_option("scenario", args->scenario, "Scenario YAML (default: scenarios/default.yaml)");
+  const auto [cmd, args] = add_command(
+      app, "run",
+      "Run a scenario: simulate, track with each method, score, write summary and series", run);
+  add_scenario_argument(cmd, args->scenario, /*has_default=*/true);
   cmd->add_option("--runs", args->runs,
                   "Number of runs with different seeds (default: the scenario's)");
   add_seed_option(cmd, args->seed, "Scenario seed; run k uses a seed mixed from it and k");
@@ -174,7 +171,6 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--realtime", args->realtime,
                 "Simulate each run, then replay it at wall-clock speed to asynchronous "
                 "trackers; report dropped images and capture-to-estimate latency");
-  cmd->callback([args] { run(*args); });
 }
 
 }  // namespace arttrack::cli

@@ -31,13 +31,10 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-struct SweepArgs {
-  std::string scenario;
+struct SweepArgs : ScenarioArgs {
   std::vector<std::string> grid;
   int runs = 0;
-  long long seed = -1;
   std::string methods;
-  std::vector<std::string> overrides;
   std::string shard = "0/1";
   double fail_threshold_m = 0.05;
   std::string fail_statistic = "converged_p50_translation_m";
@@ -172,10 +169,10 @@ void sweep(const SweepArgs& args) {
 }  // namespace
 
 void register_sweep(CLI::App& app) {
-  auto args = std::make_shared<SweepArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "sweep", "Run a scenario over a grid of scenario keys (stress sweep): sweep.csv, sweep.html");
-  cmd->add_option("scenario", args->scenario, "Scenario YAML")->required();
+  const auto [cmd, args] = add_command(
+      app, "sweep",
+      "Run a scenario over a grid of scenario keys (stress sweep): sweep.csv, sweep.html", sweep);
+  add_scenario_argument(cmd, args->scenario);
   cmd->add_option("--grid", args->grid,
                   "Swept key: key=start:stop:step (stop included) or key=v1,v2,...; keys as "
                   "--set takes them, list elements as encoders[0].offset_deg")
@@ -198,7 +195,6 @@ void register_sweep(CLI::App& app) {
                   "Statistic compared with --fail-threshold-m (default "
                   "converged_p50_translation_m)");
   add_out_option(cmd, args->out_dir, "Output folder (default: out/sweep_<scenario name>)");
-  cmd->callback([args] { sweep(*args); });
 }
 
 }  // namespace arttrack::cli

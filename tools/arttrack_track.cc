@@ -79,9 +79,9 @@ void run_track(const TrackArgs& args) {
 }  // namespace
 
 void register_track(CLI::App& app) {
-  auto args = std::make_shared<TrackArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "track", "Track a recorded or exported dataset; score it if it has ground truth");
+  const auto [cmd, args] = add_command(
+      app, "track", "Track a recorded or exported dataset; score it if it has ground truth",
+      run_track);
   cmd->add_option("dataset", args->dataset, "Dataset folder (docs/datasets.md)")->required();
   cmd->add_option("--config", args->config,
                   "Tracker configuration (default: the dataset's tracker.yaml, else "
@@ -94,7 +94,6 @@ void register_track(CLI::App& app) {
   cmd->add_option("--every", args->every,
                   "Also write an estimate.csv row every N joint readings (default 0)");
   add_out_and_force_options(cmd, args->out_dir, args->force, "Output folder")->required();
-  cmd->callback([args] { run_track(*args); });
 }
 
 }  // namespace arttrack::cli

@@ -97,10 +97,9 @@ void tune(const TuneArgs& args) {
 }  // namespace
 
 void register_tune(CLI::App& app) {
-  auto args = std::make_shared<TuneArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "tune",
-      "Tune tracker parameters over scenarios (NLopt): tuned.yaml, search.csv, tuning.html");
+  const auto [cmd, args] = add_command(
+      app, "tune",
+      "Tune tracker parameters over scenarios (NLopt): tuned.yaml, search.csv, tuning.html", tune);
   cmd->add_option("scenarios", args->scenarios, "Scenarios tuned on")->required();
   cmd->add_option("--params", args->params,
                   "Tuned tracker keys: key=lo:hi[,key=lo:hi...] (:int for whole numbers)")
@@ -125,7 +124,6 @@ void register_tune(CLI::App& app) {
                   "Seed of each scenario, the same for every candidate and the final comparison");
   add_set_option(cmd, args->overrides, "Override a key of every scenario, e.g. duration_s=5");
   add_out_option(cmd, args->out_dir, "Output folder (default out/tune)");
-  cmd->callback([args] { tune(*args); });
 }
 
 }  // namespace arttrack::cli

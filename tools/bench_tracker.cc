@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "../tests/dual_arm_home.h"
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/depth_likelihood.h"
@@ -43,22 +44,12 @@ const RobotModel& robot() {
   return model;
 }
 
-// The home pose documented in the header of models/dual_arm.urdf (degrees),
-// then any "name=radians,..." overrides from ARTTRACK_BENCH_POSE. Joints the
-// model lacks are skipped, so another URDF can be benchmarked too.
+// The dual arm's home pose (tests/dual_arm_home.h: models/scene_default.yaml,
+// the pose documented in the header of models/dual_arm.urdf), then any
+// "name=radians,..." overrides from ARTTRACK_BENCH_POSE. Joints the model
+// lacks are skipped, so another URDF can be benchmarked too.
 Eigen::VectorXd home_pose(const RobotModel& model) {
-  const std::pair<const char*, double> home_deg[] = {
-      {"head_tilt_joint", 40},    {"left_arm_joint_1", -10}, {"left_arm_joint_2", 90},
-      {"left_arm_joint_3", 65},   {"left_arm_joint_4", 90},  {"left_arm_joint_5", -45},
-      {"left_arm_joint_6", -35},  {"right_arm_joint_1", 10}, {"right_arm_joint_2", 90},
-      {"right_arm_joint_3", -65}, {"right_arm_joint_4", 90}, {"right_arm_joint_5", 45},
-      {"right_arm_joint_6", -35}};
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
-  const auto& names = model.joint_names();
-  for (const auto& [name, deg] : home_deg) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it != names.end()) q[it - names.begin()] = deg * std::numbers::pi / 180;
-  }
+  Eigen::VectorXd q = test_support::dual_arm_home_pose(model);
   const char* spec = std::getenv("ARTTRACK_BENCH_POSE");
   std::string rest = spec ? spec : "";
   while (!rest.empty()) {

@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <initializer_list>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "arttrack/sim/scenario.h"
@@ -56,6 +58,28 @@ inline std::string shorten_long_words(const std::string& message) {
   return out;
 }
 
+// The scenario a command simulates, as its command line gives it: the YAML
+// (add_scenario_argument()), --seed (add_seed_option(); -1: the scenario's
+// own) and the --set overrides in order (add_set_option()). The arguments of
+// run, sweep, export and bench extend it.
+struct ScenarioArgs {
+  std::string scenario;
+  long long seed = -1;
+  std::vector<std::string> overrides;
+};
+
+// Adds the subcommand `name`, whose options fill one Args that `run` is
+// called with once the command line is parsed (the callback owns it):
+// returns the subcommand and the Args to bind its options to.
+template <class Args>
+std::pair<CLI::App*, Args*> add_command(CLI::App& app, const std::string& name,
+                                        const std::string& description, void (*run)(const Args&)) {
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(name, description);
+  cmd->callback([args, run] { run(*args); });
+  return {cmd, args.get()};
+}
+
 // Check for --out and other folder or file names: an empty one is a usage
 // error (it would silently mean the working directory).
 inline CLI::Validator non_empty_name() {
@@ -91,6 +115,16 @@ inline CLI::Option* add_out_and_force_options(
   CLI::Option* out = add_out_option(cmd, out_dir, out_help);
   cmd->add_flag("--force", force, force_help);
   return out;
+}
+
+// The scenario YAML, the first argument of the commands that simulate one:
+// required, or (`has_default`: run, bench) scenarios/default.yaml when not
+// given.
+inline CLI::Option* add_scenario_argument(CLI::App* cmd, std::string& scenario,
+                                          bool has_default = false) {
+  if (has_default)
+    return cmd->add_option("scenario", scenario, "Scenario YAML (default: scenarios/default.yaml)");
+  return cmd->add_option("scenario", scenario, "Scenario YAML")->required();
 }
 
 // --set of the commands that load a scenario: one `key=value` override of a

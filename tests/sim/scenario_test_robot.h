@@ -135,6 +135,25 @@ scoring: {converged_after_s: 0.5, every_n_joint_steps: 70, end_effectors: [left_
 tracker_overrides: {particle_filter.particles: 10}
 )";
 
+// A short scenario for the tests that run it many times (sweeps, tuning):
+// 1.5 s of the left shoulder swinging 10 degrees at 0.4 Hz, the arms'
+// encoders 5 degrees off, left_ee scored from 0.5 s, a 40x30 likelihood.
+// `methods` as the YAML lists them ("[full_fusion]"); `tracker_overrides`:
+// more of them, each followed by ", ".
+inline std::string short_scenario(int seed, const std::string& methods,
+                                  const std::string& tracker_overrides = "") {
+  return "\nscene: scene.yaml\nduration_s: 1.5\nseed: " + std::to_string(seed) +
+         "\nmethods: " + methods + R"(
+motion:
+  sinusoids:
+    - {joints: [left_arm_joint_1], amplitude_deg: 10, frequency_hz: 0.4}
+encoders:
+  - {joints: [arms], offset_deg: 5}
+scoring: {converged_after_s: 0.5, end_effectors: [left_ee]}
+tracker_overrides: {)" +
+         tracker_overrides + "depth_model.width: 40, depth_model.height: 30}\n";
+}
+
 // A scratch folder (scratch_dir.h) with robot.urdf and scene.yaml, plus any
 // other files written with write(); named after the test so that tests never
 // share one.

@@ -33,19 +33,8 @@ using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
-constexpr char kScenario[] = R"(
-scene: scene.yaml
-duration_s: 1.5
-seed: 5
-methods: [encoders_only, full_fusion]
-motion:
-  sinusoids:
-    - {joints: [left_arm_joint_1], amplitude_deg: 10, frequency_hz: 0.4}
-encoders:
-  - {joints: [arms], offset_deg: 5}
-scoring: {converged_after_s: 0.5, end_effectors: [left_ee]}
-tracker_overrides: {particle_filter.particles: 8, depth_model.width: 40, depth_model.height: 30}
-)";
+const std::string kScenario =
+    test::short_scenario(5, "[encoders_only, full_fusion]", "particle_filter.particles: 8, ");
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -192,19 +192,7 @@ TEST(TuningCandidates, WrittenYamlLoadsWithItsValues) {
   EXPECT_EQ(tracker_config_from_yaml(doc).particle_filter.num_particles, 33);
 }
 
-constexpr char kScenario[] = R"(
-scene: scene.yaml
-duration_s: 1.5
-seed: 3
-methods: [full_fusion]
-motion:
-  sinusoids:
-    - {joints: [left_arm_joint_1], amplitude_deg: 10, frequency_hz: 0.4}
-encoders:
-  - {joints: [arms], offset_deg: 5}
-scoring: {converged_after_s: 0.5, end_effectors: [left_ee]}
-tracker_overrides: {depth_model.width: 40, depth_model.height: 30}
-)";
+const std::string kScenario = test::short_scenario(3, "[full_fusion]");
 
 TEST(Tuning, TinySearchIsNoWorseThanTheDefault) {
   const test::TestDir dir("tuning_search");

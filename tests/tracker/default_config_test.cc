@@ -1,14 +1,22 @@
 // The shipped tracker configuration is robot-agnostic and built into the
-// library: it is the file tracker/config/default.yaml, and a tracker built
+// library: it is the file tracker/config/default.yaml, it holds exactly the
+// in-class defaults of tracker_config.h, field by field, and a tracker built
 // from it runs every method on a robot that is not the project's dual-arm
 // one (tests/tracker/data/single_arm.urdf).
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
+#include <cstddef>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "../error_of.h"
@@ -39,6 +47,269 @@ TEST(DefaultConfigTest, BuiltInTextIsTheShippedFile) {
   EXPECT_EQ(c.source, kDefaultTrackerConfigName);
   EXPECT_TRUE(c.joint_overrides.empty());
   EXPECT_TRUE(c.end_effectors.empty());
+}
+
+// ---- default.yaml against the in-class defaults, field by field ----
+
+// Converts to the type of any field: an aggregate T can be brace-initialised
+// from as many of these as it has fields, and not from one more.
+struct AnyField {
+  template <class T>
+  operator T() const;  // only named in unevaluated contexts
+};
+
+// The number of fields of the aggregate T (C++ has no reflection: this is
+// what lets the lists below prove that they name every field).
+template <class T, class... Fields>
+constexpr std::size_t field_count() {
+  if constexpr (requires { T{Fields{}..., AnyField{}}; })
+    return field_count<T, Fields..., AnyField>();
+  else
+    return sizeof...(Fields);
+}
+static_assert(field_count<TrackerConfig::Geometry>() == 3);  // the counting itself
+static_assert(field_count<TrackerConfig::Block>() == 2);
+
+// A key of default.yaml and the field of S it holds; a double's value in
+// the YAML times `unit` (kRadPerDeg for a _deg key of a field in radians).
+template <class S, class T>
+struct Key {
+  std::string name;
+  T S::*field;
+  double unit;
+};
+template <class S, class T>
+Key<S, T> key(std::string name, T S::*field, double unit = 1.0) {
+  return {std::move(name), field, unit};
+}
+
+// One struct of the configuration in default.yaml: each field of S is listed
+// with its key (below `prefix`), and the list is checked three ways. The
+// key's value in the YAML, in the field's units, equals the
+// default-constructed field (`code`); the field as the reader
+// (tracker_config_from_yaml) filled it from the file (`file`) equals it too;
+// and the list names as many fields as S has (checked when the list ends),
+// so that a field added to the struct and not here fails, naming the struct.
+// The keys looked up are added to `listed_keys`.
+template <class S>
+class FieldList {
+ public:
+  FieldList(const YAML::Node& yaml, std::string prefix, const S& file, const S& code,
+            std::set<std::string>& listed_keys)
+      : yaml_(yaml), prefix_(std::move(prefix)), file_(file), code_(code), keys_(listed_keys) {}
+  FieldList(const FieldList&) = delete;
+  FieldList& operator=(const FieldList&) = delete;
+  ~FieldList() {
+    EXPECT_EQ(listed_, field_count<S>())
+        << "the list of '" << prefix_ << "' names " << listed_ << " fields, its struct has "
+        << field_count<S>() << ": a field is in one and not the other";
+  }
+
+  // Fields of plain types.
+  template <class... T>
+  void operator()(const Key<S, T>&... keys) {
+    (check(keys), ...);
+  }
+  // An enumeration, written in the YAML as name(value).
+  template <class T, class Name>
+  void choice(const std::string& key, T S::*field, Name name) {
+    if (const std::optional<YAML::Node> value = yaml_value(key)) {
+      EXPECT_EQ(value->template as<std::string>(), name(code_.*field)) << prefix_ + key;
+    }
+    EXPECT_TRUE(file_.*field == code_.*field) << prefix_ + key << " as the reader read it";
+  }
+  // A struct of its own, its keys below `key_prefix` (e.g. "health.").
+  template <class T, class List>
+  void nested(const std::string& key_prefix, T S::*field, List list) {
+    ++listed_;
+    FieldList<T> fields(yaml_, prefix_ + key_prefix, file_.*field, code_.*field, keys_);
+    list(fields);
+  }
+  // A list, or a map by name, of structs at `key`: as long (the same names)
+  // in the YAML, the reader's and the code's, and each element field by
+  // field (its keys below key[i]. or key.name.).
+  template <class T, class List>
+  void elements(const std::string& key, std::vector<T> S::*field, List list) {
+    same_size(key, (file_.*field).size(), (code_.*field).size());
+    for (std::size_t i = 0; i < (code_.*field).size() && i < (file_.*field).size(); ++i) {
+      FieldList<T> fields(yaml_, prefix_ + key + "[" + std::to_string(i) + "].", (file_.*field)[i],
+                          (code_.*field)[i], keys_);
+      list(fields);
+    }
+  }
+  template <class T, class List>
+  void elements(const std::string& key, std::map<std::string, T> S::*field, List list) {
+    same_size(key, (file_.*field).size(), (code_.*field).size());
+    for (const auto& [name, element] : code_.*field) {
+      const auto read = (file_.*field).find(name);
+      if (read == (file_.*field).end()) continue;  // same_size or another name has failed
+      FieldList<T> fields(yaml_, prefix_ + key + "." + name + ".", read->second, element, keys_);
+      list(fields);
+    }
+  }
+  // A field that is not a key of the file, and why.
+  template <class T>
+  void not_in_yaml(T S::*, const char* /*why*/) {
+    ++listed_;
+  }
+
+ private:
+  template <class T>
+  void check(const Key<S, T>& key) {
+    if (const std::optional<YAML::Node> value = yaml_value(key.name)) {
+      if constexpr (std::is_same_v<T, double>)
+        EXPECT_EQ(value->template as<double>() * key.unit, code_.*key.field) << prefix_ + key.name;
+      else
+        EXPECT_EQ(value->template as<T>(), code_.*key.field) << prefix_ + key.name;
+    }
+    EXPECT_EQ(file_.*key.field, code_.*key.field) << prefix_ + key.name << " as the reader read it";
+  }
+  // The YAML's value of `key`, counted as listed; a failure naming the key
+  // when the YAML lacks it.
+  std::optional<YAML::Node> yaml_value(const std::string& key) {
+    ++listed_;
+    keys_.insert(prefix_ + key);
+    std::optional<YAML::Node> value = find_key(yaml_, prefix_ + key);
+    EXPECT_TRUE(value) << prefix_ + key << " is a field but not a key of default.yaml";
+    return value;
+  }
+  void same_size(const std::string& key, std::size_t file, std::size_t code) {
+    if (const std::optional<YAML::Node> value = yaml_value(key)) {
+      EXPECT_EQ(value->size(), code) << prefix_ + key;
+    }
+    EXPECT_EQ(file, code) << prefix_ + key << " as the reader read it";
+  }
+
+  const YAML::Node& yaml_;
+  std::string prefix_;
+  const S& file_;
+  const S& code_;
+  std::set<std::string>& keys_;
+  std::size_t listed_ = 0;
+};
+
+// Every key of the YAML whose value is not a non-empty map, as a dotted path.
+void leaf_keys(const YAML::Node& node, const std::string& prefix, std::set<std::string>& out) {
+  for (const auto& item : node) {
+    const std::string key = prefix + item.first.as<std::string>();
+    if (item.second.IsMap() && item.second.size() > 0)
+      leaf_keys(item.second, key + ".", out);
+    else
+      out.insert(key);
+  }
+}
+
+void list_joint_filter(FieldList<JointFilterParams>& f) {
+  using J = JointFilterParams;
+  f(key("encoder_noise_deg", &J::encoder_noise_rad, kRadPerDeg),
+    key("angle_diffusion_deg_per_sqrt_s", &J::angle_diffusion_rad_per_sqrt_s, kRadPerDeg),
+    key("bias_diffusion_deg_per_sqrt_s", &J::bias_diffusion_rad_per_sqrt_s, kRadPerDeg),
+    key("bias_decay_per_s", &J::bias_decay_per_s), key("estimate_bias", &J::estimate_bias));
+}
+
+void list_depth_model(FieldList<DepthModelParams>& f) {
+  using D = DepthModelParams;
+  f.choice("occluder_model", &D::occluder_model, [](OccluderModel m) {
+    return m == OccluderModel::kTruncated ? "truncated" : "independent";
+  });
+  f(key("outlier_weight", &D::outlier_weight), key("noise_std_m", &D::noise_std_m),
+    key("noise_quadratic_per_m", &D::noise_quadratic_per_m), key("max_range_m", &D::max_range_m),
+    key("occluder_decay_per_m", &D::occluder_decay_per_m),
+    key("occlusion_prior", &D::occlusion_prior), key("width", &D::width),
+    key("height", &D::height));
+}
+
+void list_particle_filter(FieldList<CoordinateParticleFilterParams>& f) {
+  using P = CoordinateParticleFilterParams;
+  f(key("particles", &P::num_particles), key("max_kl_divergence", &P::max_kl_divergence),
+    key("proposal_scale", &P::proposal_scale), key("no_evidence_nats", &P::no_evidence_nats),
+    key("bandwidth_factor", &P::bandwidth_factor),
+    key("block_moments_below_nats", &P::block_moments_below_nats));
+}
+
+void list_tracker_config(FieldList<TrackerConfig>& f) {
+  using C = TrackerConfig;
+  using V = VirtualJointParams;
+  f.not_in_yaml(&C::source, "where a configuration came from, for messages");
+  f.choice("method", &C::method, method_name);
+  f(key("camera_frame", &C::camera_frame), key("end_effectors", &C::end_effectors));
+  f.nested("joints.defaults.", &C::joint_defaults, list_joint_filter);
+  f.elements("joints.per_joint", &C::joint_overrides, list_joint_filter);
+  f.nested("camera_offset.translation_", &C::camera_translation, [](FieldList<V>& v) {
+    v(key("diffusion_m_per_sqrt_s", &V::diffusion_per_sqrt_s),
+      key("initial_std_m", &V::initial_std));
+  });
+  f.nested("camera_offset.rotation_", &C::camera_rotation, [](FieldList<V>& v) {
+    v(key("diffusion_deg_per_sqrt_s", &V::diffusion_per_sqrt_s, kRadPerDeg),
+      key("initial_std_deg", &V::initial_std, kRadPerDeg));
+  });
+  f(key("vision_only.angle_diffusion_deg_per_sqrt_s",
+        &C::vision_only_angle_diffusion_rad_per_sqrt_s, kRadPerDeg),
+    key("vision_only.initial_std_deg", &C::vision_only_initial_std_rad, kRadPerDeg));
+  f.nested("depth_model.", &C::depth_model, list_depth_model);
+  f.nested("geometry.", &C::geometry, [](FieldList<C::Geometry>& g) {
+    using G = C::Geometry;
+    g(key("max_error_px", &G::max_error_px), key("nearest_range_m", &G::nearest_range_m),
+      key("coarser_levels", &G::coarser_levels));
+  });
+  f.nested("particle_filter.", &C::particle_filter, list_particle_filter);
+  f.elements("particle_filter.blocks", &C::blocks, [](FieldList<C::Block>& b) {
+    b(key("name", &C::Block::name), key("joints", &C::Block::joints));
+  });
+  f(key("particle_filter.likelihood_exponent", &C::likelihood_exponent),
+    key("particle_filter.seed", &C::seed), key("particle_filter.threads", &C::threads));
+  f(key("uncertainty.image_information_scale", &C::image_information_scale),
+    key("uncertainty.discount_correlated_residuals", &C::discount_correlated_residuals),
+    key("uncertainty.model_error", &C::model_error),
+    key("uncertainty.model_error_time_constant_s", &C::model_error_time_constant_s),
+    key("uncertainty.model_error_min_std_m", &C::model_error_min_std_m));
+  f(key("refinement.enabled", &C::refine_mean),
+    key("refinement.min_pixels", &C::refinement_min_pixels));
+  f.nested("acquisition.", &C::acquisition, [](FieldList<C::Acquisition>& a) {
+    using A = C::Acquisition;
+    a(key("passes", &A::passes), key("coarse_noise_std_m", &A::coarse_noise_std_m),
+      key("proposal_shrink", &A::proposal_shrink), key("period_s", &A::period_s),
+      key("bias_std_deg", &A::bias_std_rad, kRadPerDeg),
+      key("accept_margin_nats", &A::accept_margin_nats), key("searches", &A::searches),
+      key("search_camera", &A::search_camera));
+  });
+  f.nested("health.", &C::health, [](FieldList<C::Health>& h) {
+    using H = C::Health;
+    h(key("explained_m", &H::explained_m), key("contradicted_m", &H::contradicted_m),
+      key("lost_contradicted_fraction", &H::lost_contradicted_fraction),
+      key("lost_abandoned_fraction", &H::lost_abandoned_fraction),
+      key("unconfirmed_explained_fraction", &H::unconfirmed_explained_fraction),
+      key("occluder_gap_m", &H::occluder_gap_m), key("lost_after_images", &H::lost_after_images),
+      key("min_pixels", &H::min_pixels));
+  });
+  f(key("timing.camera_delay_s", &C::camera_delay_s),
+    key("timing.buffer_capacity", &C::buffer_capacity),
+    key("timing.max_pending_images", &C::max_pending_images),
+    key("timing.asynchronous", &C::asynchronous));
+  f(key("input_checks.joint_limit_margin_deg", &C::joint_limit_margin_rad, kRadPerDeg),
+    key("input_checks.max_image_clock_offset_s", &C::max_image_clock_offset_s));
+}
+
+// Every field of the configuration, nested structs and their lists
+// included, against its key in default.yaml: adding a field to the structs
+// and not to the file (or the reader), or changing a default in one of them,
+// fails here naming the key (the struct, for a field not in the lists).
+// Exact equality: the defaults in radians are written as the file's degrees
+// times kRadPerDeg, as the reader converts them.
+TEST(DefaultConfigTest, TheShippedFileHoldsEveryInClassDefault) {
+  const std::string path = std::string(ARTTRACK_SOURCE_DIR) + "/tracker/config/default.yaml";
+  const YAML::Node yaml = YAML::LoadFile(path);
+  std::set<std::string> listed;
+  {
+    const TrackerConfig file = load_tracker_config(path), code;
+    FieldList<TrackerConfig> fields(yaml, "", file, code, listed);
+    list_tracker_config(fields);
+  }
+  // And the other way: every key of the file is one of the fields listed.
+  std::set<std::string> keys;
+  leaf_keys(yaml, "", keys);
+  for (const std::string& key : keys)
+    EXPECT_EQ(listed.count(key), 1u) << key << " is a key of default.yaml but of no field listed";
 }
 
 TEST(DefaultConfigTest, EveryMethodRunsOnAnotherRobot) {

@@ -8,10 +8,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
+#include <map>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
+
+#include "../dual_arm_home.h"
 
 namespace arttrack {
 namespace {
@@ -22,17 +27,33 @@ const RobotModel& robot() {
   return model;
 }
 
-// The documented home pose of models/dual_arm.urdf.
-Eigen::VectorXd home_pose(const RobotModel& model) {
-  const std::pair<const char*, double> home_deg[] = {
-      {"head_tilt_joint", 40},    {"left_arm_joint_1", -10}, {"left_arm_joint_2", 90},
-      {"left_arm_joint_3", 65},   {"left_arm_joint_4", 90},  {"left_arm_joint_5", -45},
-      {"left_arm_joint_6", -35},  {"right_arm_joint_1", 10}, {"right_arm_joint_2", 90},
-      {"right_arm_joint_3", -65}, {"right_arm_joint_4", 90}, {"right_arm_joint_5", 45},
-      {"right_arm_joint_6", -35}};
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
-  for (const auto& [name, deg] : home_deg) q[model.joint_index(name)] = deg * kRadPerDeg;
-  return q;
+using test_support::dual_arm_home_pose;
+
+// The home pose shared by the tests and benchmarks (dual_arm_home.h, read
+// from models/scene_default.yaml) is the pose documented at the top of the
+// URDF ("Home configuration (joint: degrees = radians):", written by
+// models/generate_robot.py), every physical joint of it, within its limits.
+TEST(DualArmHomePose, IsThePoseTheUrdfDocuments) {
+  std::ifstream urdf(std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm.urdf");
+  std::string line;
+  while (std::getline(urdf, line) && line.find("Home configuration") == std::string::npos) {
+  }
+  std::map<std::string, double> documented;
+  for (std::string name, equals; std::getline(urdf, line);) {
+    std::istringstream fields(line);
+    double deg = 0, rad = 0;
+    if (!(fields >> name >> deg >> equals >> rad) || equals != "=") break;
+    documented[name] = deg * kRadPerDeg;
+  }
+  EXPECT_EQ(test_support::dual_arm_home_rad(), documented);
+  const RobotModel& model = robot();
+  const Eigen::VectorXd home = dual_arm_home_pose(model);
+  for (int j = 0; j < model.num_joints(); ++j) {
+    if (model.is_virtual_joint(j)) continue;
+    EXPECT_EQ(documented.count(model.joint_name(j)), 1u) << model.joint_name(j);
+    EXPECT_GE(home[j], model.joint_lower(j)) << model.joint_name(j);
+    EXPECT_LE(home[j], model.joint_upper(j)) << model.joint_name(j);
+  }
 }
 
 const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kRadPerDeg);
@@ -41,7 +62,7 @@ const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 
 // camera a little off, a wall behind it, a box occluding part of one arm,
 // some pixels without return.
 DepthImage observation(const RobotModel& model) {
-  Eigen::VectorXd q = home_pose(model);
+  Eigen::VectorXd q = dual_arm_home_pose(model);
   for (int j = 0; j < model.num_joints(); ++j)
     if (!model.is_virtual_joint(j)) q[j] += (j % 3 - 1) * 2 * kRadPerDeg;
   q[model.joint_index("camera_offset_x")] = 0.005;
@@ -121,7 +142,7 @@ struct Prior {
 
 Prior prior_around_home(const RobotModel& model, double arm_std) {
   Prior p;
-  const Eigen::VectorXd home = home_pose(model);
+  const Eigen::VectorXd home = dual_arm_home_pose(model);
   p.mean.assign(home.data(), home.data() + home.size());
   for (int j = 0; j < model.num_joints(); ++j) {
     const std::string& name = model.joint_name(j);

@@ -11,15 +11,22 @@
 namespace arttrack {
 namespace {
 
-// A flat plate facing a camera 1 m away, with the six virtual camera joints.
-RobotModel plate_model() {
-  const std::string urdf = R"(<robot name="plate">
-  <link name="base_link"><visual><geometry><box size="0.6 0.45 0.02"/></geometry></visual></link>
+// The robot `name` of `body` (links and joints from base_link) under a
+// camera 1 m above base_link looking down its -z axis, with the six virtual
+// camera joints.
+RobotModel under_a_camera(const std::string& name, const std::string& body) {
+  return RobotModel::from_urdf_string("<robot name=\"" + name + "\">" + body + R"(
   <link name="camera_optical_frame"/>
   <joint name="mount" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
     <origin xyz="0 0 1" rpy="3.141592653589793 0 0"/></joint>
-</robot>)";
-  return RobotModel::from_urdf_string(urdf, ".");
+</robot>)",
+                                      ".");
+}
+
+// A flat plate facing the camera 1 m away.
+RobotModel plate_model() {
+  return under_a_camera("plate", R"(
+  <link name="base_link"><visual><geometry><box size="0.6 0.45 0.02"/></geometry></visual></link>)");
 }
 
 struct PlateScene {
@@ -121,19 +128,14 @@ TEST(ImageInformation, EffectivePixelFractionFromTheResiduals) {
 // A tilted board in front of the camera with a block fixed on it: two links,
 // the block's shift moves it alone, the board's moves both.
 RobotModel board_model() {
-  const std::string urdf = R"(<robot name="board">
+  return under_a_camera("board", R"(
   <link name="base_link"/>
   <link name="board"><visual><geometry><box size="0.5 0.4 0.04"/></geometry></visual></link>
   <link name="block"><visual><geometry><box size="0.12 0.1 0.08"/></geometry></visual></link>
-  <link name="camera_optical_frame"/>
   <joint name="board_mount" type="fixed"><parent link="base_link"/><child link="board"/>
     <origin xyz="0 0 0" rpy="0.5 0.35 0"/></joint>
   <joint name="block_mount" type="fixed"><parent link="board"/><child link="block"/>
-    <origin xyz="0.08 -0.05 0.06" rpy="0 0 0.3"/></joint>
-  <joint name="mount" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
-    <origin xyz="0 0 1" rpy="3.141592653589793 0 0"/></joint>
-</robot>)";
-  return RobotModel::from_urdf_string(urdf, ".");
+    <origin xyz="0.08 -0.05 0.06" rpy="0 0 0.3"/></joint>)");
 }
 
 // The board at q = 0, seen by an 80x60 camera.

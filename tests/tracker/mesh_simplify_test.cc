@@ -8,6 +8,7 @@
 #include <memory>
 #include <utility>
 
+#include "../dual_arm_home.h"
 #include "../mesh_checks.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/kinematics.h"
@@ -187,16 +188,9 @@ TEST(SimplifyMesh, RobotModelKeepsRoundShapesAndRendersWithinTheBound) {
   // depth z) plus the rasterizer's own sampling of slanted faces.
   const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(320, 240, 45 * M_PI / 180);
   KinematicsState state(*full);
-  // The default scene's home pose (models/scene_default.yaml): the head
-  // camera sees both lower arms and hands.
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(full->num_joints());
-  const std::map<std::string, double> home_deg = {
-      {"head_tilt_joint", 40},    {"left_arm_joint_1", 30},   {"left_arm_joint_2", 65},
-      {"left_arm_joint_3", 30},   {"left_arm_joint_4", 90},   {"left_arm_joint_5", 30},
-      {"left_arm_joint_6", -80},  {"left_arm_joint_7", 20},   {"right_arm_joint_1", -30},
-      {"right_arm_joint_2", 65},  {"right_arm_joint_3", -30}, {"right_arm_joint_4", 90},
-      {"right_arm_joint_5", -30}, {"right_arm_joint_6", -80}, {"right_arm_joint_7", -20}};
-  for (const auto& [joint, deg] : home_deg) q[full->joint_index(joint)] = deg * M_PI / 180;
+  // The home pose (dual_arm_home.h): the head camera sees both lower arms
+  // and hands.
+  const Eigen::VectorXd q = test_support::dual_arm_home_pose(*full);
   forward_kinematics(*full, q, state);
   DepthImage a, b;
   DepthRenderer(*full, camera).render(state, a);

@@ -219,6 +219,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   read_numbers(pf, {{"particles", &c.particle_filter.num_particles},
                     {"max_kl_divergence", &c.particle_filter.max_kl_divergence},
                     {"proposal_scale", &c.particle_filter.proposal_scale},
+                    {"no_evidence_nats", &c.particle_filter.no_evidence_nats},
                     {"bandwidth_factor", &c.particle_filter.bandwidth_factor},
                     {"block_moments_below_nats", &c.particle_filter.block_moments_below_nats},
                     {"likelihood_exponent", &c.likelihood_exponent},

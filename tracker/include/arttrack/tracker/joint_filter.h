@@ -33,17 +33,20 @@
 #include <vector>
 
 #include "arttrack/tracker/gaussian_fold.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack {
 
 // Noise parameters of one physical (encoder) joint. Continuous time.
 struct JointFilterParams {
+  // The defaults are tracker/config/default.yaml's, in its degrees
+  // (DefaultConfigTest checks them field by field).
   // Encoder noise standard deviation sigma_q, rad (paper Eq. (3)).
-  double encoder_noise_rad = 1e-3;
+  double encoder_noise_rad = 0.057 * kRadPerDeg;
   // Angle random-walk diffusion sigma_a, rad/sqrt(s): the angle's standard
   // deviation grows by sigma_a sqrt(dt) over dt (Eq. (4)). Large enough to
   // follow fast motion between encoder readings.
-  double angle_diffusion_rad_per_sqrt_s = 1.0;
+  double angle_diffusion_rad_per_sqrt_s = 57.3 * kRadPerDeg;
   // Bias diffusion sigma_b, rad/sqrt(s) (Eq. (5) in continuous time): how
   // far a bias can wander in a second that no image confirms. 1.6 degrees,
   // half the 3.2 it was: under a partial occlusion or at the image's edge
@@ -51,7 +54,7 @@ struct JointFilterParams {
   // within seconds (docs/accuracy.md, "The bias process"); the bias ramps of
   // time_varying_bias.yaml (5 degrees per second) and of the paper files (10
   // degrees in 1 s) are still followed, the latter a few millimetres later.
-  double bias_diffusion_rad_per_sqrt_s = 0.028;
+  double bias_diffusion_rad_per_sqrt_s = 1.6 * kRadPerDeg;
   // Bias decay c per second, 0 < c < 1: over dt the bias mean is multiplied
   // by c^dt. With sigma_b above, the stationary bias std is 9.9 degrees (the
   // prior of the first image) and its time constant 1 / ln(1/c) = 76 s.

@@ -8,6 +8,9 @@
 // defaults are tracker/config/default.yaml, compiled into the library
 // (default_tracker_config()); they name no joint or link of a particular
 // robot. YAML uses degrees where it says `_deg`; the structs hold radians.
+// The in-class defaults are the file's values, field by field (a default in
+// radians is written as the file's degrees times kRadPerDeg, the same double
+// the reader makes of it): DefaultConfigTest.TheShippedFileHoldsEveryInClassDefault.
 #pragma once
 
 #include <map>
@@ -55,12 +58,12 @@ struct TrackerConfig {
   std::map<std::string, JointFilterParams> joint_overrides;
   // Virtual camera joints: translation (m) and rotation (rad) noise.
   VirtualJointParams camera_translation{0.002, 0.03};
-  VirtualJointParams camera_rotation{0.002, 0.03};
+  VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg};
 
   // Vision only: how fast angles may wander between images (rad/sqrt(s)) and
   // the standard deviation of the given initial configuration (rad).
-  double vision_only_angle_diffusion_rad_per_sqrt_s = 0.3;
-  double vision_only_initial_std_rad = 0.02;
+  double vision_only_angle_diffusion_rad_per_sqrt_s = 17.0 * kRadPerDeg;
+  double vision_only_initial_std_rad = 1.1 * kRadPerDeg;
 
   DepthModelParams depth_model;
   // Geometry at the likelihood's resolution (mesh_simplify.h): at the first
