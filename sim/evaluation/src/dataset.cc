@@ -16,6 +16,7 @@
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/method_trackers.h"
+#include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/robot_model.h"
@@ -330,14 +331,6 @@ void read_dataset_yaml(const fs::path& path, Dataset& d) {
 }  // namespace
 
 // ---- reading ----
-
-void quantise_depth_mm(DepthImage& image) {
-  // The arithmetic of write_depth_png_mm followed by read_depth_png_mm.
-  for (float& z : image.depth_m) {
-    const long mm = std::isfinite(z) && z > 0 ? std::min(65535L, std::lround(z * 1000.0)) : 0;
-    z = float(int(mm) * 1e-3);
-  }
-}
 
 Dataset load_dataset(const fs::path& dir, const std::optional<fs::path>& urdf_override) {
   if (!fs::is_directory(dir)) throw InputError(dir.string() + ": dataset folder not found");

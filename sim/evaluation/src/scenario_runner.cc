@@ -9,8 +9,8 @@
 #include <random>
 #include <thread>
 
-#include "arttrack/sim/dataset.h"
 #include "arttrack/sim/depth_camera.h"
+#include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/method_trackers.h"
 #include "arttrack/sim/sim_model.h"
 #include "arttrack/sim/simulator.h"
@@ -421,12 +421,6 @@ std::uint64_t run_seed(std::uint64_t seed, int run) {
 JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, std::uint64_t seed,
                                int run) {
   return commanded_motion(scenario, model, run_seed(seed, run));
-}
-
-const MethodResult* ScenarioResult::method(const std::string& name) const {
-  for (const MethodResult& m : method_results)
-    if (m.method == name) return &m;
-  return nullptr;
 }
 
 ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "arttrack/sim/internal/svg_chart.h"
-#include "arttrack/sim/scenario_runner.h"
+#include "arttrack/sim/run_result.h"
 
 namespace arttrack::sim::report {
 

@@ -155,6 +155,12 @@ bool read_raw(const char* path, RawImage* img, PngError* err) {
   throw InputError(path.string() + ": " + what);
 }
 
+// A depth as the 16-bit millimetre count a PNG stores: rounded, clamped to
+// 65535; non-finite or non-positive depths 0.
+long depth_mm(float z) {
+  return std::isfinite(z) && z > 0 ? std::min(65535L, std::lround(z * 1000.0)) : 0;
+}
+
 }  // namespace
 
 void write_depth_png_mm(const fs::path& path, const DepthImage& depth) {
@@ -164,8 +170,7 @@ void write_depth_png_mm(const fs::path& path, const DepthImage& depth) {
   for (int v = 0; v < depth.height; ++v) {
     rows[v] = bytes.data() + size_t(v) * depth.width * 2;
     for (int u = 0; u < depth.width; ++u) {
-      const float z = depth.at(u, v);
-      const long mm = std::isfinite(z) && z > 0 ? std::min(65535L, std::lround(z * 1000.0)) : 0;
+      const long mm = depth_mm(depth.at(u, v));
       rows[v][2 * u] = (unsigned char)(mm >> 8);  // PNG samples are big-endian
       rows[v][2 * u + 1] = (unsigned char)(mm & 0xff);
     }
@@ -195,6 +200,11 @@ DepthImage read_depth_png_mm(const fs::path& path) {
       depth.at(u, v) = float(((p[0] << 8) | p[1]) * 1e-3);
     }
   return depth;
+}
+
+void quantise_depth_mm(DepthImage& image) {
+  // The arithmetic of write_depth_png_mm followed by read_depth_png_mm.
+  for (float& z : image.depth_m) z = float(int(depth_mm(z)) * 1e-3);
 }
 
 void write_depth_preview_png(const fs::path& path, const DepthImage& depth, double min_m,

@@ -30,17 +30,12 @@
 #include <string>
 #include <vector>
 
+#include "arttrack/sim/run_result.h"
 #include "arttrack/sim/scenario.h"
-#include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/scoring.h"
 #include "arttrack/tracker/camera.h"
 
 namespace arttrack::sim {
-
-// Rounds every depth to whole millimetres, exactly as a 16-bit millimetre
-// PNG stores it (write_depth_png_mm then read_depth_png_mm): clamped to
-// 65.535 m; non-finite or non-positive depths become 0.
-void quantise_depth_mm(DepthImage& image);
 
 // camera.yaml: the depth camera's intrinsics and frame.
 struct DatasetCamera {

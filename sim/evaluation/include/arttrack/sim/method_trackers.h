@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "arttrack/sim/scenario_runner.h"
+#include "arttrack/sim/run_result.h"
 #include "arttrack/sim/scoring.h"
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/robot_model.h"

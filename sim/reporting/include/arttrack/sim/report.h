@@ -22,7 +22,7 @@
 #include <filesystem>
 #include <string>
 
-#include "arttrack/sim/scenario_runner.h"
+#include "arttrack/sim/run_result.h"
 
 namespace arttrack::sim {
 

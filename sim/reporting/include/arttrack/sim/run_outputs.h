@@ -19,7 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "arttrack/sim/scenario_runner.h"
+#include "arttrack/sim/run_result.h"
+#include "arttrack/sim/scenario.h"
 
 namespace arttrack::sim {
 

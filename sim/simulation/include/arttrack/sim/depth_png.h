@@ -27,6 +27,11 @@ inline constexpr int kMaxDepthPngSide = 8192;
 // kMaxDepthPngSide pixels wide or high: InputError naming the file.
 DepthImage read_depth_png_mm(const std::filesystem::path& path);
 
+// Rounds every depth to whole millimetres, exactly as a 16-bit millimetre
+// PNG stores it (write_depth_png_mm then read_depth_png_mm): clamped to
+// 65.535 m; non-finite or non-positive depths become 0.
+void quantise_depth_mm(DepthImage& image);
+
 // Writes an RGB preview in the simulator's colour map (Turbo): near red ...
 // far blue between min_m and max_m (both 0: the image's own valid range),
 // black where there is no return.
