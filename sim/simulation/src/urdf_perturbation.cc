@@ -14,7 +14,7 @@
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/model_limits.h"
 #include "arttrack/tracker/robot_model.h"
-#include "urdf_prepare.h"
+#include "urdf_xml.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;

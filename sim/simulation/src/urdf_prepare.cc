@@ -16,6 +16,7 @@
 #include "arttrack/tracker/model_limits.h"
 #include "arttrack/tracker/robot_model.h"
 #include "mesh_convert.h"
+#include "urdf_xml.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -232,27 +233,6 @@ void check_mimics(const UrdfInfo& info, const std::string& where) {
 
 }  // namespace
 
-fs::path resolve_mesh_path(const std::string& filename, const fs::path& urdf_dir,
-                           const std::map<std::string, fs::path>& package_paths) {
-  const std::string kPackage = "package://", kFile = "file://";
-  if (filename.rfind(kPackage, 0) == 0) {
-    const std::string rest = filename.substr(kPackage.size());
-    const auto slash = rest.find('/');
-    const std::string name = rest.substr(0, slash);
-    const std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
-    fs::path root;
-    if (auto it = package_paths.find(name); it != package_paths.end())
-      root = it->second;
-    else
-      root = find_package_folder(name, urdf_dir);
-    if (root.empty()) return {};
-    return root / inside;
-  }
-  fs::path p =
-      filename.rfind(kFile, 0) == 0 ? fs::path(filename.substr(kFile.size())) : fs::path(filename);
-  return p.is_absolute() ? p : urdf_dir / p;
-}
-
 void normalise_urdf(XMLElement* robot) {
   for (XMLElement* e = robot->FirstChildElement(); e;) {
     XMLElement* next = e->NextSiblingElement();
@@ -331,23 +311,6 @@ std::map<int, int> line_map(const tinyxml2::XMLDocument& doc, const fs::path& sa
 }
 
 }  // namespace
-
-XMLElement* load_urdf_document(const fs::path& urdf, tinyxml2::XMLDocument& doc) {
-  const std::string where = urdf.string();
-  check_not_xacro(where);
-  if (!fs::is_regular_file(urdf)) throw InputError(where + ": URDF file not found");
-  check_urdf_file_size(urdf);
-  std::ifstream in(urdf, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(where + ": cannot read the URDF file");
-  check_urdf_text(text.str(), where);
-  if (doc.Parse(text.str().c_str(), text.str().size()) != tinyxml2::XML_SUCCESS)
-    throw InputError(where + ": malformed URDF XML: " + (doc.ErrorStr() ? doc.ErrorStr() : ""));
-  XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) throw InputError(where + ": no <robot> element");
-  return robot;
-}
 
 UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path>& package_paths,
                       const fs::path& work_dir, const UrdfPerturbation& perturbation) {
@@ -601,26 +564,6 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
                      work_dir.string());
   info.source_line = line_map(doc, info.prepared_urdf);
   return info;
-}
-
-Eigen::Vector3d parse_vec3(const char* text, const Eigen::Vector3d& fallback,
-                           const std::string& context) {
-  if (!text) return fallback;
-  std::istringstream in(text);
-  Eigen::Vector3d v;
-  if (!(in >> v.x() >> v.y() >> v.z()))
-    throw InputError(context + ": expected three numbers, got '" + text + "'");
-  return v;
-}
-
-Eigen::Isometry3d parse_origin(const XMLElement* parent, const std::string& context) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const XMLElement* o = parent->FirstChildElement("origin");
-  if (!o) return T;
-  T.translation() = parse_vec3(o->Attribute("xyz"), Eigen::Vector3d::Zero(), context + " origin");
-  T.linear() =
-      rpy_matrix(parse_vec3(o->Attribute("rpy"), Eigen::Vector3d::Zero(), context + " origin"));
-  return T;
 }
 
 }  // namespace arttrack::sim

@@ -20,11 +20,7 @@
 #include <vector>
 
 #include "arttrack/sim/urdf_perturbation.h"
-
-namespace tinyxml2 {
-class XMLDocument;
-class XMLElement;
-}  // namespace tinyxml2
+#include "urdf_xml.h"  // tinyxml2's declarations
 
 namespace arttrack::sim {
 
@@ -100,18 +96,6 @@ MujocoError parse_mujoco_error(const std::string& text);
 // collide with nothing in ROS and which MuJoCo refuses, with a notice.)
 void normalise_urdf(tinyxml2::XMLElement* robot);
 
-// Applies `perturbation` to a parsed URDF in place (urdf_perturbation.h's
-// rules; elements keep their line numbers). Errors name `source`.
-void perturb_urdf_document(tinyxml2::XMLDocument& doc, const std::string& source,
-                           const UrdfPerturbation& perturbation);
-
-// Reads the URDF file `urdf` into `doc` and returns its <robot> element. A
-// xacro file, a missing file, one past ModelLimits::kMaxUrdfBytes, XML
-// entity declarations, malformed XML or no <robot>: InputError naming the
-// file.
-tinyxml2::XMLElement* load_urdf_document(const std::filesystem::path& urdf,
-                                         tinyxml2::XMLDocument& doc);
-
 // Parses `urdf`, normalises it (normalise_urdf), applies `perturbation`
 // (the scene's camera mount, a scenario's miscalibration), checks its size
 // (model_limits.h), resolves every mesh (package://NAME/... through
@@ -124,11 +108,5 @@ UrdfInfo prepare_urdf(const std::filesystem::path& urdf,
                       const std::map<std::string, std::filesystem::path>& package_paths,
                       const std::filesystem::path& work_dir,
                       const UrdfPerturbation& perturbation = {});
-
-// Resolves a URDF mesh file name (package://, file://, relative, absolute).
-// Returns an empty path if a package is unknown.
-std::filesystem::path resolve_mesh_path(
-    const std::string& filename, const std::filesystem::path& urdf_dir,
-    const std::map<std::string, std::filesystem::path>& package_paths);
 
 }  // namespace arttrack::sim

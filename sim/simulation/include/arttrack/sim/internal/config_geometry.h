@@ -1,7 +1,7 @@
 // Geometry as the simulator's inputs write it: fixed-size number lists of
-// scenario and scene YAML (`position_m: [0.5, 0, 0.8]`), URDF's
-// roll-pitch-yaw rotations, and URDF `<origin xyz rpy>` elements. Internal
-// to the testbed (simulation and evaluation).
+// scenario and scene YAML (`position_m: [0.5, 0, 0.8]`) and URDF's
+// roll-pitch-yaw rotations (URDF `<origin xyz rpy>` elements: urdf_xml.h).
+// Internal to the testbed (simulation and evaluation).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -12,10 +12,6 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/yaml_config.h"
-
-namespace tinyxml2 {
-class XMLElement;
-}
 
 namespace arttrack::sim {
 
@@ -47,14 +43,5 @@ Eigen::Matrix<double, N, 1> vec(const ConfigNode& n, const std::string& key,
   }
   return out;
 }
-
-// Three numbers from a URDF attribute ("0 0.1 0.2"), or `fallback` when the
-// attribute is absent (null). Throws InputError naming `context` otherwise.
-Eigen::Vector3d parse_vec3(const char* text, const Eigen::Vector3d& fallback,
-                           const std::string& context);
-
-// The pose a URDF element's `<origin xyz rpy>` child gives (identity when
-// it has none). Throws InputError naming `context` for a bad attribute.
-Eigen::Isometry3d parse_origin(const tinyxml2::XMLElement* parent, const std::string& context);
 
 }  // namespace arttrack::sim
