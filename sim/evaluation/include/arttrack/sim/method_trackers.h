@@ -58,7 +58,7 @@ class MethodTrackers {
   // before the first joint reading are not kept (there is no estimate yet).
   void keep_frames(int count, double duration_s, std::vector<KeptFrame>& frames);
   // Writes estimate.csv (its header now, then rows at score() and
-  // write_estimates()); see track_dataset in dataset.h for the columns.
+  // write_estimates()); see track_dataset in dataset_tracking.h for the columns.
   void write_estimates_to(std::ostream& estimate_csv);
 
   // Encoder readings taken at time_s (TrackingSetup::joint_names order, rad)

@@ -2,7 +2,7 @@
 // joints, images, TruthSample) and what a run gives (RunResult per run,
 // MethodResult per method, ScenarioResult over all runs). Written by the
 // scenario runner (scenario_runner.h) and by dataset tracking
-// (dataset.h), read by datasets, method trackers, the outputs and
+// (dataset_tracking.h), read by datasets, method trackers, the outputs and
 // reports, sweeps and tuning.
 #pragma once
 

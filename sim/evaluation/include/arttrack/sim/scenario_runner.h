@@ -22,7 +22,7 @@
 // The runner simulates and measures; what it gives (RunResult,
 // ScenarioResult) and the stream a MeasurementSink sees are run_result.h;
 // feeding the trackers, scoring their estimates and keeping frames is
-// method_trackers.h, shared with `arttrack track` (dataset.h).
+// method_trackers.h, shared with `arttrack track` (dataset_tracking.h).
 #pragma once
 
 #include <cstdint>
