@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "arttrack/sim/internal/config_geometry.h"
+#include "arttrack/sim/search_paths.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/units.h"
@@ -64,7 +65,8 @@ Eigen::Isometry3d pose(const ConfigNode& n, const std::string& xyz_key) {
   return T;
 }
 
-// A path named in the scenario: relative to it, else to the repository.
+// A path named in the scenario: relative to it, else to a search folder
+// (search_paths.h).
 fs::path resolve_path(const ConfigNode& n, const std::string& key, const fs::path& fallback,
                       const fs::path& dir) {
   std::error_code ec;  // a name too long for the system is no file, not an exception
@@ -74,10 +76,10 @@ fs::path resolve_path(const ConfigNode& n, const std::string& key, const fs::pat
     return p;
   }
   if (fs::exists(dir / p, ec)) return fs::weakly_canonical(dir / p);
-  const fs::path in_repo = fs::path(ARTTRACK_SOURCE_DIR) / p;
-  if (fs::exists(in_repo, ec)) return fs::weakly_canonical(in_repo);
-  n.fail(key, "= " + quote_value(p.string()) +
-                  ": no such file next to the scenario or in the repository");
+  if (const std::optional<fs::path> found = find_in_search_dirs(p))
+    return fs::weakly_canonical(*found);
+  n.fail(key, "= " + quote_value(p.string()) + ": no such file next to the scenario (in " +
+                  dir.string() + ") or in the search folders (" + search_dirs_text() + ")");
 }
 
 // `joints: [names or groups]`, expanded. Empty when absent and !required.
@@ -648,7 +650,7 @@ void read_scoring_options(const ConfigNode& n, ScoringOptions& o) {
 }
 
 fs::path default_scenario_path() {
-  return fs::path(ARTTRACK_SOURCE_DIR) / "scenarios/default.yaml";
+  return find_default_file("scenarios/default.yaml", "default scenario");
 }
 
 }  // namespace arttrack::sim

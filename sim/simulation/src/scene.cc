@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "arttrack/sim/internal/config_geometry.h"
+#include "arttrack/sim/search_paths.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/units.h"
@@ -32,7 +33,8 @@ double length(const ConfigNode& n, const std::string& key) {
   return n.required_number(key, 1e-4, 100.0);
 }
 
-// A path from the scene file: relative to the file, else to the repository.
+// A path from the scene file: relative to the file, else to a search folder
+// (search_paths.h).
 fs::path resolve(const ConfigNode& n, const std::string& key, const fs::path& scene_dir,
                  bool must_exist) {
   std::error_code ec;  // a name too long for the system is no file, not an exception
@@ -44,11 +46,11 @@ fs::path resolve(const ConfigNode& n, const std::string& key, const fs::path& sc
   }
   const fs::path next_to_scene = scene_dir / p;
   if (fs::exists(next_to_scene, ec)) return fs::weakly_canonical(next_to_scene);
-  const fs::path in_repo = fs::path(ARTTRACK_SOURCE_DIR) / p;
-  if (fs::exists(in_repo, ec)) return fs::weakly_canonical(in_repo);
+  if (const std::optional<fs::path> found = find_in_search_dirs(p))
+    return fs::weakly_canonical(*found);
   if (must_exist)
-    n.fail(key, "= " + quote_value(p.string()) +
-                    ": no such file next to the scene or in the repository");
+    n.fail(key, "= " + quote_value(p.string()) + ": no such file next to the scene (in " +
+                    scene_dir.string() + ") or in the search folders (" + search_dirs_text() + ")");
   return next_to_scene;
 }
 
@@ -285,13 +287,12 @@ fs::path resolve_scene_file(const fs::path& scene_or_scenario) {
   if (scene.is_absolute()) return scene;
   std::error_code ec;
   const fs::path next_to = fs::absolute(scene_or_scenario).parent_path() / scene;
-  if (fs::exists(next_to, ec) || !fs::exists(fs::path(ARTTRACK_SOURCE_DIR) / scene, ec))
-    return next_to;
-  return fs::path(ARTTRACK_SOURCE_DIR) / scene;
+  if (fs::exists(next_to, ec)) return next_to;
+  return find_in_search_dirs(scene).value_or(next_to);
 }
 
 fs::path default_scene_path() {
-  return fs::path(ARTTRACK_SOURCE_DIR) / "models/scene_default.yaml";
+  return find_default_file("models/scene_default.yaml", "default scene");
 }
 
 }  // namespace arttrack::sim

@@ -139,9 +139,10 @@ struct Scenario {
 
 // Loads a scenario file (following `extends:`), applies the overrides
 // ("dotted.key=value", as arttrack run --set) and parses it. Relative paths
-// (scene, tracker) are relative to the scenario file, else to the
-// repository. Unknown keys, wrong types, impossible values, unknown joints,
-// groups, links or methods: InputError naming the file and the key path.
+// (scene, tracker) are relative to the scenario file, else to a search
+// folder (search_paths.h). Unknown keys, wrong types, impossible values,
+// unknown joints, groups, links or methods: InputError naming the file and
+// the key path.
 Scenario load_scenario(const std::filesystem::path& path,
                        const std::vector<std::string>& overrides = {});
 
@@ -184,7 +185,9 @@ JointTrajectory make_trajectory(const Scenario& scenario,
 // out of range: InputError naming the file and the key.
 void read_scoring_options(const ConfigNode& scoring, ScoringOptions& options);
 
-// The default scenario: scenarios/default.yaml in the source tree.
+// The default scenario: scenarios/default.yaml in the first search folder
+// that holds it (search_paths.h); none does: InputError naming the file and
+// the folders.
 std::filesystem::path default_scenario_path();
 
 }  // namespace arttrack::sim

@@ -132,8 +132,9 @@ struct SceneDescription {
 };
 
 // Reads a scene YAML file. Paths in it (the URDF, package roots) are relative
-// to the file, or to the repository root if not found there. Unknown keys,
-// wrong types, out-of-range values: InputError naming the file and the key.
+// to the file, or to a search folder (search_paths.h) if not found there.
+// Unknown keys, wrong types, out-of-range values: InputError naming the file
+// and the key.
 SceneDescription load_scene(const std::filesystem::path& yaml_path);
 
 // The scene file a YAML file stands for: the file itself if it is a scene,
@@ -142,7 +143,9 @@ SceneDescription load_scene(const std::filesystem::path& yaml_path);
 // not a string: InputError naming the file.
 std::filesystem::path resolve_scene_file(const std::filesystem::path& scene_or_scenario);
 
-// The default scene: models/scene_default.yaml in the source tree.
+// The default scene: models/scene_default.yaml in the first search folder
+// that holds it (search_paths.h); none does: InputError naming the file and
+// the folders.
 std::filesystem::path default_scene_path();
 
 }  // namespace arttrack::sim
