@@ -4,6 +4,7 @@
 #include <sstream>
 #include <string>
 
+#include "arttrack/sim/search_paths.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/version.h"
 #include "bindings.h"
@@ -38,6 +39,9 @@ const char* operator""_doc(const char* text, std::size_t size) {
 PYBIND11_MODULE(_arttrack, m) {
   using arttrack::python::operator""_doc;
   namespace py = pybind11;
+  // As the arttrack program: scenes and scenarios find the files they name
+  // relative to the source tree, and the defaults, in the tree it was built from.
+  arttrack::sim::set_search_dirs({ARTTRACK_SOURCE_DIR});
   m.doc() =
       "arttrack: probabilistic articulated real-time tracking of a robot manipulator, and its "
       "MuJoCo testbed.\n\n"

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "arttrack/sim/dataset.h"
+#include "arttrack/sim/dataset_tracking.h"
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/sim/scenario.h"

@@ -8,10 +8,14 @@
 #include <exception>
 #include <iostream>
 
+#include "arttrack/sim/search_paths.h"
 #include "arttrack/tracker/version.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
+  // Files that scenes and scenarios name relative to the source tree, and the
+  // default scene and scenario, are found in the tree this program was built from.
+  arttrack::sim::set_search_dirs({ARTTRACK_SOURCE_DIR});
   CLI::App app{"arttrack: probabilistic articulated robot tracking and its MuJoCo testbed",
                "arttrack"};
   app.require_subcommand(1);

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "arttrack/sim/dataset.h"
+#include "arttrack/sim/dataset_tracking.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
 #include "commands.h"

@@ -11,7 +11,8 @@ namespace arttrack::sim {
 namespace {
 
 const std::shared_ptr<const SimModel>& default_model() {
-  static const auto model = build_sim_model(load_scene(default_scene_path()));
+  static const auto model = build_sim_model(
+      load_scene(std::filesystem::path(ARTTRACK_SOURCE_DIR) / "models/scene_default.yaml"));
   return model;
 }
 

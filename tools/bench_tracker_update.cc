@@ -31,7 +31,8 @@ struct Fixture {
   std::vector<double> readings;  // encoders, sim joint order, with a constant bias
 
   Fixture() {
-    sim_model = sim::build_sim_model(sim::load_scene(sim::default_scene_path()));
+    sim_model = sim::build_sim_model(
+        sim::load_scene(std::filesystem::path(ARTTRACK_SOURCE_DIR) / "models/scene_default.yaml"));
     sim::Simulator simulator(sim_model);
     sim::DepthCamera depth_camera(sim_model);
     depth_camera.render(simulator.data(), sim::DepthContent::kScene, observed);

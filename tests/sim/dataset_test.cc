@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "../error_of.h"
+#include "arttrack/sim/dataset_tracking.h"
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"

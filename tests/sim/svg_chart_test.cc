@@ -1,8 +1,8 @@
-// The chart layer of the HTML pages (sim/src/svg_chart.h) and its colour
-// map (sim/src/colour_map.h): round ticks, log axes, escaping of every text,
-// legends that draw like their series, heat maps and bars, and Turbo
-// against the published table.
-#include "../../sim/src/svg_chart.h"
+// The chart layer of the HTML pages (arttrack/sim/internal/svg_chart.h of
+// sim/reporting) and its colour map (internal/colour_map.h of sim/simulation):
+// round ticks, log axes, escaping of every text, legends that draw like their series, heat maps and
+// bars, and Turbo against the published table.
+#include "arttrack/sim/internal/svg_chart.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <regex>
 #include <sstream>
 
-#include "../../sim/src/colour_map.h"
+#include "arttrack/sim/internal/colour_map.h"
 
 namespace arttrack::sim::chart {
 namespace {

@@ -1,4 +1,4 @@
-// The simulator's internal text helpers (sim/src/text_format.h), whose
+// The simulator's internal text helpers (internal/text_format.h of sim/evaluation), whose
 // behaviour the CSV, HTML and YAML outputs depend on byte for byte:
 //   - csv_field quotes only on ',', '"' or '\n' and doubles quotes;
 //   - csv_number round-trips doubles and spells non-finite values;
@@ -8,7 +8,7 @@
 //   - split_csv and CsvReader read back what csv_field writes, and trim
 //     people's files;
 //   - trim, parse_number, one_line, write_text, median_convergence_s.
-#include "../../sim/src/text_format.h"
+#include "arttrack/sim/internal/text_format.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// The URDF prepared for MuJoCo 2.2 (sim/src/urdf_prepare.h, internal to
-// arttrack_sim): normalised to what urdfdom reads of it, and MuJoCo's own
+// The URDF prepared for MuJoCo 2.2 (sim/simulation/src/urdf_prepare.h, internal to
+// arttrack_sim_simulation): normalised to what urdfdom reads of it, and MuJoCo's own
 // errors about the prepared copy retold at the line of the user's file.
 #include "urdf_prepare.h"
 

@@ -1,0 +1,218 @@
+// The run report's tables: the verdict per method at the top; at the end the
+// numbers of summary.json, lost runs and consistency, timings.
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "arttrack/sim/internal/svg_chart.h"
+#include "arttrack/sim/internal/text_format.h"
+#include "arttrack/sim/run_outputs.h"
+#include "arttrack/tracker/units.h"
+#include "report_sections.h"
+
+namespace arttrack::sim::report {
+
+using chart::fixed;
+using chart::significant;
+
+// The page's answer first: per method, whether it converged, how fast, how
+// often it was lost, and how often it was worse than encoders only; then the
+// best method among those never lost.
+void verdict_section(std::ostream& o, const ScenarioResult& r) {
+  if (r.method_results.empty()) return;
+  o << "<h2>Verdict</h2>\n<table><tr><th class=\"m\">method</th><th>verdict</th>"
+       "<th>converged p50 / p99, mm</th><th>median time to converge</th><th>lost runs</th>"
+       "<th>worse than encoders only</th></tr>\n";
+  const MethodResult* best = nullptr;
+  for (const MethodResult& m : r.method_results) {
+    const MethodSummary& s = m.summary;
+    const Percentiles& c = s.converged.translation_m;
+    const double convergence_s = median_convergence_s(s);  // as in the tables below
+    const auto never = std::size_t(
+        std::count(s.time_to_converge_s.begin(), s.time_to_converge_s.end(), std::nullopt));
+    const std::size_t lost = s.lost_runs();
+    std::string verdict;
+    if (c.count == 0)
+      verdict = "no converged window";
+    else if (lost > 0)
+      verdict = "<strong>lost</strong> in " + std::to_string(lost) + " of " +
+                std::to_string(s.num_runs) + " runs";
+    else if (never == s.time_to_converge_s.size())
+      verdict = "never converged";
+    else
+      verdict = "tracks";
+    if (c.count > 0 && lost == 0 && (!best || c.p50 < best->summary.converged.translation_m.p50))
+      best = &m;
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td><td>" << verdict
+      << "</td><td>"
+      << (c.count ? fixed(c.p50 * kMm, 1) + " / " + fixed(c.p99 * kMm, 1) : std::string("-"))
+      << "</td><td>"
+      << (std::isfinite(convergence_s) ? fixed(convergence_s, 1) + "&nbsp;s" +
+                                             (never ? " (" + std::to_string(never) + " never)" : "")
+                                       : std::string("never"))
+      << "</td><td>" << lost << " of " << s.num_runs << "</td><td>"
+      << (s.converged.reference.compared
+              ? fixed(100.0 * s.converged.reference.share_worse(), 0) + "% of samples"
+              : std::string("-"))
+      << "</td></tr>\n";
+  }
+  o << "</table>\n<p>";
+  if (best)
+    o << "Best: <strong>" << text::html_escape(best->method)
+      << "</strong> (the lowest converged median among the methods never lost).";
+  else
+    o << "No method was both converged and never lost.";
+  o << " Converged: samples from " << fixed(r.scoring.converged_after_s, 1)
+    << "&nbsp;s on, the worst end effector per sample.</p>\n";
+}
+
+namespace {
+
+// Runs in which an end effector is lost.
+std::size_t lost_count(const EndEffectorSummary& e) {
+  return std::size_t(
+      std::count_if(e.lost.begin(), e.lost.end(), [](const auto& l) { return l.has_value(); }));
+}
+
+// "12.3%", or "not estimated".
+std::string coverage_cell(const Coverage& c) {
+  return c.estimated ? fixed(100.0 * c.fraction(), 1) + "%" : std::string("not estimated");
+}
+
+void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
+  o << "<h2>Lost runs, consistency and the camera</h2>\n<p>A run is <em>lost</em> for a method "
+       "when an end effector's translation error stays above "
+    << fixed(r.scoring.lost_threshold_m * kMm, 1) << "&nbsp;mm for more than "
+    << significant(r.scoring.lost_after_s) << "&nbsp;s from "
+    << fixed(r.scoring.converged_after_s, 1)
+    << "&nbsp;s on. <em>Within 2&sigma;</em>: the share of samples (all of them, every joint or "
+       "virtual camera joint) whose true value lies within two of the standard deviations the "
+       "method reports; about 95% for an honest filter, far less for an overconfident one. The "
+       "true camera offset is the one that puts the nominal model's camera, at the true joint "
+       "angles, on the simulator's camera. <em>Camera frame</em>: the estimated camera frame "
+       "(the nominal model at the estimated angles and camera offset) against the true one, "
+       "relative to the robot base.</p>\n";
+  o << "<table><tr><th class=\"m\" rowspan=\"2\">method</th><th rowspan=\"2\">lost runs</th>"
+       "<th colspan=\"3\">within 2&sigma;</th><th colspan=\"2\">camera frame, mm</th>"
+       "<th colspan=\"2\">camera frame, deg</th></tr><tr><th>angles</th><th>biases</th>"
+       "<th>camera offset</th><th>p50</th><th>p99</th><th>p50</th><th>p99</th></tr>\n";
+  for (const MethodResult& m : r.method_results) {
+    const ErrorStats& s = m.summary.all;
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td><td>"
+      << m.summary.lost_runs() << " of " << m.summary.num_runs << "</td><td>"
+      << coverage_cell(s.angle_coverage) << "</td><td>" << coverage_cell(s.bias_coverage)
+      << "</td><td>" << coverage_cell(s.camera_offset_coverage) << "</td><td>"
+      << fixed(s.camera_translation_m.p50 * kMm, 2) << "</td><td>"
+      << fixed(s.camera_translation_m.p99 * kMm, 2) << "</td><td>"
+      << fixed(s.camera_rotation_rad.p50 * kDegPerRad, 3) << "</td><td>"
+      << fixed(s.camera_rotation_rad.p99 * kDegPerRad, 3) << "</td></tr>\n";
+  }
+  o << "</table>\n";
+  std::ostringstream list;
+  for (const MethodResult& m : r.method_results)
+    for (std::size_t run = 0; run < m.summary.num_runs; ++run)
+      for (const EndEffectorSummary& e : m.summary.end_effectors)
+        if (run < e.lost.size() && e.lost[run])
+          list << "<li>" << text::html_escape(m.method) << ": run " << run
+               << (run < r.seeds.size() ? " (seed " + std::to_string(r.seeds[run]) + ")" : "")
+               << ", " << text::html_escape(e.name) << ", from " << fixed(e.lost[run]->from_s, 2)
+               << "&nbsp;s for " << fixed(e.lost[run]->duration_s, 2) << "&nbsp;s"
+               << (out_of_view_note(*e.lost[run]).empty()
+                       ? ""
+                       : ", " + text::html_escape(out_of_view_note(*e.lost[run])))
+               << "</li>\n";
+  if (!list.str().empty()) o << "<p>Lost:</p><ul class=\"lost\">\n" << list.str() << "</ul>\n";
+}
+
+}  // namespace
+
+void table_section(std::ostream& o, const ScenarioResult& r) {
+  const bool several = r.end_effectors.size() > 1;
+  o << "<h2>Summary</h2>\n<p>The numbers of summary.json, in millimetres and degrees "
+       "(percentiles pooled over runs)"
+    << (several ? "; per end effector, and the worst of them (per sample, the larger error)" : "")
+    << ".</p>\n";
+  std::ostringstream after;
+  after << "from " << fixed(r.scoring.converged_after_s, 1) << " s on";
+  const char* pct[5] = {"p1", "p25", "p50", "p75", "p99"};
+  for (int part = 0; part < 2; ++part) {
+    o << "<table><tr><th class=\"m\" rowspan=\"2\">method</th>";
+    if (several) o << "<th class=\"m\" rowspan=\"2\">end effector</th>";
+    o << "<th colspan=\"5\">translation, mm, " << (part ? after.str() : "all samples")
+      << "</th><th colspan=\"5\">rotation, deg, " << (part ? after.str() : "all samples")
+      << "</th><th rowspan=\"2\">samples</th>";
+    if (part)
+      o << "<th rowspan=\"2\">converged after, s<br>(median of runs; below "
+        << fixed(r.scoring.convergence_threshold_m * kMm, 1)
+        << " mm)</th><th rowspan=\"2\">worse than<br>encoders_only</th><th "
+           "rowspan=\"2\">lost runs</th>";
+    o << "</tr><tr>";
+    for (int k = 0; k < 2; ++k)
+      for (const char* p : pct) o << "<th>" << p << "</th>";
+    o << "</tr>\n";
+    auto row = [&](const std::string& method, const std::string* ee, const ErrorStats& s,
+                   double conv, std::size_t lost, std::size_t runs) {
+      o << "<tr><td class=\"m\">" << text::html_escape(method) << "</td>";
+      if (ee) o << "<td class=\"m\">" << text::html_escape(*ee) << "</td>";
+      const Percentiles& t = s.translation_m;
+      for (double v : {t.p01, t.p25, t.p50, t.p75, t.p99})
+        o << "<td>" << fixed(v * kMm, 2) << "</td>";
+      const Percentiles& a = s.rotation_rad;
+      for (double v : {a.p01, a.p25, a.p50, a.p75, a.p99})
+        o << "<td>" << fixed(v * kDegPerRad, 3) << "</td>";
+      o << "<td>" << t.count << "</td>";
+      if (part)
+        o << "<td>" << (std::isfinite(conv) ? fixed(conv, 1) : std::string("never")) << "</td><td>"
+          << (s.reference.compared ? fixed(100.0 * s.reference.share_worse(), 0) + "%"
+                                   : std::string("&ndash;"))
+          << "</td><td>" << lost << " of " << runs << "</td>";
+      o << "</tr>\n";
+    };
+    static const std::string kWorst = "worst";
+    for (const MethodResult& m : r.method_results) {
+      const MethodSummary& sm = m.summary;
+      if (several)
+        for (const EndEffectorSummary& e : sm.end_effectors)
+          row(m.method, &e.name, part ? e.converged : e.all,
+              median_convergence_s(e.time_to_converge_s), lost_count(e), sm.num_runs);
+      row(m.method, several ? &kWorst : nullptr, part ? sm.converged : sm.all,
+          median_convergence_s(sm), sm.lost_runs(), sm.num_runs);
+    }
+    o << "</table>\n";
+  }
+  lost_and_consistency_section(o, r);
+  o << "<h2>Timing</h2>\n<p>Wall time of each tracker call on this machine (summary.json reports "
+       "full_fusion's, else the first method's). Speed figures belong to the benchmarks; these "
+       "only show where the time went in this run.</p>\n"
+       "<table><tr><th class=\"m\" rowspan=\"2\">method</th><th colspan=\"2\">joint update, "
+       "&micro;s</th><th colspan=\"2\">image update, ms</th><th rowspan=\"2\">evaluations<br>per "
+       "image</th><th rowspan=\"2\">images<br>received</th><th rowspan=\"2\">applied</th><th "
+       "rowspan=\"2\">dropped</th></tr><tr><th>p50</th><th>p99</th><th>p50</th><th>p99</th></tr>\n";
+  for (const MethodResult& m : r.method_results) {
+    long received = 0, applied = 0, dropped = 0;
+    for (const RunResult& run : r.runs)
+      if (const MethodRun* mr = method_run(run, m.method)) {
+        received += mr->stats.images_received;
+        applied += mr->stats.images_applied;
+        dropped += mr->stats.images_dropped_too_old + mr->stats.images_dropped_backlog +
+                   mr->stats.images_dropped_busy;
+      }
+    const MethodTiming& t = m.timing;
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td><td>"
+      << fixed(t.joint_update_us.p50, 2) << "</td><td>" << fixed(t.joint_update_us.p99, 2)
+      << "</td><td>" << fixed(t.image_update_ms.p50, 2) << "</td><td>"
+      << fixed(t.image_update_ms.p99, 2) << "</td><td>" << fixed(t.evaluations_per_image, 0)
+      << "</td><td>" << received << "</td><td>" << applied << "</td><td>" << dropped
+      << "</td></tr>\n";
+  }
+  o << "</table>\n";
+  // The JSON itself, folded (no script needed): its text has no & < >.
+  std::string json = summary_json(r);
+  std::string escaped;
+  for (char c : json)
+    escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+  o << "<details><summary>summary.json</summary><pre>" << escaped << "</pre></details>\n";
+}
+
+}  // namespace arttrack::sim::report
