@@ -47,8 +47,8 @@
 #include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/scoring.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 #include "arttrack/tracker/tracker.h"
-#include "arttrack/tracker/worker_pool.h"
 #include "arttrack_bench_soak.h"
 #include "commands.h"
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
-#include "arttrack/tracker/joint_filter.h"
-#include "arttrack/tracker/worker_pool.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
+#include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
 namespace {

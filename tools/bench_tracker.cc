@@ -22,14 +22,14 @@
 
 #include "../tests/dual_arm_home.h"
 #include "arttrack/tracker/camera.h"
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/depth_renderer.h"
-#include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
+#include "arttrack/tracker/internal/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/units.h"
-#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

@@ -45,6 +45,20 @@ for lib in "$libdir"/libarttrack_tracker.a "$libdir"/libarttrack_tracker.so; do
 done
 [ -f "$prefix/include/arttrack/tracker/tracker.h" ] || fail "tracker.h not installed"
 [ -f "$prefix/include/arttrack/tracker/version.h" ] || fail "version.h not installed"
+# Only the public headers are installed (tracker/include; the internal ones in
+# tracker/internal are the library's own), and each compiles on its own.
+public="camera.h depth_model_params.h depth_renderer.h error.h joint_filter_params.h kinematics.h
+  mesh_loader.h model_limits.h particle_filter_params.h robot_model.h tracker.h tracker_config.h
+  tracker_config_yaml.h units.h version.h yaml_config.h"
+installed=$(cd "$prefix/include/arttrack/tracker" && find . -type f | sed 's|^\./||' | sort | tr '\n' ' ')
+expected=$(tr ' ' '\n' <<< "$public" | grep . | sort | tr '\n' ' ')
+[ "$installed" = "$expected" ] ||
+  fail "installed headers: $installed; the public ones are: $expected"
+for h in $public; do
+  c++ -std=c++20 -fsyntax-only -x c++ "$prefix/include/arttrack/tracker/$h" -I"$prefix/include" \
+    $(pkg-config --cflags eigen3 yaml-cpp) 2> "$tmp/header.txt" ||
+    { cat "$tmp/header.txt" >&2; fail "the installed $h does not compile on its own"; }
+done
 # The public tracker header pulls in no yaml-cpp header (-H lists every include).
 c++ -std=c++20 -fsyntax-only -H -x c++ "$prefix/include/arttrack/tracker/tracker.h" \
   -I"$prefix/include" $(pkg-config --cflags eigen3) 2> "$tmp/includes.txt" ||

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "arttrack/tracker/belief_buffer.h"
 #include "arttrack/tracker/camera.h"
-#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/internal/belief_buffer.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 

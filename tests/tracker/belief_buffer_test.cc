@@ -1,4 +1,4 @@
-#include "arttrack/tracker/belief_buffer.h"
+#include "arttrack/tracker/internal/belief_buffer.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 
 #include "../expect_error.h"
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/worker_pool.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
 namespace {

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The fast exp and erfc of the likelihood's hot loop, and the fast pixel
 // ratios built on them, against libm and the exact log-space reference.
-#include "arttrack/tracker/fast_math.h"
+#include "arttrack/tracker/internal/fast_math.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 
 #pragma GCC diagnostic ignored "-Wpsabi"  // Double4 values in a test, no ABI crossing
 

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/gaussian_fold.h"
+#include "arttrack/tracker/internal/gaussian_fold.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // The cached hypothesis evaluator against brute force: every particle of
 // real particle-filter runs on the project robot is also rendered from
 // scratch and scored with the exact likelihood.
-#include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 #include "arttrack/tracker/units.h"
-#include "arttrack/tracker/worker_pool.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/mesh_simplify.h"
+#include "arttrack/tracker/internal/mesh_simplify.h"
 
 #include <gtest/gtest.h>
 

@@ -10,8 +10,8 @@
 
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
-#include "arttrack/tracker/worker_pool.h"
 
 namespace arttrack {
 namespace {

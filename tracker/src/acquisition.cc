@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "arttrack/tracker/gaussian_fold.h"
+#include "arttrack/tracker/internal/gaussian_fold.h"
 #include "health_check.h"
 
 namespace arttrack {

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
 
 #include <algorithm>
 #include <cassert>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/worker_pool.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 #include "config_range.h"
 
 namespace arttrack {

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/depth_likelihood.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/fast_math.h"
+#include "arttrack/tracker/internal/fast_math.h"
 #include "config_range.h"
 
 namespace arttrack {

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/hypothesis_evaluator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/worker_pool.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
 namespace {

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/image_information.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/internal/joint_filter.h"
 
 #include <algorithm>
 #include <cmath>

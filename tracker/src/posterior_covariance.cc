@@ -1,4 +1,4 @@
-#include "arttrack/tracker/posterior_covariance.h"
+#include "arttrack/tracker/internal/posterior_covariance.h"
 
 #include <Eigen/LU>
 #include <algorithm>

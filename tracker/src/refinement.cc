@@ -1,6 +1,6 @@
 #include "arttrack/tracker/internal/refinement.h"
 
-#include "arttrack/tracker/gaussian_fold.h"
+#include "arttrack/tracker/internal/gaussian_fold.h"
 
 namespace arttrack {
 namespace {

@@ -15,7 +15,7 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/mesh_simplify.h"
+#include "arttrack/tracker/internal/mesh_simplify.h"
 #include "arttrack/tracker/model_limits.h"
 
 namespace arttrack {

@@ -10,12 +10,12 @@
 #include <sstream>
 #include <thread>
 
-#include "arttrack/tracker/belief_buffer.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/belief_buffer.h"
 #include "arttrack/tracker/internal/estimate_report.h"
 #include "arttrack/tracker/internal/image_update.h"
+#include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/joint_filter.h"
 
 namespace arttrack {
 namespace {

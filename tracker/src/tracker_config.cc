@@ -5,10 +5,10 @@
 #include <variant>
 
 #include "arttrack/tracker/error.h"
-#include "arttrack/tracker/mesh_simplify.h"
+#include "arttrack/tracker/internal/mesh_simplify.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/units.h"
-#include "arttrack/tracker/worker_pool.h"
 #include "config_range.h"
 
 namespace arttrack {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "arttrack/tracker/coordinate_particle_filter.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {

@@ -1,4 +1,4 @@
-#include "arttrack/tracker/worker_pool.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "arttrack/tracker/camera.h"
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
-#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/depth_model_params.h"
+#include "arttrack/tracker/joint_filter_params.h"
+#include "arttrack/tracker/particle_filter_params.h"
 #include "arttrack/tracker/units.h"
 
 namespace arttrack {

@@ -27,12 +27,12 @@
 #include <span>
 #include <vector>
 
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
-#include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
+#include "arttrack/tracker/internal/hypothesis_evaluator.h"
 #include "arttrack/tracker/internal/image_filter.h"
+#include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {

@@ -21,10 +21,10 @@
 
 #include <Eigen/Core>
 
+#include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/joint_filter.h"
 #include "arttrack/tracker/kinematics.h"
-#include "arttrack/tracker/posterior_covariance.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {

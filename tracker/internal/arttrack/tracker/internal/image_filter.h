@@ -18,12 +18,12 @@
 #include <span>
 
 #include "arttrack/tracker/camera.h"
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
-#include "arttrack/tracker/hypothesis_evaluator.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
+#include "arttrack/tracker/internal/hypothesis_evaluator.h"
 #include "arttrack/tracker/internal/render_geometry.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/worker_pool.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
 

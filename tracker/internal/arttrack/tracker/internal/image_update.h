@@ -21,11 +21,11 @@
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/internal/acquisition.h"
 #include "arttrack/tracker/internal/image_filter.h"
+#include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/refinement.h"
 #include "arttrack/tracker/internal/reported_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/joint_filter.h"
-#include "arttrack/tracker/posterior_covariance.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {

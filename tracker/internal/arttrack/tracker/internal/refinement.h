@@ -18,11 +18,11 @@
 
 #include <Eigen/Core>
 
-#include "arttrack/tracker/image_information.h"
 #include "arttrack/tracker/internal/image_filter.h"
+#include "arttrack/tracker/internal/image_information.h"
+#include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/joint_filter.h"
-#include "arttrack/tracker/posterior_covariance.h"
 #include "mean_refinement.h"
 
 namespace arttrack {

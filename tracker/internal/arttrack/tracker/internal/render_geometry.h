@@ -17,8 +17,8 @@
 #include <Eigen/Core>
 
 #include "arttrack/tracker/camera.h"
-#include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker_config.h"

@@ -21,12 +21,12 @@
 
 #include <Eigen/Core>
 
-#include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/depth_renderer.h"
-#include "arttrack/tracker/image_information.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
+#include "arttrack/tracker/internal/image_information.h"
+#include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
-#include "arttrack/tracker/joint_filter.h"
-#include "arttrack/tracker/posterior_covariance.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "arttrack/tracker/joint_filter.h"
+#include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker_config.h"
 

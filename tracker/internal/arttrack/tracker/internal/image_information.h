@@ -28,8 +28,8 @@
 #include <span>
 #include <vector>
 
-#include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 

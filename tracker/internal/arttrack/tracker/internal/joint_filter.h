@@ -32,61 +32,11 @@
 #include <string_view>
 #include <vector>
 
-#include "arttrack/tracker/gaussian_fold.h"
+#include "arttrack/tracker/internal/gaussian_fold.h"
+#include "arttrack/tracker/joint_filter_params.h"
 #include "arttrack/tracker/units.h"
 
 namespace arttrack {
-
-// Noise parameters of one physical (encoder) joint. Continuous time.
-struct JointFilterParams {
-  // The defaults are tracker/config/default.yaml's, in its degrees
-  // (DefaultConfigTest checks them field by field).
-  // Encoder noise standard deviation sigma_q, rad (paper Eq. (3)).
-  double encoder_noise_rad = 0.057 * kRadPerDeg;
-  // Angle random-walk diffusion sigma_a, rad/sqrt(s): the angle's standard
-  // deviation grows by sigma_a sqrt(dt) over dt (Eq. (4)). Large enough to
-  // follow fast motion between encoder readings.
-  double angle_diffusion_rad_per_sqrt_s = 57.3 * kRadPerDeg;
-  // Bias diffusion sigma_b, rad/sqrt(s) (Eq. (5) in continuous time): how
-  // far a bias can wander in a second that no image confirms. 1.6 degrees,
-  // half the 3.2 it was: under a partial occlusion or at the image's edge
-  // the wrist's few visible pixels let a faster bias drift 5-16 degrees
-  // within seconds (docs/accuracy.md, "The bias process"); the bias ramps of
-  // time_varying_bias.yaml (5 degrees per second) and of the paper files (10
-  // degrees in 1 s) are still followed, the latter a few millimetres later.
-  double bias_diffusion_rad_per_sqrt_s = 1.6 * kRadPerDeg;
-  // Bias decay c per second, 0 < c < 1: over dt the bias mean is multiplied
-  // by c^dt. With sigma_b above, the stationary bias std is 9.9 degrees (the
-  // prior of the first image) and its time constant 1 / ln(1/c) = 76 s.
-  double bias_decay_per_s = 0.987;
-  // False: this joint's bias is not estimated (fixed at 0, variance 0); the
-  // filter is then a 1-D filter on the angle. The original implementation's
-  // "bias factor 0".
-  bool estimate_bias = true;
-
-  // Stationary bias standard deviation sigma_b / sqrt(2 ln(1/c)), rad (0 when
-  // the bias is not estimated).
-  double stationary_bias_std_rad() const;
-
-  // Throws ConfigKeyError (error.h) naming `source` and the key, `prefix`
-  // followed by the field's YAML name in degrees (e.g.
-  // "joints.per_joint.elbow.encoder_noise_deg"), for a value outside its
-  // range: encoder noise in (0, 90] degrees, angle diffusion in [0, 1e5]
-  // deg/sqrt(s), bias diffusion in (0, 1e5] deg/sqrt(s) ([0, 1e5] when the
-  // bias is not estimated), c in (0, 1).
-  void validate(std::string_view source, const std::string& prefix = "") const;
-};
-
-// Noise of one virtual (camera offset) joint: a random walk around the
-// nominal camera pose, no encoder, no bias. Metres for the three prismatic
-// joints, radians for the three revolute ones.
-struct VirtualJointParams {
-  // Random-walk diffusion, m/sqrt(s) or rad/sqrt(s).
-  double diffusion_per_sqrt_s = 0.005;
-  // Standard deviation of the initial belief around 0, m or rad: how far the
-  // true camera may be from the kinematic model's camera.
-  double initial_std = 0.03;
-};
 
 // Per-joint parameters in bank order from defaults plus per-name overrides
 // (complete structs, e.g. the defaults with some fields changed by a config

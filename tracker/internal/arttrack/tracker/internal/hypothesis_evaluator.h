@@ -40,9 +40,9 @@
 #include <vector>
 
 #include "arttrack/tracker/camera.h"
-#include "arttrack/tracker/coordinate_particle_filter.h"
-#include "arttrack/tracker/depth_likelihood.h"
 #include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/internal/coordinate_particle_filter.h"
+#include "arttrack/tracker/internal/depth_likelihood.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 
