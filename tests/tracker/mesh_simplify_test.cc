@@ -40,27 +40,6 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
                    point_segment_distance(p, c, a)});
 }
 
-// The largest distance from a vertex of `original`'s triangles to the
-// surface of `simplified`, by brute force over every triangle.
-double largest_vertex_distance(const TriangleMesh& original, const TriangleMesh& simplified) {
-  std::vector<bool> used(original.vertices_m.size(), false);
-  for (const Eigen::Vector3i& t : original.triangles)
-    for (int k = 0; k < 3; ++k) used[std::size_t(t[k])] = true;
-  double largest = 0;
-  for (std::size_t i = 0; i < original.vertices_m.size(); ++i) {
-    if (!used[i]) continue;
-    const Eigen::Vector3d p = original.vertices_m[i].cast<double>();
-    double nearest = INFINITY;
-    for (const Eigen::Vector3i& t : simplified.triangles)
-      nearest =
-          std::min(nearest, point_triangle_distance(p, simplified.vertices_m[t[0]].cast<double>(),
-                                                    simplified.vertices_m[t[1]].cast<double>(),
-                                                    simplified.vertices_m[t[2]].cast<double>()));
-    largest = std::max(largest, nearest);
-  }
-  return largest;
-}
-
 // Signed distances from each vertex of `original`'s triangles to the
 // surface of `simplified`, by brute force: to the nearest triangle, positive
 // on the side its normal points to (outside a closed mesh wound outwards).
@@ -84,6 +63,15 @@ std::vector<double> signed_vertex_distances(const TriangleMesh& original,
     distances.push_back(sign * nearest);
   }
   return distances;
+}
+
+// The largest distance from a vertex of `original`'s triangles to the
+// surface of `simplified`, by brute force over every triangle.
+double largest_vertex_distance(const TriangleMesh& original, const TriangleMesh& simplified) {
+  double largest = 0;
+  for (double d : signed_vertex_distances(original, simplified))
+    largest = std::max(largest, std::abs(d));
+  return largest;
 }
 
 // 128 meridians, 64 bands (16 000 triangles) on a 6 cm sphere whose radius

@@ -103,8 +103,7 @@ class TriangleGrid {
         const Corners& t = corners_[std::size_t(triangles_[k])];
         // The distance to the plane bounds the distance to the triangle.
         if (std::abs(t.normal.dot(p - t.p[0])) >= nearest) continue;
-        nearest = std::min(nearest,
-                           (p - t.point(closest_point_weights(p, t.p[0], t.p[1], t.p[2]))).norm());
+        nearest = std::min(nearest, t.distance_m(p));
         if (nearest <= largest) break;  // this point cannot raise the largest distance
       }
       if (nearest > limit_m_) return std::numeric_limits<double>::infinity();
@@ -127,8 +126,8 @@ class TriangleGrid {
     for (std::size_t k = first_[cell]; k < first_[cell + 1]; ++k) {
       const Corners& t = corners_[std::size_t(triangles_[k])];
       if (std::abs(t.normal.dot(p - t.p[0])) >= nearest_m) continue;
-      const Eigen::Vector3d weights = closest_point_weights(p, t.p[0], t.p[1], t.p[2]);
-      const double distance_m = (p - t.point(weights)).norm();
+      Eigen::Vector3d weights;
+      const double distance_m = t.distance_m(p, &weights);
       if (distance_m < nearest_m) nearest_m = distance_m, found = {triangles_[k], weights};
     }
     return found;
@@ -145,15 +144,17 @@ class TriangleGrid {
   void for_cells(const std::pair<Eigen::Array3i, Eigen::Array3i>& range, F&& f) const {
     for (int x = range.first.x(); x <= range.second.x(); ++x)
       for (int y = range.first.y(); y <= range.second.y(); ++y)
-        for (int z = range.first.z(); z <= range.second.z(); ++z)
-          f(std::size_t((x * size_.y() + y) * size_.z() + z));
+        for (int z = range.first.z(); z <= range.second.z(); ++z) f(cell_index({x, y, z}));
   }
 
   struct Corners {
     Eigen::Vector3d p[3];
     Eigen::Vector3d normal;  // unit; zero for a degenerate triangle
-    Eigen::Vector3d point(const Eigen::Vector3d& weights) const {
-      return weights[0] * p[0] + weights[1] * p[1] + weights[2] * p[2];
+    // Distance from q to the triangle, and its closest point's weights.
+    double distance_m(const Eigen::Vector3d& q, Eigen::Vector3d* weights_out = nullptr) const {
+      const Eigen::Vector3d w = closest_point_weights(q, p[0], p[1], p[2]);
+      if (weights_out) *weights_out = w;
+      return (q - (w[0] * p[0] + w[1] * p[1] + w[2] * p[2])).norm();
     }
   };
   std::vector<Corners> corners_;  // per triangle
@@ -254,6 +255,8 @@ TriangleMesh fitted_to_surface(const TriangleMesh& simplified,
         for (int k = 0; k < 3; ++k) entries.emplace_back(t[j], t[k], weight * slope[j] * slope[k]);
       }
     }
+    // (+1e-30: a welded vertex no kept triangle uses has no area and no
+    // point; it stays where it is instead of making the matrix singular.)
     for (Eigen::Index v = 0; v < vertex_count; ++v)
       entries.emplace_back(v, v, kMovePenalty * area_m2[std::size_t(v)] + 1e-30);
     Eigen::SparseMatrix<double> normal_matrix(vertex_count, vertex_count);
