@@ -273,6 +273,11 @@ int main(int argc, char** argv) {
   app.add_option("--run", args.run, "Run of the series (default 0: the run export writes)");
   app.add_option("--method", args.method, "Method of the series (default full_fusion)");
   CLI11_PARSE(app, argc, argv);
+  if (!std::isfinite(args.time_s) || args.time_s < 0) {
+    std::cerr << "likelihood_profile: usage error: --time " << args.time_s
+              << " is not a number of seconds >= 0\n";
+    return 2;
+  }
   try {
     arttrack::run(args);
   } catch (const std::exception& e) {

@@ -4,7 +4,8 @@
 # encoders-only estimate (its bias uncorrected, the camera at its nominal
 # pose) must be far less likely than the truth, full fusion's much more
 # likely than that; every column is 0 at the truth; a series without the
-# run asked for is an error naming it.
+# run asked for is an error naming it, a time that is not a number a usage
+# error.
 arttrack=$1
 profile=$2
 scenario=$3
@@ -33,4 +34,7 @@ awk -v e="$enc" -v f="$ff" 'BEGIN { exit !(e < -1000 && f > e + 1000) }' ||
 "$profile" d --series r/timeseries.csv --time 1.5 --run 3 >out.txt 2>&1 &&
   fail "run 3 of a one-run series exited 0"
 grep -q "no row of run 3" out.txt || fail "run 3: no message naming it:"
+"$profile" d --series r/timeseries.csv --time nan >out.txt 2>&1
+[ $? = 2 ] || fail "--time nan: not a usage error (exit 2):"
+grep -q "time nan is not a number of seconds" out.txt || fail "--time nan: no message naming it:"
 exit 0
