@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <numbers>
 #include <random>
 
@@ -296,6 +297,50 @@ TEST(ImageInformation, LinkShiftsTheDofsExplainGiveNoModelError) {
     const double variance = info.link_shift_variance_m2();
     EXPECT_TRUE(variance >= 0 && variance < 1e-6) << "trial " << trial << ": " << variance;
   }
+}
+
+// A turntable under the camera, on the optical axis, carrying a tilted
+// plate that fills the view. Turning the table and the camera the same way
+// about the axis moves no surface relative to the camera: the motion field
+// gives that combination no information, whatever it gives each DOF.
+// (Central differences need not: a DOF's step can move an edge across a
+// pixel centre, and the steps of DOFs whose motions cancel do not cancel;
+// on an arm7 image they gave 696 per unit along such a motion, the renders'
+// own change along it 7.) Each DOF alone, with no edge in view, the motion
+// field agrees with the central differences.
+TEST(ImageInformation, MotionFieldSeesNoInformationAlongAMotionThatMovesNoSurface) {
+  const RobotModel model = under_a_camera("turntable", R"(
+  <link name="base_link"/>
+  <link name="table"><visual><origin xyz="0.06 0.03 0" rpy="0.4 0 0"/>
+    <geometry><box size="3 3 0.02"/></geometry></visual></link>
+  <joint name="turn" type="continuous"><parent link="base_link"/><child link="table"/>
+    <axis xyz="0 0 1"/></joint>)");
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
+  DepthRenderer renderer(model, camera);
+  DepthLikelihood likelihood(DepthModelParams{});
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+  q[model.joint_index("turn")] = 0.3;
+  KinematicsState state(model);
+  forward_kinematics(model, q, state);
+  DepthImage observed;
+  renderer.render(state, observed);
+  likelihood.set_observation(observed);
+
+  ImageInformationParams params;
+  params.motion_field = true;
+  ImageInformation info({model.joint_index("turn"), model.joint_index("camera_offset_yaw")},
+                        params);
+  info.compute(renderer, {q.data(), std::size_t(q.size())}, likelihood);
+  ASSERT_EQ(info.pixels_used(), 80 * 60);
+  const Eigen::Matrix2d field = info.motion_field_information();
+  const Eigen::Matrix2d central = info.information_matrix();
+  ASSERT_GT(field(0, 0), 0);
+  // The camera's yaw turns about the optical axis (root -z), the table about
+  // root +z: (1, -1) turns both the same way, (1, 1) opposite ways.
+  const Eigen::Vector2d same_way(1, -1), opposite(1, 1);
+  EXPECT_LT(same_way.dot(field * same_way), 1e-9 * opposite.dot(field * opposite));
+  EXPECT_NEAR(field(0, 0), central(0, 0), 0.2 * central(0, 0));
+  EXPECT_NEAR(field(1, 1), central(1, 1), 0.2 * central(1, 1));
 }
 
 }  // namespace

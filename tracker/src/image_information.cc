@@ -40,7 +40,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   residuals_.setZero(num_pixels);
 
   forward_kinematics(model, q_, kinematics_);
-  if (params_.link_shifts) {
+  if (params_.link_shifts || params_.motion_field) {
     render_labelled(renderer);
   } else {
     renderer.render(kinematics_, base_);
@@ -99,9 +99,116 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     for (int p = 0; p < num_pixels; ++p) pixels_per_dof_[std::size_t(k)] += gradients_(p, k) != 0;
   information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
+  if (params_.motion_field) {
+    field_gradients_.setZero(num_pixels, m);
+    motion_field_gradients(model, renderer.camera(), likelihood);
+    field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
+  } else {
+    field_information_ = information_;
+  }
   estimate_effective_pixel_fraction(likelihood.width());
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
   return information_;
+}
+
+// field_gradients_: d r / d q from the motion field (motion_field_information()
+// in the header), over the pixels the central differences kept.
+void ImageInformation::motion_field_gradients(const RobotModel& model,
+                                              const CameraIntrinsics& camera,
+                                              const DepthLikelihood& likelihood) {
+  const int W = likelihood.width();
+  const int L = int(shift_links_.size()), m = int(dofs_.size());
+  if (motion_terms_.empty()) {
+    // Per column and labelled link: the joints (link indices) whose motion
+    // moves the link's points relative to the camera, with the sign and the
+    // mimic multiplier.
+    auto above = [&](int link) {
+      std::vector<char> mark(std::size_t(model.num_links()), 0);
+      for (int a = link; a >= 0; a = model.link(a).parent) mark[std::size_t(a)] = 1;
+      return mark;
+    };
+    const std::vector<char> above_camera = above(model.camera_link());
+    motion_terms_.assign(std::size_t(m) * L, {});
+    for (int li = 0; li < L; ++li) {
+      const std::vector<char> above_link = above(shift_links_[std::size_t(li)]);
+      for (int k = 0; k < m; ++k) {
+        const int dof = dofs_[std::size_t(k)];
+        for (int j = 1; j < model.num_links(); ++j) {
+          const Link& joint = model.link(j);
+          const double multiplier = joint.dof == dof         ? 1.0
+                                    : joint.mimic_dof == dof ? joint.mimic_multiplier
+                                                             : 0.0;
+          const int sign = int(above_link[std::size_t(j)]) - int(above_camera[std::size_t(j)]);
+          if (multiplier != 0 && sign != 0)
+            motion_terms_[std::size_t(k) * L + li].push_back({j, sign * multiplier});
+        }
+      }
+    }
+  }
+  // Joint axes and origins in camera axes.
+  const Eigen::Isometry3d& T_root_camera =
+      kinematics_.T_root_link[std::size_t(model.camera_link())];
+  const Eigen::Matrix3d R_camera_root = T_root_camera.linear().transpose();
+  joint_axis_.resize(std::size_t(model.num_links()));
+  joint_origin_.resize(std::size_t(model.num_links()));
+  for (int j = 1; j < model.num_links(); ++j) {
+    const Eigen::Isometry3d& T = kinematics_.T_root_link[std::size_t(j)];
+    joint_axis_[std::size_t(j)] = R_camera_root * (T.linear() * model.link(j).axis);
+    joint_origin_[std::size_t(j)] = R_camera_root * (T.translation() - T_root_camera.translation());
+  }
+  for_each_labelled_pixel(camera, likelihood, [&](int p, int li, const Eigen::Vector3d& j) {
+    const double r = base_.depth_m[std::size_t(p)];
+    const int u = p % W, v = p / W;
+    const Eigen::Vector3d X(r * (u + 0.5 - camera.cx) / camera.fx,
+                            r * (v + 0.5 - camera.cy) / camera.fy, r);
+    for (int k = 0; k < m; ++k) {
+      double g = 0;
+      for (const MotionTerm& t : motion_terms_[std::size_t(k) * L + li]) {
+        const Eigen::Vector3d& a = joint_axis_[std::size_t(t.joint)];
+        const Eigen::Vector3d dX =
+            model.link(t.joint).joint_type == JointType::kPrismatic
+                ? a
+                : Eigen::Vector3d(a.cross(X - joint_origin_[std::size_t(t.joint)]));
+        g += t.factor * j.dot(dX);
+      }
+      field_gradients_(p, k) = float(g);
+    }
+  });
+}
+
+// j = d r / d t at pixel p of the labelled render (link shifts, in the
+// header): (-fx r_u / r, -fy r_v / r, 1 + (x fx r_u + y fy r_v) / r), the
+// slopes between neighbours that show the same surface of the same link.
+Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsics& camera,
+                                                     double sigma) const {
+  const int W = camera.width, H = camera.height;
+  const int l = label_[std::size_t(p)];
+  const int u = p % W, v = p / W;
+  const double r = base_.depth_m[std::size_t(p)];
+  // A neighbour's depth when it shows the same surface: the same link, and
+  // no jump (a surface up to 76 degrees from facing the camera changes by
+  // at most 4 pixel footprints r / f between neighbours).
+  const double max_step_m = 4 * r / std::min(camera.fx, camera.fy) + params_.inlier_sigmas * sigma;
+  auto neighbour = [&](int uu, int vv, double& d) {
+    if (uu < 0 || uu >= W || vv < 0 || vv >= H) return false;
+    const std::size_t i = std::size_t(vv) * W + uu;
+    if (label_[i] != l) return false;
+    d = base_.depth_m[i];
+    return std::abs(d - r) < max_step_m;
+  };
+  auto slope = [&](int du, int dv) {
+    double next = 0, prev = 0;
+    const bool has_next = neighbour(u + du, v + dv, next);
+    const bool has_prev = neighbour(u - du, v - dv, prev);
+    if (has_next && has_prev) return 0.5 * (next - prev);
+    if (has_next) return next - r;
+    if (has_prev) return r - prev;
+    return 0.0;
+  };
+  const double r_u = slope(1, 0), r_v = slope(0, 1);
+  const double x = (u + 0.5 - camera.cx) / camera.fx, y = (v + 0.5 - camera.cy) / camera.fy;
+  return Eigen::Vector3d(-camera.fx * r_u / r, -camera.fy * r_v / r,
+                         1 + (x * camera.fx * r_u + y * camera.fy * r_v) / r);
 }
 
 // base_ as the nearest of the links drawn one by one (the same depths as
@@ -145,54 +252,26 @@ void ImageInformation::render_labelled(DepthRenderer& renderer) {
 void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
                                            const DepthLikelihood& likelihood) {
   const int n = int(dofs_.size()), L = int(shift_links_.size());
-  const int W = likelihood.width(), H = likelihood.height();
   shift_cross_.setZero(n, 3 * L);
+  field_shift_cross_.setZero(n, 3 * L);
   shift_information_.setZero(3 * L, 3 * L);
   shift_gradient_.setZero(3 * L);
   shift_pixels_.assign(std::size_t(L), 0);
-  for (int p = 0; p < W * H; ++p) {
-    if (!used_[std::size_t(p)]) continue;
-    const int l = label_[std::size_t(p)];
-    if (l < 0) continue;
-    const int u = p % W, v = p / W;
-    const double r = base_.depth_m[std::size_t(p)];
-    const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
-    // A neighbour's depth when it shows the same surface: the same link, and
-    // no jump (a surface up to 76 degrees from facing the camera changes by
-    // at most 4 pixel footprints r / f between neighbours).
-    const double max_step_m =
-        4 * r / std::min(camera.fx, camera.fy) + params_.inlier_sigmas * sigma;
-    auto neighbour = [&](int uu, int vv, double& d) {
-      if (uu < 0 || uu >= W || vv < 0 || vv >= H) return false;
-      const std::size_t i = std::size_t(vv) * W + uu;
-      if (label_[i] != l) return false;
-      d = base_.depth_m[i];
-      return std::abs(d - r) < max_step_m;
-    };
-    auto slope = [&](int du, int dv) {
-      double next = 0, prev = 0;
-      const bool has_next = neighbour(u + du, v + dv, next);
-      const bool has_prev = neighbour(u - du, v - dv, prev);
-      if (has_next && has_prev) return 0.5 * (next - prev);
-      if (has_next) return next - r;
-      if (has_prev) return r - prev;
-      return 0.0;
-    };
-    const double r_u = slope(1, 0), r_v = slope(0, 1);
-    const double x = (u + 0.5 - camera.cx) / camera.fx, y = (v + 0.5 - camera.cy) / camera.fy;
-    const Eigen::Vector3d j = Eigen::Vector3d(-camera.fx * r_u / r, -camera.fy * r_v / r,
-                                              1 + (x * camera.fx * r_u + y * camera.fy * r_v) / r) /
-                              sigma;
+  for_each_labelled_pixel(camera, likelihood, [&](int p, int l, const Eigen::Vector3d& j) {
     // The pixel moves with the shift of its link and of every link above it.
     const Eigen::Matrix3d jj = j * j.transpose();
     pixel_gradient_ = gradients_.row(p).transpose().cast<double>();  // sized once: no allocation
+    if (params_.motion_field)
+      field_pixel_gradient_ = field_gradients_.row(p).transpose().cast<double>();
     for (int a : shift_above_[std::size_t(l)]) {
       shift_cross_.middleCols<3>(3 * a).noalias() += pixel_gradient_ * j.transpose();
+      if (params_.motion_field)
+        field_shift_cross_.middleCols<3>(3 * a).noalias() += field_pixel_gradient_ * j.transpose();
       shift_gradient_.segment<3>(3 * a) += double(residuals_[p]) * j;
       ++shift_pixels_[std::size_t(a)];
       for (int b : shift_above_[std::size_t(l)]) shift_information_.block<3, 3>(3 * a, 3 * b) += jj;
     }
-  }
+  });
 }
 
 double ImageInformation::link_shift_variance_m2(int min_pixels) const {

@@ -30,6 +30,7 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
     dofs.push_back(j);
   }
   information.link_shifts = model_error;
+  information.motion_field = true;
   num_consider = model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0;
 }
 
@@ -69,7 +70,7 @@ bool ReportedCovariance::begin_image(double time_s, std::span<const double> prio
 
 void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   if (covariance_.size() == 0) return;
-  const Eigen::MatrixXd& info = information_.information_matrix();
+  const Eigen::MatrixXd& info = information_.motion_field_information();
   const double discount =
       setup_.discount_correlated_residuals ? information_.effective_pixel_fraction() : 1.0;
   if (!setup_.model_error) {
@@ -87,7 +88,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   model_error_started_ = true;
   health.model_error_std_m = std::sqrt(model_error_var_m2_);
   const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
-  consider_cross_ = information_.shift_cross_information() * std_m;
+  consider_cross_ = information_.motion_field_shift_cross_information() * std_m;
   covariance_.update(info, consider_cross_, setup_.image_information_scale * discount);
 }
 

@@ -1,7 +1,8 @@
 // The covariance the tracker reports (docs/method.md, "Reported
 // covariance"): PosteriorCovariance (posterior_covariance.h) over the DOFs
-// the particle filter samples, each image's information about them
-// (image_information.h) folded in after the image's particle filter, and,
+// the particle filter samples, each image's information about them (from
+// the motion field, image_information.h) folded in after the image's
+// particle filter, and,
 // with uncertainty.model_error, the link shifts' variance estimated from the
 // images' residuals as consider parameters.
 //
