@@ -71,7 +71,10 @@ class ReportedCovariance {
                    const DepthLikelihood& likelihood);
   // After begin_image(): the image's information, and what it knows.
   const ImageInformation& information() const { return information_; }
-  const Eigen::MatrixXd& information_matrix() const { return information_.information_matrix(); }
+  // The information end_image() folds in (the motion field's).
+  const Eigen::MatrixXd& information_matrix() const {
+    return information_.motion_field_information();
+  }
 
   // The second half: folds the image's information in, scaled by
   // image_information_scale (and the effective pixel fraction with
