@@ -103,8 +103,6 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     field_gradients_.setZero(num_pixels, m);
     motion_field_gradients(model, renderer.camera(), likelihood);
     field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
-  } else {
-    field_information_ = information_;
   }
   estimate_effective_pixel_fraction(likelihood.width());
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
@@ -140,7 +138,8 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
                                                              : 0.0;
           const int sign = int(above_link[std::size_t(j)]) - int(above_camera[std::size_t(j)]);
           if (multiplier != 0 && sign != 0)
-            motion_terms_[std::size_t(k) * L + li].push_back({j, sign * multiplier});
+            motion_terms_[std::size_t(k) * L + li].push_back(
+                {j, joint.joint_type == JointType::kPrismatic, sign * multiplier});
         }
       }
     }
@@ -166,9 +165,7 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
       for (const MotionTerm& t : motion_terms_[std::size_t(k) * L + li]) {
         const Eigen::Vector3d& a = joint_axis_[std::size_t(t.joint)];
         const Eigen::Vector3d dX =
-            model.link(t.joint).joint_type == JointType::kPrismatic
-                ? a
-                : Eigen::Vector3d(a.cross(X - joint_origin_[std::size_t(t.joint)]));
+            t.prismatic ? a : Eigen::Vector3d(a.cross(X - joint_origin_[std::size_t(t.joint)]));
         g += t.factor * j.dot(dX);
       }
       field_gradients_(p, k) = float(g);

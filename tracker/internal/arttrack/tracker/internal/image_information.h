@@ -89,7 +89,9 @@ class ImageInformation {
   // rendered depth's change along it. The reported covariance uses this;
   // the refinement's Gauss-Newton step keeps the central differences
   // (information_matrix(), gradient()), with which it is more accurate.
-  const Eigen::MatrixXd& motion_field_information() const { return field_information_; }
+  const Eigen::MatrixXd& motion_field_information() const {
+    return params_.motion_field ? field_information_ : information_;
+  }
   // The Gauss-Newton gradient of the last compute(): sum over the same
   // pixels of grad r (z - r) / sigma^2 (the log-likelihood's gradient of the
   // visible branch), in dofs() order.
@@ -195,8 +197,9 @@ class ImageInformation {
     }
   }
   struct MotionTerm {
-    int joint = 0;      // link index of the joint
-    double factor = 0;  // +-1 (moves the link / the camera) times the mimic multiplier
+    int joint = 0;           // link index of the joint
+    bool prismatic = false;  // else revolute
+    double factor = 0;       // +-1 (moves the link / the camera) times the mimic multiplier
   };
   std::vector<std::vector<MotionTerm>> motion_terms_;       // per column x labelled link
   std::vector<Eigen::Vector3d> joint_axis_, joint_origin_;  // per link, camera axes
