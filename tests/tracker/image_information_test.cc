@@ -300,6 +300,37 @@ TEST(ImageInformation, LinkShiftsTheDofsExplainGiveNoModelError) {
 }
 
 // A turntable under the camera, on the optical axis, carrying a tilted
+// plate that fills the view, observed at its own configuration (turned 0.3).
+struct TurntableScene {
+  RobotModel model = under_a_camera("turntable", R"(
+  <link name="base_link"/>
+  <link name="table"><visual><origin xyz="0.06 0.03 0" rpy="0.4 0 0"/>
+    <geometry><box size="3 3 0.02"/></geometry></visual></link>
+  <joint name="turn" type="continuous"><parent link="base_link"/><child link="table"/>
+    <axis xyz="0 0 1"/></joint>)");
+  CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
+  DepthRenderer renderer{model, camera};
+  DepthModelParams params;
+  DepthLikelihood likelihood{params};
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+
+  TurntableScene() {
+    q[model.joint_index("turn")] = 0.3;
+    KinematicsState state(model);
+    forward_kinematics(model, q, state);
+    DepthImage observed;
+    renderer.render(state, observed);
+    likelihood.set_observation(observed);
+  }
+  std::span<const double> at_q() const { return {q.data(), std::size_t(q.size())}; }
+  static ImageInformationParams field_params() {
+    ImageInformationParams params;
+    params.motion_field = true;
+    return params;
+  }
+};
+
+// A turntable under the camera, on the optical axis, carrying a tilted
 // plate that fills the view. Turning the table and the camera the same way
 // about the axis moves no surface relative to the camera: the motion field
 // gives that combination no information, whatever it gives each DOF.
@@ -309,28 +340,10 @@ TEST(ImageInformation, LinkShiftsTheDofsExplainGiveNoModelError) {
 // own change along it 7.) Each DOF alone, with no edge in view, the motion
 // field agrees with the central differences.
 TEST(ImageInformation, MotionFieldSeesNoInformationAlongAMotionThatMovesNoSurface) {
-  const RobotModel model = under_a_camera("turntable", R"(
-  <link name="base_link"/>
-  <link name="table"><visual><origin xyz="0.06 0.03 0" rpy="0.4 0 0"/>
-    <geometry><box size="3 3 0.02"/></geometry></visual></link>
-  <joint name="turn" type="continuous"><parent link="base_link"/><child link="table"/>
-    <axis xyz="0 0 1"/></joint>)");
-  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
-  DepthRenderer renderer(model, camera);
-  DepthLikelihood likelihood(DepthModelParams{});
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
-  q[model.joint_index("turn")] = 0.3;
-  KinematicsState state(model);
-  forward_kinematics(model, q, state);
-  DepthImage observed;
-  renderer.render(state, observed);
-  likelihood.set_observation(observed);
-
-  ImageInformationParams params;
-  params.motion_field = true;
-  ImageInformation info({model.joint_index("turn"), model.joint_index("camera_offset_yaw")},
-                        params);
-  info.compute(renderer, {q.data(), std::size_t(q.size())}, likelihood);
+  TurntableScene s;
+  ImageInformation info({s.model.joint_index("turn"), s.model.joint_index("camera_offset_yaw")},
+                        s.field_params());
+  info.compute(s.renderer, s.at_q(), s.likelihood);
   ASSERT_EQ(info.pixels_used(), 80 * 60);
   const Eigen::Matrix2d field = info.motion_field_information();
   const Eigen::Matrix2d central = info.information_matrix();
@@ -341,6 +354,30 @@ TEST(ImageInformation, MotionFieldSeesNoInformationAlongAMotionThatMovesNoSurfac
   EXPECT_LT(same_way.dot(field * same_way), 1e-9 * opposite.dot(field * opposite));
   EXPECT_NEAR(field(0, 0), central(0, 0), 0.2 * central(0, 0));
   EXPECT_NEAR(field(1, 1), central(1, 1), 0.2 * central(1, 1));
+}
+
+// The motion field is taken at q itself, whatever the central differences
+// stepped last: listing the DOFs in another order permutes the matrix. (It
+// once used the joints' axes with the last DOF still stepped by h; with a
+// step of 0.1 rad in the camera's pitch the matrices differed by percents.)
+TEST(ImageInformation, MotionFieldDoesNotDependOnTheOrderOfTheDofs) {
+  TurntableScene s;
+  const RobotModel& model = s.model;
+  ImageInformationParams params = s.field_params();
+  params.revolute_step_rad = 0.1;
+  params.inlier_sigmas = 1e6;  // the big steps leave every pixel in
+  const int turn = model.joint_index("turn"), yaw = model.joint_index("camera_offset_yaw"),
+            pitch = model.joint_index("camera_offset_pitch");
+  ImageInformation forward({turn, yaw, pitch}, params), backward({pitch, yaw, turn}, params);
+  forward.compute(s.renderer, s.at_q(), s.likelihood);
+  backward.compute(s.renderer, s.at_q(), s.likelihood);
+  ASSERT_EQ(forward.pixels_used(), backward.pixels_used());
+  ASSERT_GT(forward.pixels_used(), 0);
+  const Eigen::Matrix3d a = forward.motion_field_information();
+  const Eigen::Matrix3d b = backward.motion_field_information();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(a(i, j), b(2 - i, 2 - j), 1e-5 * a.diagonal().maxCoeff()) << i << ", " << j;
 }
 
 }  // namespace

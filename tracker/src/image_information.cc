@@ -100,6 +100,8 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
   if (params_.motion_field) {
+    // The joints' axes at q itself (the loop above left the last DOF's step).
+    forward_kinematics(model, q_, kinematics_);
     field_gradients_.setZero(num_pixels, m);
     motion_field_gradients(model, renderer.camera(), likelihood);
     field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
