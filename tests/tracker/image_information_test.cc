@@ -8,6 +8,7 @@
 #include <random>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
 namespace {
@@ -378,6 +379,109 @@ TEST(ImageInformation, MotionFieldDoesNotDependOnTheOrderOfTheDofs) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       EXPECT_NEAR(a(i, j), b(2 - i, 2 - j), 1e-5 * a.diagonal().maxCoeff()) << i << ", " << j;
+}
+
+// A two-joint arm before a board: the shoulder moves both arm links, the
+// elbow the forearm, the camera's DOFs everything.
+RobotModel arm_before_a_board() {
+  return under_a_camera("arm", R"(
+  <link name="base_link"><visual><origin xyz="0 0 -0.1"/>
+    <geometry><box size="0.7 0.5 0.02"/></geometry></visual></link>
+  <link name="upper"><visual><origin xyz="0.09 0 0"/><geometry><box size="0.18 0.05 0.04"/>
+    </geometry></visual></link>
+  <link name="fore"><visual><origin xyz="0.07 0 0"/><geometry><box size="0.14 0.04 0.03"/>
+    </geometry></visual></link>
+  <joint name="shoulder" type="revolute"><parent link="base_link"/><child link="upper"/>
+    <origin xyz="-0.1 0.02 0" rpy="0.3 0.2 0"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/>
+    <origin xyz="0.18 0 0" rpy="0 0 0.4"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>)");
+}
+
+// Brute force for the central differences: every step rendered in full,
+// the pixel rules of the header (the robot at q explains the observed depth
+// within 3 sigma; both steps cover the pixel and stay within 3 sigma of
+// it), and the information summed over the pixels every DOF kept. The
+// module draws only the links a DOF moves over the others' images, on any
+// number of workers: the same matrix.
+TEST(ImageInformation, PartialRendersOnWorkersGiveTheFullRendersMatrix) {
+  const RobotModel model = arm_before_a_board();
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
+  DepthRenderer renderer(model, camera);
+  DepthModelParams params;
+  DepthLikelihood likelihood(params);
+  std::vector<int> dofs;
+  for (const char* name : {"shoulder", "elbow", "camera_offset_x", "camera_offset_pitch"})
+    dofs.push_back(model.joint_index(name));
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints()), seen = q;
+  q[dofs[0]] = 0.2;
+  q[dofs[1]] = -0.3;
+  seen[dofs[0]] = 0.21;  // observed a little off: the residuals are not 0
+  seen[dofs[1]] = -0.31;
+  KinematicsState state(model);
+  forward_kinematics(model, seen, state);
+  DepthImage observed;
+  renderer.render(state, observed);
+  likelihood.set_observation(observed);
+
+  const int num_pixels = 80 * 60;
+  const ImageInformationParams steps;
+  DepthImage base, plus, minus;
+  forward_kinematics(model, q, state);
+  renderer.render(state, base);
+  std::vector<char> used(num_pixels, 0);
+  for (int p = 0; p < num_pixels; ++p) {
+    const double r = base.depth_m[std::size_t(p)], z = likelihood.observed_depth_m(p);
+    used[std::size_t(p)] = r > 0 && z > 0 && std::abs(z - r) < 3 * likelihood.noise_std_at_m(z);
+  }
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(num_pixels, int(dofs.size()));
+  for (int k = 0; k < int(dofs.size()); ++k) {
+    const double h = steps.revolute_step_rad;  // camera_offset_x is prismatic
+    const double step =
+        model.joint_type(dofs[k]) == JointType::kPrismatic ? steps.prismatic_step_m : h;
+    for (const double sign : {1.0, -1.0}) {
+      Eigen::VectorXd stepped = q;
+      stepped[dofs[k]] += sign * step;
+      forward_kinematics(model, stepped, state);
+      renderer.render(state, sign > 0 ? plus : minus);
+    }
+    for (int p = 0; p < num_pixels; ++p) {
+      const double r = base.depth_m[std::size_t(p)], rp = plus.depth_m[std::size_t(p)],
+                   rm = minus.depth_m[std::size_t(p)];
+      const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
+      if (!(rp > 0 && rm > 0) || std::abs(rp - r) > 3 * sigma || std::abs(rm - r) > 3 * sigma)
+        used[std::size_t(p)] = 0;
+      G(p, k) = (rp - rm) / (2 * step) / sigma;
+    }
+  }
+  Eigen::MatrixXd brute = Eigen::MatrixXd::Zero(int(dofs.size()), int(dofs.size()));
+  int pixels = 0;
+  for (int p = 0; p < num_pixels; ++p) {
+    if (!used[std::size_t(p)]) continue;
+    brute += G.row(p).transpose() * G.row(p);
+    ++pixels;
+  }
+  ASSERT_GT(pixels, 200);
+
+  const std::span<const double> at_q{q.data(), std::size_t(q.size())};
+  ImageInformation alone(dofs, {.link_shifts = true, .motion_field = true});
+  alone.compute(renderer, at_q, likelihood);
+  EXPECT_EQ(alone.pixels_used(), pixels);
+  EXPECT_TRUE(alone.information_matrix().isApprox(brute, 1e-5))
+      << alone.information_matrix() << "\n\n"
+      << brute;
+  for (const int workers : {2, 3}) {
+    WorkerPool pool(workers);
+    ImageInformation shared(dofs, {.link_shifts = true, .motion_field = true});
+    shared.compute(renderer, at_q, likelihood, &pool);
+    shared.compute(renderer, at_q, likelihood, &pool);  // again, on the kept workers
+    EXPECT_EQ(shared.pixels_used(), alone.pixels_used()) << workers << " workers";
+    EXPECT_EQ(shared.information_matrix(), alone.information_matrix()) << workers << " workers";
+    EXPECT_EQ(shared.motion_field_information(), alone.motion_field_information());
+    EXPECT_EQ(shared.gradient(), alone.gradient());
+    EXPECT_EQ(shared.shift_information(), alone.shift_information());
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
 namespace {
@@ -22,8 +23,21 @@ ImageInformation::ImageInformation(std::vector<int> dofs, const ImageInformation
     throw InputError("image information: steps and inlier_sigmas must be > 0");
 }
 
+// One worker's renderer (null for worker 0: the caller's) and scratch.
+struct ImageInformation::Worker {
+  std::unique_ptr<DepthRenderer> own_renderer;
+  DepthRenderer* renderer = nullptr;
+  KinematicsState kinematics;
+  Eigen::VectorXd q;
+  DepthImage statics, plus, minus;
+  std::vector<char> failed;  // per pixel: a DOF of this worker's saw an edge there
+};
+
+ImageInformation::~ImageInformation() = default;
+
 const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::span<const double> q,
-                                                 const DepthLikelihood& likelihood) {
+                                                 const DepthLikelihood& likelihood,
+                                                 WorkerPool* pool) {
   const RobotModel& model = renderer.model();
   if (int(q.size()) != model.num_joints())
     throw InputError("image information: configuration has " + std::to_string(q.size()) +
@@ -38,13 +52,14 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   gradients_.setZero(num_pixels, m);
   used_.assign(std::size_t(num_pixels), 0);
   residuals_.setZero(num_pixels);
+  prepare_workers(renderer, pool ? pool->num_workers() : 1);
+  for (auto& w : workers_) {
+    w->q = q_;
+    std::fill(w->failed.begin(), w->failed.end(), 0);
+  }
 
   forward_kinematics(model, q_, kinematics_);
-  if (params_.link_shifts || params_.motion_field) {
-    render_labelled(renderer);
-  } else {
-    renderer.render(kinematics_, base_);
-  }
+  render_labelled(pool);
   // Pixels the robot at q covers and the image explains.
   for (int p = 0; p < num_pixels; ++p) {
     const double r = base_.depth_m[std::size_t(p)];
@@ -52,36 +67,20 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     if (r > 0 && z > 0 && std::abs(z - r) < params_.inlier_sigmas * likelihood.noise_std_at_m(z))
       used_[std::size_t(p)] = 1;
   }
-  for (int k = 0; k < m; ++k) {
-    const int dof = dofs_[std::size_t(k)];
-    const double h = model.joint_type(dof) == JointType::kPrismatic ? params_.prismatic_step_m
-                                                                    : params_.revolute_step_rad;
-    const double q0 = q_[dof];
-    q_[dof] = q0 + h;
-    forward_kinematics(model, q_, kinematics_);
-    renderer.render(kinematics_, plus_);
-    q_[dof] = q0 - h;
-    forward_kinematics(model, q_, kinematics_);
-    renderer.render(kinematics_, minus_);
-    q_[dof] = q0;
-    for (int p = 0; p < num_pixels; ++p) {
-      if (!used_[std::size_t(p)]) continue;
-      const float rp = plus_.depth_m[std::size_t(p)], rm = minus_.depth_m[std::size_t(p)];
-      if (!(rp > 0 && rm > 0)) {  // on the silhouette: not differentiable here
-        used_[std::size_t(p)] = 0;
-        continue;
-      }
-      // A jump between surfaces (one link in front of another) is an edge too.
-      const double r0 = base_.depth_m[std::size_t(p)];
-      const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
-      if (std::abs(rp - r0) > params_.inlier_sigmas * sigma ||
-          std::abs(rm - r0) > params_.inlier_sigmas * sigma) {
-        used_[std::size_t(p)] = 0;
-        continue;
-      }
-      gradients_(p, k) = float((rp - rm) / (2 * h) / sigma);
-    }
+  // Each column on its worker; a pixel where any DOF sees an edge is left out.
+  auto columns = [&](int begin, int end, int worker) {
+    for (int w = begin; w < end; ++w)
+      for (int k : worker_columns_[std::size_t(w)])
+        difference_column(k, likelihood, *workers_[std::size_t(worker)]);
+  };
+  if (pool) {
+    pool->parallel_for(int(workers_.size()), columns);
+  } else {
+    columns(0, 1, 0);
   }
+  for (const auto& w : workers_)
+    for (int p = 0; p < num_pixels; ++p)
+      if (w->failed[std::size_t(p)]) used_[std::size_t(p)] = 0;
   pixels_used_ = 0;
   residual_sum_sq_ = 0;
   for (int p = 0; p < num_pixels; ++p) {
@@ -100,8 +99,6 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
   if (params_.motion_field) {
-    // The joints' axes at q itself (the loop above left the last DOF's step).
-    forward_kinematics(model, q_, kinematics_);
     field_gradients_.setZero(num_pixels, m);
     motion_field_gradients(model, renderer.camera(), likelihood);
     field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
@@ -210,10 +207,12 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
                          1 + (x * camera.fx * r_u + y * camera.fy * r_v) / r);
 }
 
-// base_ as the nearest of the links drawn one by one (the same depths as
-// drawing them together), and which link each pixel shows.
-void ImageInformation::render_labelled(DepthRenderer& renderer) {
+// Worker renderers and the DOFs' columns split between them, for the
+// renderer's model and camera.
+void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers) {
   const RobotModel& model = renderer.model();
+  const CameraIntrinsics& camera = renderer.camera();
+  const int W = camera.width, H = camera.height;
   if (shift_links_.empty()) {
     shift_links_ = model.links_with_geometry();
     std::vector<int> index(std::size_t(model.num_links()), -1);
@@ -226,25 +225,144 @@ void ImageInformation::render_labelled(DepthRenderer& renderer) {
         if (index[std::size_t(a)] >= 0) shift_above_.back().push_back(index[std::size_t(a)]);
     }
   }
-  const int W = renderer.camera().width, H = renderer.camera().height;
-  if (base_.width != W || base_.height != H) {
-    base_ = DepthImage(W, H);
-  } else {
-    std::fill(base_.depth_m.begin(), base_.depth_m.end(), 0.f);
+  if (workers_model_ == &model && workers_camera_ == camera &&
+      int(workers_.size()) == num_workers) {
+    workers_[0]->renderer = &renderer;
+    return;
   }
+  workers_model_ = &model;
+  workers_camera_ = camera;
+  base_ = DepthImage(W, H);
+  link_depth_.assign(shift_links_.size(), DepthImage(W, H));
+  link_rect_.assign(shift_links_.size(), PixelRect{});
   label_.assign(std::size_t(W) * H, -1);
-  for (int k = 0; k < int(shift_links_.size()); ++k) {
-    const PixelRect rect = renderer.render_links(kinematics_, shift_link_sets_[k], single_);
+  workers_.clear();
+  for (int w = 0; w < num_workers; ++w) {
+    auto worker = std::make_unique<Worker>();
+    if (w > 0)
+      worker->own_renderer = std::make_unique<DepthRenderer>(model, camera, renderer.options());
+    worker->renderer = w > 0 ? worker->own_renderer.get() : &renderer;
+    worker->kinematics = KinematicsState(model);
+    worker->statics = worker->plus = worker->minus = DepthImage(W, H);
+    worker->failed.assign(std::size_t(W) * H, 0);
+    workers_.push_back(std::move(worker));
+  }
+  // What each column renders, and its cost in triangles: the largest first
+  // to the least loaded worker.
+  const int m = int(dofs_.size());
+  column_links_.assign(std::size_t(m), {});
+  column_moves_all_.assign(std::size_t(m), false);
+  std::vector<std::pair<long long, int>> cost(static_cast<std::size_t>(m));
+  for (int k = 0; k < m; ++k) {
+    const int dof = dofs_[std::size_t(k)];
+    column_links_[std::size_t(k)] = links_affecting_depth(model, {dof});
+    column_moves_all_[std::size_t(k)] = model.links_moved_by(dof)[std::size_t(model.camera_link())];
+    long long triangles = 0;
+    for (int l : shift_links_)
+      if (column_links_[std::size_t(k)][std::size_t(l)])
+        triangles += 1 + (long long)model.link(l).mesh.triangles.size();
+    cost[std::size_t(k)] = {triangles, k};
+  }
+  std::sort(cost.begin(), cost.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  worker_columns_.assign(std::size_t(num_workers), {});
+  std::vector<long long> load(std::size_t(num_workers), 0);
+  for (const auto& [triangles, k] : cost) {
+    const auto least = std::min_element(load.begin(), load.end()) - load.begin();
+    worker_columns_[std::size_t(least)].push_back(k);
+    load[std::size_t(least)] += triangles;
+  }
+}
+
+// Each link alone at q (link_depth_, link_rect_), on the workers in turn;
+// base_ as the nearest of them (the same depths as drawing them together),
+// and which link each pixel shows.
+void ImageInformation::render_labelled(WorkerPool* pool) {
+  const int L = int(shift_links_.size());
+  const int W = base_.width;
+  auto draw = [&](int begin, int end, int worker) {
+    Worker& w = *workers_[std::size_t(worker)];
+    for (int k = begin; k < end; ++k) {
+      DepthImage& image = link_depth_[std::size_t(k)];
+      const PixelRect old = link_rect_[std::size_t(k)];
+      for (int v = old.v0; v < old.v1; ++v)
+        std::fill_n(image.depth_m.data() + std::size_t(v) * W + old.u0, old.width(), 0.f);
+      link_rect_[std::size_t(k)] =
+          w.renderer->draw_links(kinematics_, shift_link_sets_[std::size_t(k)], image);
+    }
+  };
+  if (pool) {
+    pool->parallel_for(L, draw);
+  } else {
+    draw(0, L, 0);
+  }
+  std::fill(base_.depth_m.begin(), base_.depth_m.end(), 0.f);
+  std::fill(label_.begin(), label_.end(), -1);
+  for (int k = 0; k < L; ++k) {
+    const PixelRect& rect = link_rect_[std::size_t(k)];
+    const DepthImage& single = link_depth_[std::size_t(k)];
     for (int v = rect.v0; v < rect.v1; ++v) {
       for (int u = rect.u0; u < rect.u1; ++u) {
         const std::size_t i = std::size_t(v) * W + u;
-        const float d = single_.depth_m[i];
+        const float d = single.depth_m[i];
         if (d > 0.f && (base_.depth_m[i] == 0.f || d < base_.depth_m[i])) {
           base_.depth_m[i] = d;
           label_[i] = k;
         }
       }
     }
+  }
+}
+
+// Column k of gradients_ by central differences: the DOF's links drawn at
+// q +- h over the other links' images at q (or everything, when it moves
+// the camera). Pixels where a step leaves the silhouette or jumps between
+// surfaces are marked in w.failed.
+void ImageInformation::difference_column(int k, const DepthLikelihood& likelihood, Worker& w) {
+  const RobotModel& model = w.renderer->model();
+  const int dof = dofs_[std::size_t(k)];
+  const int W = base_.width;
+  const int num_pixels = W * base_.height;
+  const LinkSet& moving = column_links_[std::size_t(k)];
+  if (!column_moves_all_[std::size_t(k)]) {
+    std::fill(w.statics.depth_m.begin(), w.statics.depth_m.end(), 0.f);
+    for (int l = 0; l < int(shift_links_.size()); ++l)
+      if (!moving[std::size_t(shift_links_[std::size_t(l)])])
+        merge_nearer(link_depth_[std::size_t(l)], link_rect_[std::size_t(l)], w.statics);
+  }
+  auto render_at = [&](double value, DepthImage& out) {
+    w.q[dof] = value;
+    forward_kinematics(model, w.q, w.kinematics);
+    if (column_moves_all_[std::size_t(k)]) {
+      w.renderer->render(w.kinematics, out);
+    } else {
+      std::copy(w.statics.depth_m.begin(), w.statics.depth_m.end(), out.depth_m.begin());
+      w.renderer->draw_links(w.kinematics, moving, out);
+    }
+  };
+  const double h = model.joint_type(dof) == JointType::kPrismatic ? params_.prismatic_step_m
+                                                                  : params_.revolute_step_rad;
+  const double q0 = q_[dof];
+  render_at(q0 + h, w.plus);
+  render_at(q0 - h, w.minus);
+  w.q[dof] = q0;
+  for (int p = 0; p < num_pixels; ++p) {
+    if (!used_[std::size_t(p)]) continue;
+    const float rp = w.plus.depth_m[std::size_t(p)], rm = w.minus.depth_m[std::size_t(p)];
+    if (!(rp > 0 && rm > 0)) {  // on the silhouette: not differentiable here
+      w.failed[std::size_t(p)] = 1;
+      continue;
+    }
+    // A jump between surfaces (one link in front of another) is an edge too.
+    const double r0 = base_.depth_m[std::size_t(p)];
+    const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
+    if (std::abs(rp - r0) > params_.inlier_sigmas * sigma ||
+        std::abs(rm - r0) > params_.inlier_sigmas * sigma) {
+      w.failed[std::size_t(p)] = 1;
+      continue;
+    }
+    gradients_(p, k) = float((rp - rm) / (2 * h) / sigma);
   }
 }
 

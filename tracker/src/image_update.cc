@@ -50,7 +50,8 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
     }
   }
   DepthRenderer& renderer = filter_.geometry().renderer();
-  if (covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a, renderer, likelihood) &&
+  if (covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a, renderer, likelihood,
+                              &filter_.pool()) &&
       refinement_.on())
     health_.refinements_accepted +=
         refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,

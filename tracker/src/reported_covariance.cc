@@ -44,7 +44,8 @@ ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
 
 bool ReportedCovariance::begin_image(double time_s, std::span<const double> prior_std,
                                      std::vector<char>& reopened, std::span<const double> mean,
-                                     DepthRenderer& renderer, const DepthLikelihood& likelihood) {
+                                     DepthRenderer& renderer, const DepthLikelihood& likelihood,
+                                     WorkerPool* pool) {
   if (covariance_.size() == 0) return false;
   const auto& states = covariance_.states();
   if (!covariance_.started()) {
@@ -64,7 +65,7 @@ bool ReportedCovariance::begin_image(double time_s, std::span<const double> prio
     reopened[dof] = 0;
   }
   for (int j = 0; j < q_.size(); ++j) q_[j] = mean[j];
-  information_.compute(renderer, {q_.data(), std::size_t(q_.size())}, likelihood);
+  information_.compute(renderer, {q_.data(), std::size_t(q_.size())}, likelihood, pool);
   return !any_reopened && information_.pixels_used() > 0;
 }
 

@@ -23,11 +23,16 @@
 // the side of less information). Occluded and unexplained pixels say
 // nothing.
 //
-// Cost: 2 renders per DOF at the likelihood's resolution. Allocation-free
-// after the first call with a given image size and DOF set.
+// Cost: the links drawn one by one at q, then per DOF 2 renders of the
+// links it moves (over the others' images from the first pass: every link
+// when it moves the camera) at the likelihood's resolution, the DOFs spread
+// over a WorkerPool's workers when one is given (the same numbers on any
+// count of workers). Allocation-free after the first call with a given
+// image size, DOF set and worker count.
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -37,6 +42,8 @@
 #include "arttrack/tracker/robot_model.h"
 
 namespace arttrack {
+
+class WorkerPool;  // worker_pool.h
 
 struct ImageInformationParams {
   // Central-difference steps: radians for revolute DOFs, metres for prismatic ones.
@@ -57,15 +64,19 @@ class ImageInformation {
   // `dofs`: the DOF indices of `renderer.model()` the matrix is about, in
   // its row order.
   ImageInformation(std::vector<int> dofs, const ImageInformationParams& params = {});
+  ~ImageInformation();
 
   const std::vector<int>& dofs() const { return dofs_; }
 
   // The information matrix about dofs() of the likelihood's current
   // observation, at configuration q (size model.num_joints()). The renderer's
-  // camera must have the likelihood's size. Returns a reference to an
-  // internal matrix, valid until the next call.
+  // camera must have the likelihood's size. With `pool`, its workers share
+  // the renders (worker 0, the caller, with `renderer`; the others with
+  // renderers of their own, made at the first call and whenever the model
+  // or camera changes). Returns a reference to an internal matrix, valid
+  // until the next call.
   const Eigen::MatrixXd& compute(DepthRenderer& renderer, std::span<const double> q,
-                                 const DepthLikelihood& likelihood);
+                                 const DepthLikelihood& likelihood, WorkerPool* pool = nullptr);
 
   // The matrix of the last compute().
   const Eigen::MatrixXd& information_matrix() const { return information_; }
@@ -155,11 +166,24 @@ class ImageInformation {
   double link_shift_variance_m2(int min_pixels = 20) const;
 
  private:
+  struct Worker;  // one worker's renderer and scratch images
   std::vector<int> dofs_;
   ImageInformationParams params_;
   KinematicsState kinematics_;
   Eigen::VectorXd q_;
-  DepthImage base_, plus_, minus_;
+  DepthImage base_;
+  // Per worker, and which DOF columns each renders (balanced by the
+  // triangles they draw); made for one model and camera.
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::vector<std::vector<int>> worker_columns_;
+  const RobotModel* workers_model_ = nullptr;
+  CameraIntrinsics workers_camera_;
+  std::vector<LinkSet> column_links_;   // per column: the links its DOF moves in the image
+  std::vector<bool> column_moves_all_;  // per column: every link (the DOF moves the camera)
+  // Each link with geometry drawn alone at q (index as shift_links_), and
+  // the rectangle it covers.
+  std::vector<DepthImage> link_depth_;
+  std::vector<PixelRect> link_rect_;
   Eigen::MatrixXf gradients_;  // pixel x DOF: d r / d q_dof / sigma (0 where unused)
   std::vector<char> used_;     // per pixel
   Eigen::VectorXf residuals_;  // per pixel: (z - r) / sigma (0 where unused)
@@ -176,12 +200,13 @@ class ImageInformation {
   std::vector<std::vector<int>> shift_above_;       // per shift link: it and those above it
   std::vector<int> label_;                          // per pixel: shift link index, -1 none
   std::vector<int> shift_pixels_;                   // per shift link: used pixels
-  DepthImage single_;
   Eigen::MatrixXd shift_cross_, shift_information_, field_shift_cross_;
   Eigen::VectorXd shift_gradient_, pixel_gradient_;
   double residual_sum_sq_ = 0;  // of the used pixels' residuals u
 
-  void render_labelled(DepthRenderer& renderer);
+  void prepare_workers(DepthRenderer& renderer, int num_workers);
+  void render_labelled(WorkerPool* pool);
+  void difference_column(int k, const DepthLikelihood& likelihood, Worker& w);
   void motion_field_gradients(const RobotModel& model, const CameraIntrinsics& camera,
                               const DepthLikelihood& likelihood);
   Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma) const;

@@ -63,12 +63,13 @@ class ReportedCovariance {
   // else predicts it to time_s; a DOF re-acquisition moved (`reopened`,
   // cleared here) starts again from the broad prior it was searched with;
   // then the image's information at the robot at `mean` (every DOF),
-  // rendered by `renderer` (the likelihood's size). Returns whether the
+  // rendered by `renderer` (the likelihood's size; `pool`, when given,
+  // shares the renders). Returns whether the
   // mean may be refined on that information: some pixel informed it and no
   // DOF was re-opened. No-op (false) without states.
   bool begin_image(double time_s, std::span<const double> prior_std, std::vector<char>& reopened,
                    std::span<const double> mean, DepthRenderer& renderer,
-                   const DepthLikelihood& likelihood);
+                   const DepthLikelihood& likelihood, WorkerPool* pool = nullptr);
   // After begin_image(): the image's information, and what it knows.
   const ImageInformation& information() const { return information_; }
   // The information end_image() folds in (the motion field's).
