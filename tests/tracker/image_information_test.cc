@@ -125,6 +125,29 @@ TEST(ImageInformation, EffectivePixelFractionFromTheResiduals) {
   s.likelihood.set_observation(shifted);
   info.compute(s.renderer, at_q0, s.likelihood);
   EXPECT_LT(info.effective_pixel_fraction(), 0.01);
+
+  // Residuals of one shape (a shared offset of a sigma and independent noise
+  // of half a sigma: neighbour correlation 0.8), and the same a fifth as
+  // large: the estimate's variance is s^2 / ess of the model's, so the
+  // small ones are worth 25 times the pixels. (The residuals' size once
+  // counted only above 1: exact depth, residuals a tenth of sigma, kept 1%
+  // of its pixels and reported standard deviations ten times the errors.)
+  DepthImage large = rendered, small = rendered;
+  std::normal_distribution<float> unit(0.f, 1.f);
+  const float sigma = float(s.params.noise_std_m);
+  for (std::size_t i = 0; i < rendered.depth_m.size(); ++i) {
+    if (!(rendered.depth_m[i] > 0)) continue;
+    const float residual = sigma + 0.5f * sigma * unit(rng);
+    large.depth_m[i] += residual;
+    small.depth_m[i] += 0.2f * residual;
+  }
+  s.likelihood.set_observation(large);
+  info.compute(s.renderer, at_q0, s.likelihood);
+  const double large_fraction = info.effective_pixel_fraction();
+  s.likelihood.set_observation(small);
+  info.compute(s.renderer, at_q0, s.likelihood);
+  EXPECT_NEAR(info.effective_pixel_fraction() / large_fraction, 25.0, 1.0);
+  EXPECT_LT(info.effective_pixel_fraction(), 1.0);
 }
 
 // A tilted board in front of the camera with a block fixed on it: two links,

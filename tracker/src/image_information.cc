@@ -466,7 +466,7 @@ void ImageInformation::estimate_effective_pixel_fraction(int width) {
   const double rho_y = neighbour_correlation(width, false);
   const double mean_square = residual_sum_sq_ / pixels_used_;
   effective_pixel_fraction_ =
-      (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / std::max(1.0, mean_square);
+      std::min(1.0, (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / mean_square);
 }
 
 }  // namespace arttrack
