@@ -314,6 +314,92 @@ TEST(DepthRenderer, AgreesWithBruteForceRayCasting) {
   }
 }
 
+// A bumpy closed ball of 9600 triangles, turned to random poses in front of
+// the camera: the renderer skips the clusters whose every face turns away
+// (about half of them), and must still draw every front face the brute
+// force finds.
+TEST(DepthRenderer, SkippedClustersHideNoFrontFace) {
+  const test_support::ScratchDir scratch("depth_renderer_clusters");
+  const int rings = 60, segments = 80;
+  {
+    std::ofstream obj(scratch.path() / "ball.obj");
+    std::vector<Eigen::Vector3d> v;
+    auto radius = [](double theta, double phi) {
+      return 0.12 * (1 + 0.08 * std::sin(5 * theta) * std::cos(7 * phi));
+    };
+    v.push_back({0, 0, radius(0, 0)});
+    for (int i = 1; i < rings; ++i) {
+      for (int j = 0; j < segments; ++j) {
+        const double theta = kPi * i / rings, phi = 2 * kPi * j / segments;
+        const double r = radius(theta, phi);
+        v.push_back(r * Eigen::Vector3d(std::sin(theta) * std::cos(phi),
+                                        std::sin(theta) * std::sin(phi), std::cos(theta)));
+      }
+    }
+    v.push_back({0, 0, -radius(kPi, 0)});
+    char line[128];
+    for (const Eigen::Vector3d& p : v) {
+      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+      obj << line;
+    }
+    // Wound counter-clockwise seen from outside (the centre is inside).
+    auto face = [&](int a, int b, int c) {
+      if ((v[b] - v[a]).cross(v[c] - v[a]).dot(v[a]) < 0) std::swap(b, c);
+      obj << "f " << a + 1 << " " << b + 1 << " " << c + 1 << "\n";
+    };
+    auto ring = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
+    const int bottom = int(v.size()) - 1;
+    for (int j = 0; j < segments; ++j) {
+      face(0, ring(1, j), ring(1, j + 1));
+      face(bottom, ring(rings - 1, j + 1), ring(rings - 1, j));
+      for (int i = 1; i + 1 < rings; ++i) {
+        face(ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
+        face(ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
+      }
+    }
+  }
+  const RobotModel model = RobotModel::from_urdf_string(R"(<robot name="ball">
+  <link name="camera_optical_frame"/>
+  <link name="gimbal_1"/><link name="gimbal_2"/>
+  <link name="ball"><visual><geometry><mesh filename="ball.obj"/></geometry></visual></link>
+  <joint name="a" type="continuous"><parent link="camera_optical_frame"/><child link="gimbal_1"/>
+    <origin xyz="0.02 -0.01 0.5"/><axis xyz="1 0 0"/></joint>
+  <joint name="b" type="continuous"><parent link="gimbal_1"/><child link="gimbal_2"/>
+    <axis xyz="0 1 0"/></joint>
+  <joint name="c" type="continuous"><parent link="gimbal_2"/><child link="ball"/>
+    <axis xyz="0 0 1"/></joint>
+</robot>)",
+                                                        scratch.path().string());
+  ASSERT_EQ(model.link(model.link_index("ball")).mesh.triangles.size(),
+            std::size_t(2 * segments * (rings - 1)));
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 50 * kPi / 180);
+  DepthRenderer renderer(model, camera);
+  KinematicsState state(model);
+  DepthImage depth;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-kPi, kPi);
+  int covered = 0, coverage_mismatches = 0, depth_mismatches = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+    for (const char* joint : {"a", "b", "c"}) q[model.joint_index(joint)] = U(rng);
+    forward_kinematics(model, q, state);
+    renderer.render(state, depth);
+    const DepthImage truth = ray_cast(model, state, camera, renderer.options().near_m);
+    for (int i = 0; i < 80 * 60; ++i) {
+      covered += truth.depth_m[std::size_t(i)] > 0;
+      if ((depth.depth_m[std::size_t(i)] > 0) != (truth.depth_m[std::size_t(i)] > 0)) {
+        ++coverage_mismatches;
+      } else if (std::abs(depth.depth_m[std::size_t(i)] - truth.depth_m[std::size_t(i)]) >
+                 1e-4 * truth.depth_m[std::size_t(i)]) {
+        ++depth_mismatches;
+      }
+    }
+  }
+  EXPECT_GT(covered, 4 * 300);
+  EXPECT_LE(coverage_mismatches, 2) << "of " << covered;
+  EXPECT_LE(depth_mismatches, 2) << "of " << covered;
+}
+
 // A cylinder turned about its own axis and a sphere turned about its centre
 // look the same to a camera, and so must their renders (they are drawn
 // exactly), or every image tells the tracker about joint angles it cannot
