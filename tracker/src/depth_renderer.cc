@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "arttrack/tracker/error.h"
 
@@ -246,10 +247,11 @@ void DepthRenderer::transform_vertex(int i, const Eigen::Matrix3f& A, const Eige
 
 // meshoptimizer's meshlets of the mesh's triangles but the round shapes':
 // up to 16 vertices and 16 triangles, grouped by position and (cone weight
-// 1) by normal. On the sculpted dual arm's simplified meshes clusters of
-// 64 skipped 8% of the triangles drawn, of 16 with cone weight 1 30%. The cone is our own: the
-// normals' area-weighted mean and the largest angle from it, in double; triangles of no area (no
-// normal, never drawn) are left out of it.
+// 1) by normal. On the sculpted dual arm's simplified meshes clusters of 64
+// skipped 8% of the triangles drawn, clusters of 16 with cone weight 1 30%.
+// The cone is our own: the normals' area-weighted mean and the largest
+// angle from it, in double; triangles of no area (no normal, never drawn)
+// are left out of it.
 DepthRenderer::Clusters DepthRenderer::make_clusters(const TriangleMesh& mesh,
                                                      const std::vector<RoundShape>& shapes) {
   constexpr std::size_t kMaxVertices = 16, kMaxTriangles = 16;
@@ -317,7 +319,7 @@ DepthRenderer::Clusters DepthRenderer::make_clusters(const TriangleMesh& mesh,
       double cos_angle = 1;
       for (const Eigen::Vector3d& n : normals) cos_angle = std::min(cos_angle, axis.dot(n));
       const double angle = std::acos(std::clamp(cos_angle, -1.0, 1.0)) + 1e-6;
-      if (angle < 0.5 * 3.141592653589793) {
+      if (angle < 0.5 * std::numbers::pi) {
         cluster.axis = axis.cast<float>();
         cluster.cos_angle = float(std::cos(angle));
         cluster.sin_angle = float(std::sin(angle));

@@ -176,7 +176,9 @@ void HypothesisEvaluator::allocate(int num_particles, int num_workers) {
     auto ws = std::make_unique<Workspace>();
     ws->q = Eigen::VectorXd::Zero(model_->num_joints());
     ws->kinematics = KinematicsState(*model_);
-    ws->renderer = std::make_unique<DepthRenderer>(*model_, camera_);
+    // The other workers copy the first renderer's clusters instead of building them again.
+    ws->renderer = w == 0 ? std::make_unique<DepthRenderer>(*model_, camera_)
+                          : std::make_unique<DepthRenderer>(*workspaces_[0]->renderer);
     ws->statics = ws->moving = ws->image = DepthImage(W, H);
     for (auto* v : {&ws->pixel, &ws->covered_pixel}) v->resize(std::size_t(W) * H);
     for (auto* v : {&ws->depth, &ws->covered_depth, &ws->ratio}) v->resize(std::size_t(W) * H);

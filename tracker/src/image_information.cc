@@ -239,8 +239,8 @@ void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers)
   workers_.clear();
   for (int w = 0; w < num_workers; ++w) {
     auto worker = std::make_unique<Worker>();
-    if (w > 0)
-      worker->own_renderer = std::make_unique<DepthRenderer>(model, camera, renderer.options());
+    if (w > 0)  // a copy of the caller's: its clusters are not built again
+      worker->own_renderer = std::make_unique<DepthRenderer>(renderer);
     worker->renderer = w > 0 ? worker->own_renderer.get() : &renderer;
     worker->kinematics = KinematicsState(model);
     worker->statics = worker->plus = worker->minus = DepthImage(W, H);

@@ -43,7 +43,9 @@
 //
 // A DepthRenderer is a per-thread workspace: it refers to a shared immutable
 // RobotModel and owns buffers sized once, so rendering never allocates after
-// the first call with a given output image.
+// the first call with a given output image. Copy one to give another thread
+// a renderer of the same model and camera without building the clusters
+// again.
 #pragma once
 
 #include <Eigen/Core>
