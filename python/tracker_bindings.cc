@@ -164,6 +164,7 @@ py::dict stats_dict(const TrackerStats& s) {
                   "last_evaluations_per_image"_a = s.last_evaluations_per_image,
                   "model_triangles"_a = s.model_triangles, "drawn_triangles"_a = s.drawn_triangles,
                   "mesh_error_bound_m"_a = s.mesh_error_bound_m, "mesh_error_m"_a = s.mesh_error_m,
+                  "geometry_builds"_a = s.geometry_builds,
                   "image_stamp_s"_a = values(&ImageTiming::stamp_s),
                   "image_update_ms"_a = values(&ImageTiming::update_ms),
                   "image_refilter_ms"_a = values(&ImageTiming::refilter_ms),
@@ -522,6 +523,12 @@ void bind_tracker(py::module_& m) {
           "joint reading waits until the joints catch up; a stamp further than "
           "input_checks.max_image_clock_offset_s from the newest joint reading drops the image. "
           "Releases the GIL while it copies and applies the image."_doc)
+      .def("prepare_camera", &Tracker::prepare_camera, "camera"_a,
+           py::call_guard<py::gil_scoped_release>(),
+           "Optional, before streaming: builds the simplified meshes and renderers for this "
+           "camera (full resolution, as the images will come) now rather than at the first "
+           "image, which on a robot of published meshes holds up the first images of a live "
+           "stream for seconds. Raises InputError for unusable intrinsics."_doc)
       .def("wait_until_idle", &Tracker::wait_until_idle, py::call_guard<py::gil_scoped_release>(),
            "Asynchronous mode: blocks until no image update is running or waiting to run. "
            "Synchronous mode: returns at once."_doc)
@@ -533,7 +540,8 @@ void bind_tracker(py::module_& m) {
           "images_received, images_applied, images_dropped_too_old, images_dropped_backlog, "
           "images_dropped_busy, images_dropped_bad_stamp, likelihood_evaluations, "
           "last_evaluations_per_image, model_triangles, drawn_triangles, mesh_error_bound_m, "
-          "mesh_error_m, and per applied image (the newest 16384) arrays image_stamp_s, "
+          "mesh_error_m, geometry_builds, and per applied image (the newest 16384) arrays "
+          "image_stamp_s, "
           "image_update_ms, image_refilter_ms, image_search_ms, image_latency_ms (wall times, "
           "ms)."_doc)
       .def_property_readonly(

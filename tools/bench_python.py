@@ -47,6 +47,7 @@ def python_fed(folder, data, images):
         os.path.join(folder, "tracker.yaml"),
         {"method": "full_fusion", "timing.camera_delay_s": data["delay_s"]})
     tracker = arttrack.Tracker(model, config, data["joint_names"])
+    tracker.prepare_camera(data["camera"])  # before the stream, as a live run does
     events = [(t, 0, i) for i, t in enumerate(data["joint_time_s"])]
     events += [(f[1], 1, i) for i, f in enumerate(data["frames"])]
     events.sort()

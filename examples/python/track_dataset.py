@@ -89,6 +89,9 @@ def track(folder, method="full_fusion", on_estimate=None):
         overrides["end_effectors"] = [n[:-3] for n in truth[0] if n.endswith("_qw")]
     config = arttrack.TrackerConfig.from_yaml_file(os.path.join(folder, "tracker.yaml"), overrides)
     tracker = arttrack.Tracker(model, config, data["joint_names"])
+    # The camera is known before the stream: the meshes are simplified now,
+    # not at the first image.
+    tracker.prepare_camera(data["camera"])
     if method == "vision_only":  # it starts from the true configuration
         names, rows = truth
         tracker.set_initial_configuration(data["joint_names"],

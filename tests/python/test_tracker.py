@@ -58,6 +58,8 @@ def test_uint16_millimetres_equal_float32_metres(dataset):
     model = arttrack.RobotModel.from_urdf_file(str(dataset / "robot.urdf"))
     config = arttrack.TrackerConfig.from_yaml_file(str(dataset / "tracker.yaml"))
     trackers = [arttrack.Tracker(model, config, data["joint_names"]) for _ in range(2)]
+    trackers[0].prepare_camera(data["camera"])  # built once, before the images or at the first
+    assert trackers[0].stats()["geometry_builds"] == 1
     frames = data["frames"][:3]
     for i, t in enumerate(data["joint_time_s"][:70]):
         for tracker in trackers:
@@ -70,4 +72,5 @@ def test_uint16_millimetres_equal_float32_metres(dataset):
                 trackers[1].add_depth_image(stamp, millimetres, data["camera"])
     a, b = (tracker.estimate() for tracker in trackers)
     assert trackers[0].stats()["images_applied"] == 3
+    assert [t.stats()["geometry_builds"] for t in trackers] == [1, 1]
     assert np.array_equal(a.angle_rad, b.angle_rad) and np.array_equal(a.bias_rad, b.bias_rad)

@@ -119,6 +119,46 @@ TEST(TrackerTest, LateImageGivesTheSameEstimateAsOnTime) {
   EXPECT_GT(std::abs(none.estimate().bias_rad[0] - a.bias_rad[0]), 1e-4);
 }
 
+// The geometry built before the stream is the one the first image would
+// build: the estimates do not change, and the images do not build it again
+// until their intrinsics (and so the simplification's error bound) change.
+TEST(TrackerTest, PreparedCameraBuildsTheGeometryOnceAndChangesNothing) {
+  auto model = arm_model();
+  const DepthImage truth = render_truth(*model, 0.2, 0.1);
+  const TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  Tracker prepared(model, config, {"shoulder", "elbow"});
+  Tracker lazy(model, config, {"shoulder", "elbow"});
+  prepared.prepare_camera(kCamera);
+  EXPECT_EQ(prepared.stats().geometry_builds, 1);
+  EXPECT_EQ(prepared.stats().model_triangles, 36);  // three boxes
+  EXPECT_EQ(lazy.stats().geometry_builds, 0);
+  for (int k = 0; k <= 200; ++k) {
+    const std::vector<double> reading{0.25, 0.15 + 0.01 * std::sin(0.01 * k)};
+    for (Tracker* t : {&prepared, &lazy}) {
+      t->add_joint_measurement(0.001 * k, reading);
+      if (k % 33 == 0) t->add_depth_image(0.001 * k, truth, kCamera);
+    }
+  }
+  EXPECT_EQ(prepared.stats().images_applied, 7);
+  EXPECT_EQ(prepared.stats().geometry_builds, 1);
+  EXPECT_EQ(lazy.stats().geometry_builds, 1);
+  const TrackerEstimate a = prepared.estimate(), b = lazy.estimate();
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_EQ(a.angle_rad[j], b.angle_rad[j]);
+    EXPECT_EQ(a.bias_std_rad[j], b.bias_std_rad[j]);
+  }
+  // A longer focal length: a pixel covers less, the meshes are built again.
+  CameraIntrinsics zoomed = kCamera;
+  zoomed.fx *= 1.5;
+  zoomed.fy *= 1.5;
+  prepared.add_joint_measurement(0.201, std::vector<double>{0.25, 0.15});
+  prepared.add_depth_image(0.201, truth, zoomed);
+  EXPECT_EQ(prepared.stats().geometry_builds, 2);
+  CameraIntrinsics broken = kCamera;
+  broken.fy = 0;
+  EXPECT_NE(error_of([&] { prepared.prepare_camera(broken); }).find("fy"), std::string::npos);
+}
+
 TEST(TrackerTest, ImageFromTheFutureWaitsForTheJoints) {
   auto model = arm_model();
   Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});

@@ -22,8 +22,12 @@ ImageFilter::ImageFilter(const TrackerSetup& setup)
       geometry_(setup.model, setup.config.geometry) {}
 
 bool ImageFilter::set_image(const DepthImage& image, const CameraIntrinsics& camera) {
-  camera_ = camera;
   likelihood_.set_observation(image);
+  return set_camera(camera);
+}
+
+bool ImageFilter::set_camera(const CameraIntrinsics& camera) {
+  camera_ = camera;
   if (geometry_.has_camera(camera) || !geometry_.use_camera(camera)) return false;
   evaluator_ = std::make_unique<HypothesisEvaluator>(geometry_.drawn_model(), cpf_.blocks());
   return true;

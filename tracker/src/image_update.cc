@@ -22,6 +22,16 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
 
 ImageUpdate::~ImageUpdate() = default;
 
+CameraIntrinsics ImageUpdate::likelihood_camera(const CameraIntrinsics& camera) const {
+  return subsampled_intrinsics(camera, filter_.likelihood().width(), filter_.likelihood().height());
+}
+
+void ImageUpdate::prepare(const CameraIntrinsics& camera) {
+  if (!filter_.set_camera(likelihood_camera(camera))) return;
+  acquisition_.draw(filter_.geometry().drawn_model());
+  ++geometry_builds_;
+}
+
 double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_camera,
                           double stamp_s, double time_s, std::span<const double> reading_at_time,
                           JointBelief& belief) {
@@ -29,9 +39,10 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
   for (int j = 0; j < n; ++j) prior_std_[j] = std::sqrt(std::max(0.0, belief.var_a[j]));
   std::copy(belief.mean_a.begin(), belief.mean_a.end(), prior_mean_.begin());
   const DepthLikelihood& likelihood = filter_.likelihood();
-  const CameraIntrinsics camera =
-      subsampled_intrinsics(full_camera, likelihood.width(), likelihood.height());
-  if (filter_.set_image(image, camera)) acquisition_.draw(filter_.geometry().drawn_model());
+  if (filter_.set_image(image, likelihood_camera(full_camera))) {
+    acquisition_.draw(filter_.geometry().drawn_model());
+    ++geometry_builds_;
+  }
   double search_ms = 0;
   const bool first = images_seen_++ == 0;
   if (acquisition_.on() && first) {

@@ -100,6 +100,8 @@ struct Tracker::Impl {
   }
   void apply_pending_locked(std::unique_lock<std::mutex>& lock);
   void apply_image(PendingImage image, std::unique_lock<std::mutex>& lock);
+  // TrackerStats' geometry fields from `images` (under the lock).
+  void count_geometry();
   void worker_loop();
 };
 
@@ -152,6 +154,15 @@ void Tracker::Impl::apply_pending_locked(std::unique_lock<std::mutex>& lock) {
     pending.pop_front();
     apply_image(std::move(next), lock);
   }
+}
+
+void Tracker::Impl::count_geometry() {
+  const RenderGeometry& geometry = images->geometry();
+  stats.model_triangles = setup.model->num_drawn_triangles();
+  stats.drawn_triangles = geometry.drawn_model().num_drawn_triangles();
+  stats.mesh_error_bound_m = std::max(0.0, geometry.error_bound_m());
+  stats.mesh_error_m = geometry.error_m();
+  stats.geometry_builds = images->geometry_builds();
 }
 
 void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>& lock) {
@@ -223,13 +234,9 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   belief = prior;
   ++stats.images_applied;
   const int evaluations = images->filter().filter().num_evaluations();
-  const RenderGeometry& geometry = images->geometry();
   stats.last_evaluations_per_image = evaluations;
   stats.likelihood_evaluations += evaluations;
-  stats.model_triangles = setup.model->num_drawn_triangles();
-  stats.drawn_triangles = geometry.drawn_model().num_drawn_triangles();
-  stats.mesh_error_bound_m = std::max(0.0, geometry.error_bound_m());
-  stats.mesh_error_m = geometry.error_m();
+  count_geometry();
   stats.images.add({image.stamp_s, ms_since(start), ms_since(refilter_start), search_ms,
                     ms_since(image.received)});
 }
@@ -390,6 +397,19 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
     ++s.stats.images_dropped_backlog;
   }
   s.apply_pending_locked(lock);
+}
+
+void Tracker::prepare_camera(const CameraIntrinsics& camera) {
+  if (const std::string problem = camera.problem(); !problem.empty())
+    throw InputError("camera to prepare for: " + problem);
+  Impl& s = *impl_;
+  std::unique_lock lock(s.mutex);
+  if (!s.images) return;
+  // The worker draws with what this rebuilds, and only while `updating`
+  // with the lock released; holding the lock keeps it from starting one.
+  s.idle.wait(lock, [&] { return !s.updating; });
+  s.images->prepare(camera);
+  s.count_geometry();
 }
 
 void Tracker::wait_until_idle() {

@@ -47,6 +47,9 @@ MethodTrackers::MethodTrackers(const TrackingSetup& setup, RunResult& run,
     TrackerConfig config = setup_.config;
     config.method = setup_.methods[i];
     trackers_.push_back(std::make_unique<Tracker>(setup_.robot, config, setup_.joint_names));
+    // The camera is known before the stream (as a driver's camera info is):
+    // the meshes are simplified now, not at the first image of a live run.
+    trackers_.back()->prepare_camera(setup_.camera);
     if (config.method == TrackingMethod::kVisionOnly)
       trackers_.back()->set_initial_configuration(setup_.joint_names, setup_.vision_only_start_rad);
     MethodRun mr;

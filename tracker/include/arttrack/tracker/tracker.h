@@ -233,13 +233,16 @@ struct TrackerStats {
   long long likelihood_evaluations = 0;
   int last_evaluations_per_image = 0;
   // The geometry the image updates draw (TrackerConfig::geometry), known from
-  // the first image on: triangles of the model as loaded and as drawn (the
-  // cylinders' and spheres' tessellations excluded: they are drawn exactly),
-  // the error the simplification was allowed and the largest it reports.
+  // prepare_camera or the first image on: triangles of the model as loaded
+  // and as drawn (the cylinders' and spheres' tessellations excluded: they
+  // are drawn exactly), the error the simplification was allowed and the
+  // largest it reports, and how many times the simplified model was built
+  // (once, unless the images' intrinsics change its error bound).
   int model_triangles = 0;
   int drawn_triangles = 0;
   double mesh_error_bound_m = 0;
   double mesh_error_m = 0;
+  int geometry_builds = 0;
   ImageTimings images;  // of the applied images
 };
 
@@ -287,6 +290,16 @@ class Tracker {
   // or lies further than TrackerConfig::max_image_clock_offset_s from the
   // newest joint reading drops the image (TrackerStats::images_dropped_bad_stamp).
   void add_depth_image(double stamp_s, const DepthImage& image, const CameraIntrinsics& camera);
+
+  // Optional, before streaming: builds what the image updates draw the robot
+  // with for this camera (full resolution, as the images will come): each
+  // link mesh simplified to the likelihood's resolution (TrackerConfig::
+  // geometry) and the renderers. Otherwise the first image does it, and a
+  // robot of published meshes (330 000 triangles: about 2 s on one core)
+  // then holds up the first images of a live stream. An image whose
+  // intrinsics differ builds it again. Waits for a running image update.
+  // Throws InputError for unusable intrinsics (CameraIntrinsics::problem).
+  void prepare_camera(const CameraIntrinsics& camera);
 
   // Asynchronous mode: blocks until no image update is running or waiting to
   // run (that can run). Synchronous mode: returns at once.

@@ -41,6 +41,8 @@ class ImageFilter {
   // changed (RenderGeometry::use_camera): what else draws it must be made
   // again.
   bool set_image(const DepthImage& image, const CameraIntrinsics& camera);
+  // The camera alone (set_image's second half), e.g. before the first image.
+  bool set_camera(const CameraIntrinsics& camera);
 
   // One run on the image (CoordinateParticleFilter::run): the target is
   // N(prior_mean, prior_std^2) x likelihood^beta, particles start at

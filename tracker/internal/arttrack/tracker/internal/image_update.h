@@ -41,6 +41,11 @@ class ImageUpdate {
   // searches re-open the biases around them).
   bool wants_readings() const { return acquisition_.on(); }
 
+  // Builds what draws the robot for `camera` (full resolution): the
+  // simplified meshes and the renderers (RenderGeometry::use_camera). apply()
+  // does it at the first image, or for a camera of other intrinsics.
+  void prepare(const CameraIntrinsics& camera);
+
   // Updates `belief`, the prior at time_s (the image's stamp_s minus the
   // camera delay), with `image` at the likelihood's resolution, taken by
   // `camera` (full resolution). `reading_at_time` (DOF order; empty: none)
@@ -54,8 +59,12 @@ class ImageUpdate {
   const PosteriorCovariance& covariance() const { return covariance_.covariance(); }
   const ImageFilter& filter() const { return filter_; }
   const RenderGeometry& geometry() const { return filter_.geometry(); }
+  int geometry_builds() const { return geometry_builds_; }
 
  private:
+  // `camera` subsampled to the likelihood's resolution.
+  CameraIntrinsics likelihood_camera(const CameraIntrinsics& camera) const;
+
   const TrackerSetup& setup_;
   ImageFilter filter_;
   std::unique_ptr<HealthCheck> health_check_;
@@ -68,6 +77,7 @@ class ImageUpdate {
   std::vector<double> prior_mean_, prior_std_;
   std::vector<char> reopened_;
   int images_seen_ = 0;
+  int geometry_builds_ = 0;
 };
 
 }  // namespace arttrack
