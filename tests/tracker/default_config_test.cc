@@ -234,7 +234,17 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
   f.choice("method", &C::method, method_name);
   f(key("camera_frame", &C::camera_frame), key("end_effectors", &C::end_effectors));
   f.nested("joints.defaults.", &C::joint_defaults, list_joint_filter);
-  f.elements("joints.per_joint", &C::joint_overrides, list_joint_filter);
+  f.nested("joints.prismatic_defaults.", &C::prismatic_joint_defaults,
+           [](FieldList<JointFilterParams>& p) {
+             using J = JointFilterParams;
+             p(key("encoder_noise_m", &J::encoder_noise_rad),
+               key("position_diffusion_m_per_sqrt_s", &J::angle_diffusion_rad_per_sqrt_s),
+               key("bias_diffusion_m_per_sqrt_s", &J::bias_diffusion_rad_per_sqrt_s),
+               key("bias_decay_per_s", &J::bias_decay_per_s),
+               key("estimate_bias", &J::estimate_bias));
+           });
+  // None in the shipped file; an entry's keys are any of the two above.
+  f.elements("joints.per_joint", &C::joint_overrides, [](FieldList<JointFilterOverride>&) {});
   f.nested("camera_offset.translation_", &C::camera_translation, [](FieldList<V>& v) {
     v(key("diffusion_m_per_sqrt_s", &V::diffusion_per_sqrt_s),
       key("initial_std_m", &V::initial_std));

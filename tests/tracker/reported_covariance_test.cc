@@ -20,7 +20,7 @@ TEST(ReportedCovariance, StatesAreTheSampledDofsBiasesForEncoderJoints) {
   TrackerConfig c = small_config(TrackingMethod::kFullFusion);
   JointFilterParams exact = c.joint_defaults;
   exact.estimate_bias = false;
-  c.joint_overrides["elbow"] = exact;
+  c.joint_overrides["elbow"] = JointFilterOverride::all_of(exact);
   const TrackerSetup fusion(arm_model(), c, {"shoulder", "elbow"});
   const ReportedCovarianceSetup s(fusion, sampling_blocks(*fusion.model, c));
   const int shoulder = fusion.model->joint_index("shoulder");

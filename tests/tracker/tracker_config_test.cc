@@ -61,9 +61,11 @@ TEST(TrackerConfigTest, ReadsDegreesAndPerJointOverrides) {
   EXPECT_EQ(c.method, TrackingMethod::kCameraOffsetOnly);
   EXPECT_NEAR(c.joint_defaults.encoder_noise_rad, 0.1 * M_PI / 180, 1e-12);
   ASSERT_EQ(c.joint_overrides.count("elbow"), 1u);
-  EXPECT_FALSE(c.joint_overrides.at("elbow").estimate_bias);
-  // An override starts from the (file's) defaults.
-  EXPECT_NEAR(c.joint_overrides.at("elbow").encoder_noise_rad, 0.1 * M_PI / 180, 1e-12);
+  EXPECT_EQ(c.joint_overrides.at("elbow").estimate_bias, false);
+  // An override holds what it gives: the rest, and its units, come from its
+  // joint's defaults (joint_filter_params, tracker.h).
+  EXPECT_FALSE(c.joint_overrides.at("elbow").encoder_noise);
+  EXPECT_FALSE(c.joint_overrides.at("elbow").linear);
   EXPECT_EQ(c.particle_filter.num_particles, 50);
   ASSERT_EQ(c.blocks.size(), 1u);
   EXPECT_EQ(c.blocks[0].joints.size(), 2u);
@@ -89,6 +91,16 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
         {"particle_filter: {particles: many}\n", "particle_filter.particles"},
         {"depth_model: {occluder_model: exponential}\n", "depth_model.occluder_model"},
         {"joints: {per_joint: {elbow: {noise: 1}}}\n", "joints.per_joint.elbow.noise"},
+        // A prismatic joint's keys are in metres, a revolute one's in degrees.
+        {"joints: {per_joint: {finger: {encoder_noise_m: 1e-4, angle_diffusion_deg_per_sqrt_s: "
+         "1}}}\n",
+         "joints.per_joint.finger.encoder_noise_m"},
+        {"joints: {prismatic_defaults: {encoder_noise_deg: 0.1}}\n",
+         "joints.prismatic_defaults.encoder_noise_deg"},
+        {"joints: {prismatic_defaults: {encoder_noise_m: 2}}\n",
+         "joints.prismatic_defaults.encoder_noise_m"},
+        {"joints: {per_joint: {finger: {position_diffusion_m_per_sqrt_s: -1}}}\n",
+         "joints.per_joint.finger.position_diffusion_m_per_sqrt_s"},
         // The keys of the abandoned-pixel check, the searches and the discount.
         {"acquisition: {searches: 0}\n", "acquisition.searches"},
         {"acquisition: {searches: 101}\n", "acquisition.searches"},
@@ -146,6 +158,16 @@ const std::vector<RangeRow> kRangeRows = {
     {"joints.defaults.bias_diffusion_deg_per_sqrt_s", "100000", "100001"},
     {"joints.defaults.bias_decay_per_s", "1e-9", "0"},
     {"joints.defaults.bias_decay_per_s", "0.999999", "1"},
+    {"joints.prismatic_defaults.encoder_noise_m", "1", "1.0001"},
+    {"joints.prismatic_defaults.encoder_noise_m", "1e-12", "0"},
+    {"joints.prismatic_defaults.position_diffusion_m_per_sqrt_s", "0", "-1e-9"},
+    {"joints.prismatic_defaults.position_diffusion_m_per_sqrt_s", "1000", "1001"},
+    {"joints.prismatic_defaults.bias_diffusion_m_per_sqrt_s", "0", "-1e-9"},
+    {"joints.prismatic_defaults.bias_diffusion_m_per_sqrt_s", "1e-9", "0",
+     "joints.prismatic_defaults.estimate_bias=true"},
+    {"joints.prismatic_defaults.bias_diffusion_m_per_sqrt_s", "1000", "1001"},
+    {"joints.prismatic_defaults.bias_decay_per_s", "1e-9", "0"},
+    {"joints.prismatic_defaults.bias_decay_per_s", "0.999999", "1"},
     {"joints.per_joint.l_elbow.encoder_noise_deg", "90", "91"},
     {"joints.per_joint.l_elbow.bias_diffusion_deg_per_sqrt_s", "1e-6", "0"},
     {"joints.per_joint.l_elbow.bias_decay_per_s", "0.5", "1"},

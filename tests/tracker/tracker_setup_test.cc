@@ -34,7 +34,7 @@ TEST(TrackerSetup, TheMethodDecidesWhatIsEstimated) {
   TrackerConfig c = small_config(TrackingMethod::kFullFusion);
   JointFilterParams exact = c.joint_defaults;
   exact.estimate_bias = false;
-  c.joint_overrides["shoulder"] = exact;
+  c.joint_overrides["shoulder"] = JointFilterOverride::all_of(exact);
   const TrackerSetup fusion(model, c, {"shoulder", "elbow"});
   EXPECT_EQ(fusion.bias_estimated[std::size_t(shoulder)], 0);
   EXPECT_EQ(fusion.bias_estimated[std::size_t(elbow)], 1);

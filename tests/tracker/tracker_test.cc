@@ -46,7 +46,7 @@ TEST(TrackerTest, DefaultBlocksSampleOnlyWhatIsEstimated) {
   EXPECT_EQ(names(c), with({"elbow", "shoulder"}));  // hand to root
   JointFilterParams exact = c.joint_defaults;
   exact.estimate_bias = false;
-  c.joint_overrides["shoulder"] = exact;
+  c.joint_overrides["shoulder"] = JointFilterOverride::all_of(exact);
   EXPECT_EQ(names(c), with({"elbow"}));
   c.method = TrackingMethod::kVisionOnly;
   EXPECT_EQ(names(c), with({"elbow", "shoulder"}));
@@ -57,6 +57,53 @@ TEST(TrackerTest, DefaultBlocksSampleOnlyWhatIsEstimated) {
   c.method = TrackingMethod::kFullFusion;
   c.blocks = {{"arm", {"shoulder", "elbow"}}};
   EXPECT_EQ(names(c), std::vector<std::string>{"arm"});
+}
+
+// A prismatic joint (a gripper's finger) is in metres: its noise and bias
+// come from joints.prismatic_defaults, not from the angles' degrees (whose
+// 9.9 degree bias prior read as 17 cm), its bias is not estimated (it
+// follows its encoder, unsampled) unless an override says so, and an
+// override in the other kind's units is an error naming the joint.
+TEST(TrackerTest, PrismaticJointsTakeTheirOwnDefaultsInMetres) {
+  std::string urdf = test_support::kArm;
+  urdf.replace(urdf.find("</robot>"), 8, R"(
+  <link name="finger"><visual><geometry><box size="0.02 0.02 0.05"/></geometry></visual></link>
+  <joint name="finger_joint" type="prismatic"><parent link="lower"/><child link="finger"/>
+    <origin xyz="0 0 0.25"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="1" velocity="0.2"/></joint>
+</robot>)");
+  const auto model = std::make_shared<const RobotModel>(RobotModel::from_urdf_string(urdf, "."));
+  const int finger = model->joint_index("finger_joint");
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  const auto block_names = [&] {
+    std::vector<std::string> out;
+    for (const SamplingBlock& b : sampling_blocks(*model, c))
+      if (!model->is_virtual_joint(b.coordinates[0])) out.push_back(b.name);
+    return out;
+  };
+  JointFilterParams p = joint_filter_params(*model, c, finger);
+  EXPECT_EQ(p.encoder_noise_rad, 1e-4);
+  EXPECT_FALSE(p.estimate_bias);
+  EXPECT_EQ(block_names(), (std::vector<std::string>{"elbow", "shoulder"}));
+  // Switched on, the bias prior is millimetres.
+  c.joint_overrides["finger_joint"].estimate_bias = true;
+  p = joint_filter_params(*model, c, finger);
+  EXPECT_NEAR(p.stationary_bias_std_rad(), 0.0012, 0.0001);
+  EXPECT_EQ(block_names(), (std::vector<std::string>{"finger_joint", "elbow", "shoulder"}));
+  EXPECT_EQ(joint_filter_params(*model, c, model->joint_index("elbow")).encoder_noise_rad,
+            c.joint_defaults.encoder_noise_rad);
+  // Units of the other kind.
+  c.joint_overrides["finger_joint"].encoder_noise = 0.1 * kRadPerDeg;
+  c.joint_overrides["finger_joint"].linear = false;
+  const std::string e = error_of([&] { Tracker(model, c, {"shoulder", "elbow", "finger_joint"}); });
+  EXPECT_NE(e.find("joints.per_joint.finger_joint: 'finger_joint' is a prismatic joint"),
+            std::string::npos)
+      << e;
+  c.joint_overrides.erase("finger_joint");
+  c.joint_overrides["elbow"].linear = true;
+  EXPECT_NE(error_of([&] {
+              Tracker(model, c, {"shoulder", "elbow", "finger_joint"});
+            }).find("'elbow' is a revolute joint"),
+            std::string::npos);
 }
 
 TEST(TrackerTest, EncodersOnlyReportsTheRawReadings) {

@@ -128,19 +128,51 @@ std::vector<VirtualJointParams> per_joint_params(
   return expand_params(joint_names, defaults, overrides, context);
 }
 
-void JointFilterParams::validate(std::string_view source, const std::string& prefix) const {
-  check_range(source, prefix + "encoder_noise_deg", encoder_noise_rad,
-              ConfigRange::open_closed(0, 90), kRadPerDeg);
-  check_range(source, prefix + "angle_diffusion_deg_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
-              ConfigRange::closed(0, 1e5), kRadPerDeg);
+void JointFilterParams::validate(std::string_view source, const std::string& prefix,
+                                 bool linear) const {
+  if (linear) {
+    check_range(source, prefix + "encoder_noise_m", encoder_noise_rad,
+                ConfigRange::open_closed(0, 1));
+    check_range(source, prefix + "position_diffusion_m_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
+                ConfigRange::closed(0, 1e3));
+  } else {
+    check_range(source, prefix + "encoder_noise_deg", encoder_noise_rad,
+                ConfigRange::open_closed(0, 90), kRadPerDeg);
+    check_range(source, prefix + "angle_diffusion_deg_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
+                ConfigRange::closed(0, 1e5), kRadPerDeg);
+  }
   // sigma_b and c matter only while the bias is estimated; c is held to
   // (0, 1) either way, so that a per-joint override that switches the
   // estimate on never inherits an impossible decay.
-  ConfigRange sigma_b = ConfigRange::closed(0, 1e5);
+  ConfigRange sigma_b = ConfigRange::closed(0, linear ? 1e3 : 1e5);
   sigma_b.lo_open = estimate_bias;
-  check_range(source, prefix + "bias_diffusion_deg_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
-              sigma_b, kRadPerDeg);
+  if (linear)
+    check_range(source, prefix + "bias_diffusion_m_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
+                sigma_b);
+  else
+    check_range(source, prefix + "bias_diffusion_deg_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
+                sigma_b, kRadPerDeg);
   check_range(source, prefix + "bias_decay_per_s", bias_decay_per_s, ConfigRange::open(0, 1));
+}
+
+JointFilterOverride JointFilterOverride::all_of(const JointFilterParams& p) {
+  return {p.encoder_noise_rad,
+          p.angle_diffusion_rad_per_sqrt_s,
+          p.bias_diffusion_rad_per_sqrt_s,
+          p.bias_decay_per_s,
+          p.estimate_bias,
+          false};
+}
+
+JointFilterParams JointFilterOverride::over(JointFilterParams p) const {
+  p.encoder_noise_rad = encoder_noise.value_or(p.encoder_noise_rad);
+  p.angle_diffusion_rad_per_sqrt_s =
+      motion_diffusion_per_sqrt_s.value_or(p.angle_diffusion_rad_per_sqrt_s);
+  p.bias_diffusion_rad_per_sqrt_s =
+      bias_diffusion_per_sqrt_s.value_or(p.bias_diffusion_rad_per_sqrt_s);
+  p.bias_decay_per_s = bias_decay_per_s.value_or(p.bias_decay_per_s);
+  p.estimate_bias = estimate_bias.value_or(p.estimate_bias);
+  return p;
 }
 
 JointFilterModel::JointFilterModel(std::vector<std::string> encoder_joints,

@@ -33,16 +33,54 @@ void read_numbers(const ConfigNode& node, std::initializer_list<NumberKey> keys)
   }
 }
 
-// Joint filter keys; `base` supplies the values of keys not given.
-JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base) {
+// Joint filter keys, in degrees or (`linear`, a prismatic joint's) metres;
+// `base` supplies the values of keys not given.
+JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base,
+                                    bool linear) {
   JointFilterParams p = base;
-  read_numbers(node,
-               {{"encoder_noise_deg", &p.encoder_noise_rad, kRadPerDeg},
-                {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kRadPerDeg},
-                {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kRadPerDeg},
-                {"bias_decay_per_s", &p.bias_decay_per_s}});
+  if (linear)
+    read_numbers(node, {{"encoder_noise_m", &p.encoder_noise_rad},
+                        {"position_diffusion_m_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s},
+                        {"bias_diffusion_m_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s},
+                        {"bias_decay_per_s", &p.bias_decay_per_s}});
+  else
+    read_numbers(node,
+                 {{"encoder_noise_deg", &p.encoder_noise_rad, kRadPerDeg},
+                  {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kRadPerDeg},
+                  {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kRadPerDeg},
+                  {"bias_decay_per_s", &p.bias_decay_per_s}});
   p.estimate_bias = node.get<bool>("estimate_bias", base.estimate_bias);
   return p;
+}
+
+// A joints.per_joint entry: the keys it gives, in the units its keys say
+// (degrees or metres, never both).
+JointFilterOverride read_joint_override(const ConfigNode& node) {
+  constexpr const char* kAngular[] = {"encoder_noise_deg", "angle_diffusion_deg_per_sqrt_s",
+                                      "bias_diffusion_deg_per_sqrt_s"};
+  constexpr const char* kLinear[] = {"encoder_noise_m", "position_diffusion_m_per_sqrt_s",
+                                     "bias_diffusion_m_per_sqrt_s"};
+  JointFilterOverride o;
+  const auto given = [&](const char* const(&keys)[3]) {
+    for (const char* k : keys)
+      if (node.has(k)) return k;
+    return static_cast<const char*>(nullptr);
+  };
+  const char* angular = given(kAngular);
+  const char* linear = given(kLinear);
+  if (angular && linear)
+    node.fail(linear, std::string("is in metres (a prismatic joint's) but ") + angular +
+                          " is in degrees (a revolute joint's): one joint is one or the other");
+  if (angular || linear) o.linear = linear != nullptr;
+  const char* const* keys = linear ? kLinear : kAngular;
+  const double unit = linear ? 1.0 : kRadPerDeg;
+  std::optional<double>* fields[] = {&o.encoder_noise, &o.motion_diffusion_per_sqrt_s,
+                                     &o.bias_diffusion_per_sqrt_s};
+  for (int k = 0; k < 3; ++k)
+    if (node.has(keys[k])) *fields[k] = node.number(keys[k], 0.0) * unit;
+  if (node.has("bias_decay_per_s")) o.bias_decay_per_s = node.number("bias_decay_per_s", 0.0);
+  if (node.has("estimate_bias")) o.estimate_bias = node.get<bool>("estimate_bias", true);
+  return o;
 }
 
 }  // namespace
@@ -91,8 +129,14 @@ void TrackerConfig::validate(const std::string& source) const {
   if (camera_frame.empty()) fail_key(source, "camera_frame", "is empty");
 
   joint_defaults.validate(source, "joints.defaults.");
-  for (const auto& [name, p] : joint_overrides)
-    p.validate(source, "joints.per_joint." + name + ".");
+  prismatic_joint_defaults.validate(source, "joints.prismatic_defaults.", true);
+  // Each override over the defaults of its units (both when it gave only
+  // unit-free keys): what the joints it may be for will run with.
+  for (const auto& [name, o] : joint_overrides) {
+    const std::string prefix = "joints.per_joint." + name + ".";
+    if (!o.linear.value_or(false)) o.over(joint_defaults).validate(source, prefix);
+    if (o.linear.value_or(true)) o.over(prismatic_joint_defaults).validate(source, prefix, true);
+  }
   check("camera_offset.translation_diffusion_m_per_sqrt_s", camera_translation.diffusion_per_sqrt_s,
         R::closed(0, 10));
   check("camera_offset.translation_initial_std_m", camera_translation.initial_std,
@@ -178,10 +222,12 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   c.end_effectors = root.get<std::vector<std::string>>("end_effectors", c.end_effectors);
 
   const ConfigNode joints = root.child("joints");
-  c.joint_defaults = read_joint_params(joints.child("defaults"), c.joint_defaults);
+  c.joint_defaults = read_joint_params(joints.child("defaults"), c.joint_defaults, false);
+  c.prismatic_joint_defaults =
+      read_joint_params(joints.child("prismatic_defaults"), c.prismatic_joint_defaults, true);
   const ConfigNode per_joint = joints.child("per_joint");
   for (const std::string& name : per_joint.keys())
-    c.joint_overrides[name] = read_joint_params(per_joint.child(name), c.joint_defaults);
+    c.joint_overrides[name] = read_joint_override(per_joint.child(name));
 
   read_numbers(
       root.child("camera_offset"),

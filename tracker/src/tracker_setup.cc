@@ -50,19 +50,31 @@ TrackerSetup::TrackerSetup(std::shared_ptr<const RobotModel> m, const TrackerCon
                                       model->joint_names().begin() + n_phys);
   std::vector<std::string> virtual_names(model->joint_names().begin() + n_phys,
                                          model->joint_names().end());
-  JointFilterParams defaults = config.joint_defaults;
-  if (config.method == TrackingMethod::kCameraOffsetOnly) defaults.estimate_bias = false;
-  if (config.method == TrackingMethod::kVisionOnly) {
-    defaults.estimate_bias = false;
-    defaults.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
-  }
-  auto overrides = config.joint_overrides;
-  for (auto& [name, p] : overrides) {
-    if (config.method != TrackingMethod::kFullFusion) p.estimate_bias = false;
+  for (const auto& [name, o] : config.joint_overrides)
+    if (std::find(phys_names.begin(), phys_names.end(), name) == phys_names.end())
+      throw InputError(config.source + ": joints.per_joint: unknown joint '" + name + "'");
+  std::vector<JointFilterParams> phys_params;
+  for (int j = 0; j < n_phys; ++j) {
+    JointFilterParams p = joint_filter_params(*model, config, j);
+    // Camera offset only and vision only estimate no bias; encoders only
+    // keeps the defaults' bias prior in its angles' spread (but not an
+    // override's).
+    if (config.method == TrackingMethod::kCameraOffsetOnly ||
+        config.method == TrackingMethod::kVisionOnly ||
+        (config.method != TrackingMethod::kFullFusion &&
+         config.joint_overrides.count(model->joint_name(j))))
+      p.estimate_bias = false;
+    // Vision only: no encoder between images, the motion diffuses at
+    // vision_only's rate (a prismatic joint's scaled as an angle's is).
     if (config.method == TrackingMethod::kVisionOnly)
-      p.angle_diffusion_rad_per_sqrt_s = config.vision_only_angle_diffusion_rad_per_sqrt_s;
+      p.angle_diffusion_rad_per_sqrt_s =
+          model->joint_type(j) == JointType::kPrismatic
+              ? p.angle_diffusion_rad_per_sqrt_s *
+                    config.vision_only_angle_diffusion_rad_per_sqrt_s /
+                    config.joint_defaults.angle_diffusion_rad_per_sqrt_s
+              : config.vision_only_angle_diffusion_rad_per_sqrt_s;
+    phys_params.push_back(p);
   }
-  auto phys_params = per_joint_params(phys_names, defaults, overrides, config.source);
   std::vector<VirtualJointParams> virtual_params;
   for (int k = 0; k < 6; ++k)
     virtual_params.push_back(k < 3 ? config.camera_translation : config.camera_rotation);
@@ -70,6 +82,25 @@ TrackerSetup::TrackerSetup(std::shared_ptr<const RobotModel> m, const TrackerCon
       std::make_unique<JointFilterModel>(phys_names, phys_params, virtual_names, virtual_params);
   bias_estimated.assign(n_phys, 0);
   for (int j = 0; j < n_phys; ++j) bias_estimated[j] = phys_params[j].estimate_bias;
+}
+
+JointFilterParams joint_filter_params(const RobotModel& model, const TrackerConfig& config,
+                                      int dof) {
+  const std::string& name = model.joint_name(dof);
+  const bool prismatic = model.joint_type(dof) == JointType::kPrismatic;
+  const JointFilterParams& defaults =
+      prismatic ? config.prismatic_joint_defaults : config.joint_defaults;
+  const auto it = config.joint_overrides.find(name);
+  if (it == config.joint_overrides.end()) return defaults;
+  const JointFilterOverride& o = it->second;
+  if (o.linear && *o.linear != prismatic)
+    throw InputError(config.source + ": joints.per_joint." + name + ": '" + name + "' is " +
+                     (prismatic
+                          ? "a prismatic joint: its keys are in metres (encoder_noise_m, "
+                            "position_diffusion_m_per_sqrt_s, bias_diffusion_m_per_sqrt_s)"
+                          : "a revolute joint: its keys are in degrees (encoder_noise_deg, "
+                            "angle_diffusion_deg_per_sqrt_s, bias_diffusion_deg_per_sqrt_s)"));
+  return o.over(defaults);
 }
 
 std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config) {
@@ -97,9 +128,7 @@ std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const Tracke
     const auto sampled = [&](int dof) {
       if (model.is_virtual_joint(dof) || config.method == TrackingMethod::kVisionOnly) return true;
       if (config.method != TrackingMethod::kFullFusion) return false;
-      const auto it = config.joint_overrides.find(model.joint_name(dof));
-      return it != config.joint_overrides.end() ? it->second.estimate_bias
-                                                : config.joint_defaults.estimate_bias;
+      return joint_filter_params(model, config, dof).estimate_bias;
     };
     // Physical joints from the hand to the root of each chain (reverse
     // depth-first order), then the virtual ones.

@@ -4,6 +4,7 @@
 // that use them are internal (joint_filter.h).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -11,7 +12,9 @@
 
 namespace arttrack {
 
-// Noise parameters of one physical (encoder) joint. Continuous time.
+// Noise parameters of one physical (encoder) joint. Continuous time. The
+// fields say rad; a prismatic joint's hold metres (its encoder reads a
+// position, its bias is an offset): TrackerConfig::prismatic_joint_defaults.
 struct JointFilterParams {
   // The defaults are tracker/config/default.yaml's, in its degrees
   // (DefaultConfigTest checks them field by field).
@@ -47,8 +50,29 @@ struct JointFilterParams {
   // "joints.per_joint.elbow.encoder_noise_deg"), for a value outside its
   // range: encoder noise in (0, 90] degrees, angle diffusion in [0, 1e5]
   // deg/sqrt(s), bias diffusion in (0, 1e5] deg/sqrt(s) ([0, 1e5] when the
-  // bias is not estimated), c in (0, 1).
-  void validate(std::string_view source, const std::string& prefix = "") const;
+  // bias is not estimated), c in (0, 1). `linear`: a prismatic joint's, in
+  // metres (encoder_noise_m in (0, 1], position_diffusion_m_per_sqrt_s in
+  // [0, 1e3], bias_diffusion_m_per_sqrt_s in (0, 1e3]).
+  void validate(std::string_view source, const std::string& prefix = "", bool linear = false) const;
+};
+
+// Some of one joint's parameters, over the defaults for its kind of joint
+// (TrackerConfig::joint_overrides, a YAML joints.per_joint entry). The
+// numbers are radians, or metres when `linear` (the entry gave _m keys: a
+// prismatic joint's); `linear` is unset when only unit-free keys were given
+// (bias_decay_per_s, estimate_bias), which suit either kind.
+struct JointFilterOverride {
+  std::optional<double> encoder_noise;
+  std::optional<double> motion_diffusion_per_sqrt_s;  // angle or position
+  std::optional<double> bias_diffusion_per_sqrt_s;
+  std::optional<double> bias_decay_per_s;
+  std::optional<bool> estimate_bias;
+  std::optional<bool> linear;
+
+  // Every field of `p`, for a revolute or continuous joint.
+  static JointFilterOverride all_of(const JointFilterParams& p);
+  // `defaults` with the fields given here.
+  JointFilterParams over(JointFilterParams defaults) const;
 };
 
 // Noise of one virtual (camera offset) joint: a random walk around the

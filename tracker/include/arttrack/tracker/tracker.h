@@ -255,6 +255,15 @@ struct TrackerStats {
 // InputError naming a block and its unknown joint.
 std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config);
 
+// The joint filter parameters `config` gives the physical joint `dof` of
+// `model`, before the method's rules: the defaults of its kind
+// (prismatic_joint_defaults for a prismatic joint, in metres, joint_defaults
+// otherwise) with its joints.per_joint override. Throws InputError naming
+// the joint when the override's units are not its joint's (metres for a
+// revolute joint, degrees for a prismatic one).
+JointFilterParams joint_filter_params(const RobotModel& model, const TrackerConfig& config,
+                                      int dof);
+
 class Tracker {
  public:
   // `encoder_joints`: the order of the readings given to add_joint_measurement
