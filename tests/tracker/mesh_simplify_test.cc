@@ -244,5 +244,32 @@ TEST(SimplifyMesh, CoarserLevelsStayWithinTheirBoundsAndRanges) {
     EXPECT_LE(drawn.num_drawn_triangles(k), drawn.num_drawn_triangles(k - 1));
 }
 
+// The links are simplified on several threads at once (the largest first):
+// the same model, vertex for vertex, as on one.
+TEST(SimplifyMesh, ThreadsGiveTheSameModel) {
+  const auto full =
+      RobotModel::from_urdf_file(std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm_meshes.urdf");
+  double error_1 = -1, error_3 = -1;
+  const RobotModel one = full.with_simplified_meshes(2e-3, &error_1, 0.3, 4, 1);
+  const RobotModel three = full.with_simplified_meshes(2e-3, &error_3, 0.3, 4, 3);
+  EXPECT_EQ(error_1, error_3);
+  EXPECT_GT(error_1, 0);
+  ASSERT_EQ(one.num_links(), three.num_links());
+  int compared = 0;
+  for (int l = 0; l < one.num_links(); ++l) {
+    const Link &a = one.link(l), &b = three.link(l);
+    SCOPED_TRACE(a.name);
+    ASSERT_EQ(a.coarser_meshes.size(), b.coarser_meshes.size());
+    for (std::size_t k = 0; k <= a.coarser_meshes.size(); ++k) {
+      const TriangleMesh& ma = k ? a.coarser_meshes[k - 1].mesh : a.mesh;
+      const TriangleMesh& mb = k ? b.coarser_meshes[k - 1].mesh : b.mesh;
+      ASSERT_EQ(ma.vertices_m, mb.vertices_m);
+      ASSERT_EQ(ma.triangles, mb.triangles);
+      compared += int(ma.triangles.size());
+    }
+  }
+  EXPECT_GT(compared, 1000);
+}
+
 }  // namespace
 }  // namespace arttrack

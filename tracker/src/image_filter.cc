@@ -19,7 +19,7 @@ ImageFilter::ImageFilter(const TrackerSetup& setup)
       cpf_(setup.n, sampling_blocks(*setup.model, setup.config), filter_params(setup.config)),
       likelihood_(setup.config.depth_model),
       rng_(setup.config.seed),
-      geometry_(setup.model, setup.config.geometry) {}
+      geometry_(setup.model, setup.config.geometry, pool_.num_workers()) {}
 
 bool ImageFilter::set_image(const DepthImage& image, const CameraIntrinsics& camera) {
   likelihood_.set_observation(image);

@@ -7,7 +7,7 @@ namespace arttrack {
 
 std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
                                                    double bound_m, double nearest_range_m,
-                                                   int levels, double& error_m) {
+                                                   int levels, double& error_m, int threads) {
   struct Entry {
     std::weak_ptr<const RobotModel> source;
     double bound_m, nearest_range_m;
@@ -27,15 +27,16 @@ std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const R
     }
   }
   auto simplified = std::make_shared<const RobotModel>(
-      model->with_simplified_meshes(bound_m, &error_m, nearest_range_m, levels));
+      model->with_simplified_meshes(bound_m, &error_m, nearest_range_m, levels, threads));
   cache.push_back({model, bound_m, nearest_range_m, levels, error_m, simplified});
   return simplified;
 }
 
 RenderGeometry::RenderGeometry(std::shared_ptr<const RobotModel> model,
-                               const TrackerConfig::Geometry& params)
+                               const TrackerConfig::Geometry& params, int threads)
     : model_(std::move(model)),
       params_(params),
+      threads_(threads),
       kinematics_(*model_),
       q_(Eigen::VectorXd::Zero(model_->num_joints())) {}
 
@@ -47,7 +48,7 @@ bool RenderGeometry::use_camera(const CameraIntrinsics& camera) {
     error_bound_m_ = bound_m;
     error_m_ = 0;
     drawn_ = bound_m > 0 ? simplified_model(model_, bound_m, params_.nearest_range_m,
-                                            params_.coarser_levels, error_m_)
+                                            params_.coarser_levels, error_m_, threads_)
                          : model_;
   }
   renderer_ = std::make_unique<DepthRenderer>(*drawn_, camera);

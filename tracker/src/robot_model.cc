@@ -4,8 +4,10 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -13,6 +15,7 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/mesh_simplify.h"
@@ -512,11 +515,11 @@ int RobotModel::num_drawn_triangles(int level) const {
 }
 
 RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_m,
-                                              double nearest_range_m, int coarser_levels) const {
+                                              double nearest_range_m, int coarser_levels,
+                                              int threads) const {
   RobotModel out = *this;
-  double largest_error_m = 0;
-  for (Link& link : out.links_) {
-    if (link.mesh.empty() || max_error_m <= 0) continue;
+  // One link's levels; returns the error measured at level 0.
+  auto simplify_link = [&](Link& link) {
     // The triangles drawn as triangles, simplified together; then each round
     // shape's tessellation (its vertices and triangles are its own) after them.
     TriangleMesh drawn;
@@ -531,7 +534,7 @@ RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_
       drawn.triangles.push_back(link.mesh.triangles[std::size_t(t)]);
     }
     SimplifiedMesh simplified = simplify_mesh(drawn, max_error_m);
-    largest_error_m = std::max(largest_error_m, simplified.error_m);
+    const double level_0_error_m = simplified.error_m;
     // Each level from the last one kept, within the error it may add: 2^k e
     // in all (the distances add up along the chain). A level that would
     // remove less than a tenth is left out (the finer one serves its range).
@@ -560,8 +563,38 @@ RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_
       rebuilt.append(part);
     }
     link.mesh = std::move(rebuilt);
-  }
-  if (error_m) *error_m = largest_error_m;
+    return level_0_error_m;
+  };
+  // Links are independent: the largest first, each to the next free thread
+  // (the result does not depend on the threads).
+  std::vector<int> order;
+  for (int l = 0; l < int(out.links_.size()); ++l)
+    if (!out.links_[std::size_t(l)].mesh.empty() && max_error_m > 0) order.push_back(l);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return out.links_[std::size_t(a)].mesh.triangles.size() >
+           out.links_[std::size_t(b)].mesh.triangles.size();
+  });
+  std::vector<double> errors(out.links_.size(), 0.0);
+  std::atomic<int> next{0};
+  std::mutex failure_mutex;
+  std::exception_ptr failure;
+  auto work = [&] {
+    for (int k = next++; k < int(order.size()); k = next++) {
+      try {
+        errors[std::size_t(order[std::size_t(k)])] =
+            simplify_link(out.links_[std::size_t(order[std::size_t(k)])]);
+      } catch (...) {
+        std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < std::min(threads, int(order.size())); ++t) helpers.emplace_back(work);
+  work();
+  for (std::thread& h : helpers) h.join();
+  if (failure) std::rethrow_exception(failure);
+  if (error_m) *error_m = errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
   return out;
 }
 

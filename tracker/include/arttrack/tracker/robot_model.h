@@ -181,9 +181,11 @@ class RobotModel {
   // Links, joints and their indices are those of this model, so its
   // KinematicsState and LinkSets serve the copy. max_error_m <= 0 keeps
   // every triangle. `error_m`, if given, receives the largest error measured
-  // over the links at level 0 (SimplifiedMesh::error_m).
+  // over the links at level 0 (SimplifiedMesh::error_m). `threads`: links
+  // simplified at once, the largest first (the result is the same).
   RobotModel with_simplified_meshes(double max_error_m, double* error_m = nullptr,
-                                    double nearest_range_m = 0, int coarser_levels = 0) const;
+                                    double nearest_range_m = 0, int coarser_levels = 0,
+                                    int threads = 1) const;
   // Where the model came from ("URDF file 'x'" or "URDF text"), for messages.
   const std::string& source() const { return source_; }
   // The options it was built with.

@@ -28,16 +28,18 @@ namespace arttrack {
 // `model` with its meshes simplified to bound_m (RobotModel::
 // with_simplified_meshes; error_m: the largest error made), shared by the
 // trackers of a process that track the same model at the same bound (a
-// scenario's methods and runs): simplifying a maker's meshes takes a
-// quarter of a second per 150 000 triangles. An entry lives as long as its
-// source model. Thread-safe.
+// scenario's methods and runs): simplifying a maker's meshes takes about a
+// second per 150 000 triangles on one thread (`threads` share the links).
+// An entry lives as long as its source model. Thread-safe.
 std::shared_ptr<const RobotModel> simplified_model(const std::shared_ptr<const RobotModel>& model,
                                                    double bound_m, double nearest_range_m,
-                                                   int levels, double& error_m);
+                                                   int levels, double& error_m, int threads = 1);
 
 class RenderGeometry {
  public:
-  RenderGeometry(std::shared_ptr<const RobotModel> model, const TrackerConfig::Geometry& params);
+  // `threads`: for the simplification (simplified_model).
+  RenderGeometry(std::shared_ptr<const RobotModel> model, const TrackerConfig::Geometry& params,
+                 int threads = 1);
 
   // Whether the renderer draws for `camera` (made by use_camera()).
   bool has_camera(const CameraIntrinsics& camera) const {
@@ -65,6 +67,7 @@ class RenderGeometry {
   // Setup.
   std::shared_ptr<const RobotModel> model_;
   TrackerConfig::Geometry params_;
+  int threads_ = 1;
   // Workspace.
   std::shared_ptr<const RobotModel> drawn_;
   double error_bound_m_ = -1, error_m_ = 0;
