@@ -73,11 +73,12 @@ struct TrackerConfig {
   double vision_only_initial_std_rad = 1.1 * kRadPerDeg;
 
   DepthModelParams depth_model;
-  // Geometry at the likelihood's resolution (mesh_simplify.h): at the first
-  // image (when the camera is known) every link mesh the tracker draws is
-  // simplified so that its surface moves at most max_error_px of one pixel
-  // (at depth_model's resolution) at nearest_range_m, the nearest range the
-  // camera sees the robot (a depth camera's minimum range), with four
+  // Geometry at the likelihood's resolution (mesh_simplify.h): when the
+  // camera is known (Tracker::prepare_camera, else the first image) every
+  // link mesh the tracker draws is simplified so that its surface moves at
+  // most max_error_px of one pixel (at depth_model's resolution) at
+  // nearest_range_m, the nearest range the camera sees the robot (a depth
+  // camera's minimum range), with four
   // coarser levels of detail for links twice, 4, 8 and 16 times as far
   // (robot_model.h, Link::coarser_meshes). Cylinders and spheres are drawn
   // exactly whatever this says.
