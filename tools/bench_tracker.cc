@@ -29,6 +29,7 @@
 #include "arttrack/tracker/internal/worker_pool.h"
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
+#include "arttrack/tracker/tracker_config.h"
 #include "arttrack/tracker/units.h"
 
 namespace arttrack {
@@ -104,6 +105,20 @@ BENCHMARK(BM_Render)
     ->Args({160, 120})
     ->Args({640, 480})
     ->Unit(benchmark::kMicrosecond);
+
+// The same with the geometry the tracker draws: the default configuration's
+// levels of detail for an 80x60 camera (docs/performance.md, "Meshes"). On
+// a model of primitives it is the model itself.
+void BM_RenderSimplified(benchmark::State& bench) {
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(
+      int(bench.range(0)), int(bench.range(1)), 45 * kRadPerDeg);
+  const TrackerConfig::Geometry geometry = default_tracker_config().geometry;
+  static const RobotModel drawn =
+      robot().with_simplified_meshes(geometry.error_bound_m(camera), nullptr,
+                                     geometry.nearest_range_m, geometry.coarser_levels, 2);
+  render_benchmark(bench, drawn);
+}
+BENCHMARK(BM_RenderSimplified)->Args({80, 60})->Unit(benchmark::kMicrosecond);
 
 // A hypothesis that moves one wrist: only the links below it are drawn over
 // a cached image of the rest (the coordinate particle filter's inner loop).

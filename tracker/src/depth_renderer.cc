@@ -59,6 +59,28 @@ inline bool may_cover(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const 
   return faces_camera(a, b, c, cull_back_faces) && box_holds_centre(index(a), index(b), index(c));
 }
 
+// Whether no triangle within a camera-frame sphere (centre `c`, radius `r`,
+// wholly in front of the camera) can pass box_holds_centre(): the sphere's
+// screen extent, taken over the corners of its bounding cube, holds no pixel
+// centre column or no pixel centre row. The extent is widened by 0.01 px, far
+// more than the float rounding of the vertices' own screen positions, so a
+// sphere is only ruled out when every vertex in it would have been.
+inline bool sphere_holds_no_centre(const Eigen::Vector3f& c, float r, float fx, float fy, float cx,
+                                   float cy, int W, int H) {
+  const float iz_far = 1.f / (c.z() + r), iz_near = 1.f / (c.z() - r);
+  constexpr float kMargin_px = 0.01f;
+  // The least and greatest screen coordinate f x / z + cc over the cube: x / z
+  // is extreme at its corners.
+  auto no_centre = [&](float x, float f, float cc, int n) {
+    const float lo = x - r, hi = x + r;
+    const float s_lo = std::min(lo * iz_far, lo * iz_near),
+                s_hi = std::max(hi * iz_far, hi * iz_near);
+    return first_centre_from(f * s_lo + cc - kMargin_px, n) ==
+           first_centre_from(f * s_hi + cc + kMargin_px, n);
+  };
+  return no_centre(c.x(), fx, cx, W) || no_centre(c.y(), fy, cy, H);
+}
+
 // Strict order of screen points by v, then u: the two ends of an edge are
 // told apart the same way by every triangle that has the edge.
 inline bool above(const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
@@ -188,6 +210,12 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
     stamp_ = 1;
   }
 
+  // The link frame to the camera frame in float, for the clusters' spheres.
+  const Eigen::Matrix3f R_camera_link = T_camera_link.linear().cast<float>();
+  const Eigen::Vector3f t_camera_link = T_camera_link.translation().cast<float>();
+  const float fx = float(camera_.fx), fy = float(camera_.fy);
+  const float cx = float(camera_.cx), cy = float(camera_.cy);
+
   PixelRect drawn{camera_.width, camera_.height, 0, 0};
   const bool cull_back_faces = options_.cull_back_faces;
   for (const Cluster& cluster : clusters.clusters) {
@@ -200,6 +228,17 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
       const float reach = cluster.axis.dot(w) * cluster.cos_angle +
                           cluster.axis.cross(w).norm() * cluster.sin_angle + cluster.radius_m;
       if (reach < -0.01f * w.norm()) continue;
+    }
+    // A cluster whose screen extent holds no pixel centre column or row
+    // (between centres at 80x60, or off the view) has nothing to draw:
+    // skipped before its vertices are transformed (a quarter of the sculpted
+    // dual arm's triangles). Clusters across the near plane are left to the
+    // per-triangle clipping.
+    const Eigen::Vector3f centre_camera = R_camera_link * cluster.centre_m + t_camera_link;
+    if (centre_camera.z() - cluster.radius_m >= near &&
+        sphere_holds_no_centre(centre_camera, cluster.radius_m, fx, fy, cx, cy, camera_.width,
+                               camera_.height)) {
+      continue;
     }
     const int* cv = clusters.vertices.data() + cluster.first_vertex;
     for (int k = 0; k < cluster.num_vertices; ++k) {
