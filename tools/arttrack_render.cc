@@ -88,6 +88,7 @@ void run(const RenderArgs& args) {
       r.model_triangles, r.drawn_triangles, r.max_error_px, r.likelihood_camera.width,
       r.likelihood_camera.height, r.nearest_range_m, 1e3 * r.error_bound_m,
       1e3 * r.simplifier_error_m);
+  std::printf("  %s\n", r.mesh_parts.c_str());
   std::printf("  levels of detail:");
   for (std::size_t k = 1; k <= r.level_triangles.size(); ++k)
     std::printf("%s %d beyond %g m", k > 1 ? "," : "", r.level_triangles[k - 1],

@@ -1,7 +1,10 @@
-// Simulator benchmarks on the default scene (models/scene_default.yaml):
+// Simulator benchmarks on the default scene (models/scene_default.yaml, or
+// the scene ARTTRACK_BENCH_SCENE names):
 // one depth frame of the whole scene or the robot alone at 640x480 and
 // 160x120, and one physics step with ground truth.
 #include <benchmark/benchmark.h>
+
+#include <cstdlib>
 
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/scene.h"
@@ -10,9 +13,14 @@
 namespace arttrack::sim {
 namespace {
 
+// ARTTRACK_BENCH_SCENE names another scene (e.g. models/scene_sculpted.yaml).
 const std::shared_ptr<const SimModel>& default_model() {
-  static const auto model = build_sim_model(
-      load_scene(std::filesystem::path(ARTTRACK_SOURCE_DIR) / "models/scene_default.yaml"));
+  static const auto model = [] {
+    const char* scene = std::getenv("ARTTRACK_BENCH_SCENE");
+    return build_sim_model(load_scene(scene ? std::filesystem::path(scene)
+                                            : std::filesystem::path(ARTTRACK_SOURCE_DIR) /
+                                                  "models/scene_default.yaml"));
+  }();
   return model;
 }
 

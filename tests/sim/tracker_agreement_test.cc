@@ -327,5 +327,84 @@ TEST(TrackerAgreement, RenderInlineRobot) {
   check_render(inline_robot(), {{"shoulder", 0.3}, {"elbow", 0.4}, {"head_tilt_joint", 0.75}});
 }
 
+// The mesh dual arm copied with its meshes as makers sometimes export them:
+// forearm.stl wound inside out, and (`open`) upper_arm.obj with a face
+// missing. A camera sees the same surfaces whichever way they are wound.
+Robot dual_arm_meshes_as_exported(const fs::path& dir, bool open) {
+  fs::copy(kModels / "dual_arm_meshes.urdf", dir / "dual_arm_meshes.urdf");
+  fs::copy(kModels / "meshes", dir / "meshes", fs::copy_options::recursive);
+  {  // binary STL: swap two corners of every facet
+    const fs::path stl = dir / "meshes" / "forearm.stl";
+    std::ifstream in(stl, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    EXPECT_EQ((bytes.size() - 84) % 50, 0u);
+    for (std::size_t at = 84; at + 50 <= bytes.size(); at += 50)
+      std::swap_ranges(bytes.begin() + long(at + 24), bytes.begin() + long(at + 36),
+                       bytes.begin() + long(at + 36));
+    std::ofstream(stl, std::ios::binary) << bytes;
+  }
+  if (open) {  // drop the last face
+    const fs::path obj = dir / "meshes" / "upper_arm.obj";
+    std::ifstream in(obj);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const std::size_t last = text.rfind("\nf ");
+    EXPECT_NE(last, std::string::npos);
+    text.erase(last + 1, text.find('\n', last + 1) - last);
+    std::ofstream(obj) << text;
+  }
+  return {"dual_arm_meshes_as_exported", dir / "dual_arm_meshes.urdf", {{"arttrack_models", dir}}};
+}
+
+// Inside out: the simulator and the tracker both turn the forearms outward,
+// so MuJoCo's depth is the original robot's (it culls back faces: without
+// the turn it drew the forearm's far side) and the tracker agrees with it.
+TEST(TrackerAgreement, RenderMeshesWoundInsideOut) {
+  const test_support::ScratchDir dir("agreement_inside_out");
+  const Robot exported = dual_arm_meshes_as_exported(dir.path(), /*open=*/false);
+  const RobotModel robot = tracker_model(exported);
+  for (const char* link : {"left_arm_link_5", "right_arm_link_5"})  // the forearms
+    EXPECT_GE(robot.link(robot.link_index(link)).mesh_parts.turned_parts, 1)
+        << describe_mesh_parts(robot);
+  check_render(exported, home_pose());
+
+  SceneDescription scene = scene_for(exported, 160, 120);
+  scene.initial_joints_rad = home_pose();
+  const auto turned = build_sim_model(scene);
+  EXPECT_FALSE(turned->render_both_sides);
+  scene.urdf_path = dual_arm_meshes().urdf;
+  scene.package_paths = dual_arm_meshes().packages;
+  const auto original = build_sim_model(scene);
+  Simulator sim_turned(turned), sim_original(original);
+  DepthCamera camera_turned(turned), camera_original(original);
+  DepthImage depth_turned, depth_original;
+  PosesAroundHome poses(*original, 31, 0.15);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd q = poses.next();
+    sim_turned.set_joint_positions(q);
+    sim_original.set_joint_positions(q);
+    camera_turned.render(sim_turned.data(), DepthContent::kRobot, depth_turned);
+    camera_original.render(sim_original.data(), DepthContent::kRobot, depth_original);
+    const DepthAgreement a = compare_depth(depth_turned, depth_original, 1e-4);
+    EXPECT_GE(a.fraction_within(), 0.999) << a.summary();
+  }
+}
+
+// Open: a link with an open part is drawn from both sides by the tracker,
+// and MuJoCo's camera draws both sides of everything; they agree.
+TEST(TrackerAgreement, RenderMeshesWithAnOpenPart) {
+  const test_support::ScratchDir dir("agreement_open");
+  const Robot exported = dual_arm_meshes_as_exported(dir.path(), /*open=*/true);
+  const RobotModel robot = tracker_model(exported);
+  int open_links = 0;
+  for (int l = 0; l < robot.num_links(); ++l) open_links += robot.link(l).draw_both_sides();
+  EXPECT_EQ(open_links, 2) << describe_mesh_parts(robot);  // the upper arms
+  SceneDescription scene = scene_for(exported, 160, 120);
+  EXPECT_TRUE(build_sim_model(scene)->render_both_sides);
+  EXPECT_FALSE(build_sim_model(scene_for(dual_arm_meshes(), 64, 48))->render_both_sides);
+  check_render(exported, home_pose());
+}
+
 }  // namespace
 }  // namespace arttrack::sim

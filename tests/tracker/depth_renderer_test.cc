@@ -208,11 +208,11 @@ constexpr char kArm[] = R"(<robot name="arm">
     <origin rpy="-1.9 0 1.5707963267948966"/></joint>
 </robot>)";
 
-// Brute force: the nearest front-facing triangle hit by each pixel's ray,
-// intersected in double precision (Moller-Trumbore), and the round shapes
-// by sphere tracing; z >= near.
+// Brute force: the nearest front-facing triangle hit by each pixel's ray
+// (any triangle with `both_sides`), intersected in double precision
+// (Moller-Trumbore), and the round shapes by sphere tracing; z >= near.
 DepthImage ray_cast(const RobotModel& model, const KinematicsState& state,
-                    const CameraIntrinsics& camera, double near) {
+                    const CameraIntrinsics& camera, double near, bool both_sides = false) {
   DepthImage depth(camera.width, camera.height);
   const Eigen::Isometry3d T_cam_root =
       state.T_root_link[model.camera_link()].inverse(Eigen::Isometry);
@@ -232,7 +232,8 @@ DepthImage ray_cast(const RobotModel& model, const KinematicsState& state,
       const Eigen::Vector3i& t = mesh.triangles[i];
       std::array<Eigen::Vector3d, 3> p;
       for (int k = 0; k < 3; ++k) p[k] = T * mesh.vertices_m[t[k]].cast<double>();
-      if ((p[1] - p[0]).cross(p[2] - p[0]).dot(p[0]) < 0) triangles.push_back(p);  // faces us
+      if (both_sides || (p[1] - p[0]).cross(p[2] - p[0]).dot(p[0]) < 0)  // faces us
+        triangles.push_back(p);
     }
   }
   for (int v = 0; v < camera.height; ++v) {
@@ -409,6 +410,84 @@ TEST(DepthRenderer, SkippedClustersHideNoFrontFace) {
     EXPECT_GT(covered, placement.min_covered);
     EXPECT_LE(coverage_mismatches, 2) << "of " << covered;
     EXPECT_LE(depth_mismatches, 2) << "of " << covered;
+  }
+}
+
+// Published meshes come inside out and open. A box wound inside out is
+// drawn like the box; a box without its top, seen from above through the
+// opening, shows its floor and inner walls, which culling would have hidden
+// (they face away from the camera as wound).
+TEST(DepthRenderer, InsideOutAndOpenMeshesShowTheSurfaceTheCameraSees) {
+  const test_support::ScratchDir scratch("depth_renderer_open");
+  auto write_box = [&](const std::string& name, bool inside_out, bool open_top) {
+    std::ofstream obj(scratch.path() / name);
+    for (int i = 0; i < 8; ++i)
+      obj << "v " << (i & 1 ? 0.1 : -0.1) << " " << (i & 2 ? 0.1 : -0.1) << " "
+          << (i & 4 ? 0.1 : -0.1) << "\n";
+    // Counter-clockwise seen from outside (1-based corners).
+    const int faces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5},
+                             {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+    for (int f = 0; f < 6; ++f) {
+      if (open_top && f == 1) continue;  // the face at z = +0.1
+      const int* c = faces[f];
+      if (inside_out) {
+        obj << "f " << c[3] << " " << c[2] << " " << c[1] << " " << c[0] << "\n";
+      } else {
+        obj << "f " << c[0] << " " << c[1] << " " << c[2] << " " << c[3] << "\n";
+      }
+    }
+  };
+  write_box("box.obj", false, false);
+  write_box("inside_out.obj", true, false);
+  write_box("open.obj", false, true);
+  auto model_of = [&](const std::string& mesh) {
+    return RobotModel::from_urdf_string(R"(<robot name="box">
+  <link name="base_link"/>
+  <link name="box"><visual><geometry><mesh filename=")" +
+                                            mesh +
+                                            R"("/></geometry></visual></link>
+  <link name="camera_optical_frame"/>
+  <joint name="spin" type="continuous"><parent link="base_link"/><child link="box"/>
+    <axis xyz="0 0 1"/></joint>
+  <joint name="cam" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
+    <origin xyz="0.01 0.02 0.6" rpy="3.14159265358979 0 0"/></joint>
+</robot>)",
+                                        scratch.path().string());
+  };
+  const RobotModel box = model_of("box.obj"), inside_out = model_of("inside_out.obj"),
+                   open = model_of("open.obj");
+  const int link = box.link_index("box");
+  EXPECT_EQ(box.link(link).mesh_parts.turned_parts, 0);
+  EXPECT_EQ(inside_out.link(link).mesh_parts.turned_parts, 1);
+  EXPECT_FALSE(inside_out.link(link).draw_both_sides());
+  EXPECT_EQ(open.link(link).mesh_parts.open_parts, 1);
+  EXPECT_TRUE(open.link(link).draw_both_sides());
+
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kPi / 180);
+  for (const double angle : {0.0, 0.7}) {
+    SCOPED_TRACE(angle);
+    KinematicsState state(box);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(box.num_joints());
+    q[box.joint_index("spin")] = angle;
+    forward_kinematics(box, q, state);
+    DepthImage expected, turned, opened;
+    DepthRenderer(box, camera).render(state, expected);
+    DepthRenderer(inside_out, camera).render(state, turned);
+    EXPECT_EQ(turned.depth_m, expected.depth_m);
+
+    DepthRenderer open_renderer(open, camera);
+    open_renderer.render(state, opened);
+    const DepthImage truth =
+        ray_cast(open, state, camera, open_renderer.options().near_m, /*both_sides=*/true);
+    int floor = 0, mismatches = 0;
+    for (std::size_t i = 0; i < opened.depth_m.size(); ++i) {
+      floor += std::abs(truth.depth_m[i] - 0.7f) < 1e-4f;
+      if ((opened.depth_m[i] > 0) != (truth.depth_m[i] > 0) ||
+          std::abs(opened.depth_m[i] - truth.depth_m[i]) > 1e-4f * truth.depth_m[i])
+        ++mismatches;
+    }
+    EXPECT_GT(floor, 100);  // the floor, 0.7 m away, seen through the opening
+    EXPECT_LE(mismatches, 2) << "of " << opened.depth_m.size();
   }
 }
 

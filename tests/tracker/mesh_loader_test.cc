@@ -212,5 +212,62 @@ TEST(MeshLoader, AppendWithMirrorKeepsTrianglesOutward) {
   EXPECT_NEAR(signed_volume_m3(mirrored), 0.1 * 0.2 * 0.3, 1e-7);
 }
 
+// Two boxes side by side, one inside out, the other with one face flipped
+// (as published meshes come): both closed parts are wound outward again.
+TEST(MeshLoader, OrientPartsTurnsClosedPartsOutward) {
+  TriangleMesh mesh;
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  mesh.append(make_box(Eigen::Vector3d(0.1, 0.2, 0.3)), T);
+  T.translation() = Eigen::Vector3d(0.5, 0, 0);
+  mesh.append(make_box(Eigen::Vector3d(0.3, 0.1, 0.2)), T);
+  for (int t = 0; t < 12; ++t)
+    std::swap(mesh.triangles[std::size_t(t)][1], mesh.triangles[std::size_t(t)][2]);
+  std::swap(mesh.triangles[17][0], mesh.triangles[17][1]);
+  ASSERT_FALSE(closed_and_consistent(mesh));
+
+  const MeshOrientation report = orient_parts(mesh);
+  EXPECT_EQ(report.parts, 2);
+  EXPECT_EQ(report.turned_parts, 2);
+  EXPECT_EQ(report.open_parts, 0);
+  EXPECT_TRUE(closed_and_consistent(mesh));
+  EXPECT_NEAR(signed_volume_m3(mesh), 2 * 0.1 * 0.2 * 0.3, 1e-7);
+
+  // Already outward: nothing to do.
+  const TriangleMesh before = mesh;
+  const MeshOrientation again = orient_parts(mesh);
+  EXPECT_EQ(again.turned_parts, 0);
+  EXPECT_EQ(mesh.triangles, before.triangles);
+}
+
+// A box without its top (a border), three triangles on one edge (not a
+// surface) and a triangle's two faces back to back (closed, no volume): none
+// has a right side to cull, and none is changed.
+TEST(MeshLoader, OrientPartsLeavesOpenPartsAsTheyAre) {
+  TriangleMesh open_box = make_box(Eigen::Vector3d(0.2, 0.2, 0.2));
+  std::erase_if(open_box.triangles, [&](const Eigen::Vector3i& t) {
+    return open_box.vertices_m[t[0]].z() > 0 && open_box.vertices_m[t[1]].z() > 0 &&
+           open_box.vertices_m[t[2]].z() > 0;
+  });
+  ASSERT_EQ(open_box.triangles.size(), 10u);
+  TriangleMesh fin;
+  fin.vertices_m = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  fin.triangles = {{0, 1, 2}, {0, 1, 3}, {1, 0, 4}};
+  TriangleMesh sheet;
+  sheet.vertices_m = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 1}};
+
+  TriangleMesh mesh = open_box;
+  mesh.append(fin, Eigen::Affine3d(Eigen::Translation3d(1, 0, 0)));
+  mesh.append(sheet, Eigen::Affine3d(Eigen::Translation3d(3, 0, 0)));
+  const TriangleMesh before = mesh;
+  const MeshOrientation report = orient_parts(mesh);
+  // The fin's triangles share only the edge of three: a part each.
+  EXPECT_EQ(report.parts, 1 + 3 + 1);
+  EXPECT_EQ(report.turned_parts, 0);
+  EXPECT_EQ(report.open_parts, 1 + 3);
+  EXPECT_EQ(report.open_triangles, 13);
+  EXPECT_EQ(mesh.triangles, before.triangles);
+}
+
 }  // namespace
 }  // namespace arttrack

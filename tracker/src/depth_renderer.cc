@@ -217,7 +217,8 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   const float cx = float(camera_.cx), cy = float(camera_.cy);
 
   PixelRect drawn{camera_.width, camera_.height, 0, 0};
-  const bool cull_back_faces = options_.cull_back_faces;
+  // An open mesh part has no back faces (Link::mesh_parts).
+  const bool cull_back_faces = options_.cull_back_faces && !l.draw_both_sides();
   for (const Cluster& cluster : clusters.clusters) {
     if (cull_back_faces && cluster.cos_angle > 0.f) {
       // n . (camera - p) over the cluster's normals n and points p is at
@@ -256,7 +257,7 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
         if (in == 0) continue;
         if (in < 3) {
           const Eigen::Vector3f* corners[3] = {&hom[t[0]], &hom[t[1]], &hom[t[2]]};
-          raster_clipped(corners, depth, drawn);
+          raster_clipped(corners, cull_back_faces, depth, drawn);
           continue;
         }
       }
@@ -475,8 +476,8 @@ void DepthRenderer::draw_round_shape(const RoundShape& shape,
 
 // Clips a triangle (homogeneous image points) against z >= near and draws the
 // remaining polygon (a triangle or a quadrilateral) as a fan.
-void DepthRenderer::raster_clipped(const Eigen::Vector3f* hom[3], DepthImage& depth,
-                                   PixelRect& drawn) const {
+void DepthRenderer::raster_clipped(const Eigen::Vector3f* hom[3], bool cull_back_faces,
+                                   DepthImage& depth, PixelRect& drawn) const {
   const float near = options_.near_m;
   Eigen::Vector3f poly[4];
   int n = 0;
@@ -500,7 +501,7 @@ void DepthRenderer::raster_clipped(const Eigen::Vector3f* hom[3], DepthImage& de
   for (int k = 0; k < n; ++k) screen[k] = project(poly[k]);
   for (int k = 1; k + 1 < n; ++k) {
     if (may_cover(screen[0], screen[k], screen[k + 1], depth.width, depth.height,
-                  options_.cull_back_faces)) {
+                  cull_back_faces)) {
       raster_triangle(screen[0], screen[k], screen[k + 1], depth, drawn);
     }
   }

@@ -5,6 +5,8 @@
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -134,6 +136,120 @@ double area_preserving_radius(int n) {
 }
 
 }  // namespace
+
+MeshOrientation& MeshOrientation::operator+=(const MeshOrientation& other) {
+  parts += other.parts;
+  turned_parts += other.turned_parts;
+  open_parts += other.open_parts;
+  open_triangles += other.open_triangles;
+  return *this;
+}
+
+MeshOrientation orient_parts(TriangleMesh& mesh) {
+  const int n = int(mesh.triangles.size());
+  // Every triangle's three edges, sorted so that the uses of one edge are
+  // adjacent: (lower vertex, higher vertex, triangle, walked lower to higher).
+  struct HalfEdge {
+    std::uint64_t key;
+    int triangle;
+    bool upward;
+  };
+  std::vector<HalfEdge> edges;
+  edges.reserve(3 * std::size_t(n));
+  auto degenerate = [&](int t) {
+    const Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
+    return tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0];
+  };
+  for (int t = 0; t < n; ++t) {
+    if (degenerate(t)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles[std::size_t(t)][k];
+      const int b = mesh.triangles[std::size_t(t)][(k + 1) % 3];
+      const auto lo = std::uint64_t(std::min(a, b)), hi = std::uint64_t(std::max(a, b));
+      edges.push_back({lo << 32 | hi, t, a < b});
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.key < y.key || (x.key == y.key && x.triangle < y.triangle);
+  });
+  // Per triangle: up to three neighbours across edges of exactly two
+  // triangles, and whether the neighbour walks the edge the same way (then
+  // one of the two is wound the other way). `on_border`: a triangle with an
+  // edge of one triangle, or of three and more.
+  struct Neighbour {
+    int triangle;
+    bool same_way;
+  };
+  std::vector<std::array<Neighbour, 3>> neighbours(mesh.triangles.size());
+  std::vector<int> num_neighbours(std::size_t(n), 0);
+  std::vector<char> on_border(std::size_t(n), 0);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+    if (j - i == 2 && edges[i].triangle != edges[i + 1].triangle) {
+      const bool same_way = edges[i].upward == edges[i + 1].upward;
+      for (const auto& [from, to] :
+           {std::pair(edges[i], edges[i + 1]), std::pair(edges[i + 1], edges[i])}) {
+        int& count = num_neighbours[std::size_t(from.triangle)];
+        neighbours[std::size_t(from.triangle)][std::size_t(count++)] = {to.triangle, same_way};
+      }
+    } else {
+      for (std::size_t k = i; k < j; ++k) on_border[std::size_t(edges[k].triangle)] = 1;
+    }
+    i = j;
+  }
+  // Each part in turn: wind its triangles like its first one (a breadth-first
+  // walk), then, if it is closed, the way that encloses a positive volume.
+  MeshOrientation report;
+  std::vector<int> part_of(std::size_t(n), -1);
+  std::vector<char> flip(std::size_t(n), 0);
+  std::vector<int> members;
+  for (int seed = 0; seed < n; ++seed) {
+    if (part_of[std::size_t(seed)] >= 0 || degenerate(seed)) continue;
+    const int part = report.parts++;
+    members.assign(1, seed);
+    part_of[std::size_t(seed)] = part;
+    bool open = false;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const int t = members[m];
+      open = open || on_border[std::size_t(t)];
+      for (int k = 0; k < num_neighbours[std::size_t(t)]; ++k) {
+        const Neighbour& nb = neighbours[std::size_t(t)][std::size_t(k)];
+        const char wanted = char(flip[std::size_t(t)] ^ char(nb.same_way));
+        if (part_of[std::size_t(nb.triangle)] < 0) {
+          part_of[std::size_t(nb.triangle)] = part;
+          flip[std::size_t(nb.triangle)] = wanted;
+          members.push_back(nb.triangle);
+        } else if (flip[std::size_t(nb.triangle)] != wanted) {
+          open = true;  // no consistent winding (a Moebius band)
+        }
+      }
+    }
+    if (open) {
+      ++report.open_parts;
+      report.open_triangles += int(members.size());
+      continue;
+    }
+    double six_volume = 0;
+    for (const int t : members) {
+      const Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
+      const Eigen::Vector3d a = mesh.vertices_m[std::size_t(tri[0])].cast<double>();
+      const Eigen::Vector3d b = mesh.vertices_m[std::size_t(tri[1])].cast<double>();
+      const Eigen::Vector3d c = mesh.vertices_m[std::size_t(tri[2])].cast<double>();
+      six_volume += (flip[std::size_t(t)] ? -1 : 1) * a.dot(b.cross(c));
+    }
+    const char invert = six_volume < 0;
+    bool turned = false;
+    for (const int t : members) {
+      if (!(flip[std::size_t(t)] ^ invert)) continue;
+      Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
+      std::swap(tri[1], tri[2]);
+      turned = true;
+    }
+    report.turned_parts += turned;
+  }
+  return report;
+}
 
 TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
   std::error_code ec;

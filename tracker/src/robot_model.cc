@@ -143,13 +143,22 @@ std::string resolve_mesh_path(const std::string& uri, const std::string& base_di
                    " not found (tried: " + tried + ")");
 }
 
+// A mesh file as loaded, its closed parts turned outward (orient_parts).
+struct LoadedMesh {
+  TriangleMesh mesh;
+  MeshOrientation orientation;
+};
+
 // The triangle mesh of one URDF geometry element, in the element's frame.
+// `orientation`: what orient_parts() found in a mesh file (nothing for a
+// primitive, closed and outward by construction).
 TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& link,
                            const std::string& base_dir, const std::string& source,
                            const RobotModelOptions& options,
-                           std::map<std::string, TriangleMesh>& file_cache,
-                           std::uint64_t& triangles, Eigen::Vector3d& scale) {
+                           std::map<std::string, LoadedMesh>& file_cache, std::uint64_t& triangles,
+                           Eigen::Vector3d& scale, MeshOrientation& orientation) {
   scale = Eigen::Vector3d::Ones();
+  orientation = {};
   // Sizes the simulator refuses (MuJoCo: a geom size must be positive) would
   // render as nothing or as NaN here: refused alike, naming the link.
   auto positive = [&](const char* what, std::initializer_list<double> values) {
@@ -194,15 +203,18 @@ TriangleMesh geometry_mesh(const urdf::Geometry& geometry, const std::string& li
         if (const auto declared = binary_stl_triangle_count(path))
           check_model_count(source, triangles + *declared, ModelLimits::kMaxMeshTriangles, what);
         try {
-          it = file_cache.emplace(path, load_mesh(path)).first;
+          LoadedMesh loaded{load_mesh(path), {}};
+          loaded.orientation = orient_parts(loaded.mesh);
+          it = file_cache.emplace(path, std::move(loaded)).first;
         } catch (const InputError& e) {
           throw InputError(std::string(e.what()) + " (mesh '" + mesh.filename + "' of link '" +
                            link + "' in " + source + ")");
         }
       }
-      triangles += it->second.triangles.size();
+      triangles += it->second.mesh.triangles.size();
       check_model_count(source, triangles, ModelLimits::kMaxMeshTriangles, what);
-      return it->second;
+      orientation = it->second.orientation;
+      return it->second.mesh;
     }
   }
   throw InputError("link '" + link + "' in " + source + " has a geometry of unknown type");
@@ -214,6 +226,24 @@ void check_not_xacro(const std::string& path) {
   if (fs::path(path).extension() != ".xacro") return;
   throw InputError(path + ": a xacro file, not a URDF: expand it first, e.g. `xacro " + path +
                    " > robot.urdf` (ROS's xacro package), and give arttrack the URDF");
+}
+
+std::string describe_mesh_parts(const RobotModel& model) {
+  MeshOrientation total;
+  std::string turned, open;
+  for (int l = 0; l < model.num_links(); ++l) {
+    const Link& link = model.link(l);
+    total += link.mesh_parts;
+    if (link.mesh_parts.turned_parts > 0) turned += (turned.empty() ? "" : ", ") + link.name;
+    if (link.mesh_parts.open_parts > 0) open += (open.empty() ? "" : ", ") + link.name;
+  }
+  if (total.parts == 0) return "no mesh file";
+  std::string out = std::to_string(total.parts) +
+                    " mesh parts: " + std::to_string(total.turned_parts) + " turned outward";
+  if (!turned.empty()) out += " (" + turned + ")";
+  out += ", " + std::to_string(total.open_parts) + " open";
+  if (!open.empty()) out += ", drawn from both sides (" + open + ")";
+  return out;
 }
 
 fs::path find_package_folder(const std::string& name, const fs::path& start) {
@@ -263,7 +293,7 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
   RobotModel model;
   model.source_ = source;
   model.options_ = options;
-  std::map<std::string, TriangleMesh> file_cache;
+  std::map<std::string, LoadedMesh> file_cache;
 
   // A link that is the child of two joints closes a kinematic loop: the walk
   // below would never end.
@@ -351,8 +381,10 @@ RobotModel RobotModel::build(const std::string& xml, const std::string& base_dir
     for (const urdf::VisualSharedPtr& visual : visuals) {
       if (!visual || !visual->geometry) continue;
       Eigen::Vector3d scale;
+      MeshOrientation orientation;
       const TriangleMesh part = geometry_mesh(*visual->geometry, ulink.name, base_dir, source,
-                                              options, file_cache, triangles, scale);
+                                              options, file_cache, triangles, scale, orientation);
+      link.mesh_parts += orientation;
       const Eigen::Isometry3d T_link_visual = to_isometry(visual->origin);
       Eigen::Affine3d T_link_part(T_link_visual);
       const int type = visual->geometry->type;

@@ -86,6 +86,7 @@ SceneRender render_scene(const fs::path& scene_or_scenario, double time_s, std::
   DepthRenderer(drawn, out.camera).render(state, out.model_depth);
   DepthRenderer(robot, out.camera).render(state, out.full_model_depth);
   out.model_triangles = robot.num_drawn_triangles();
+  out.mesh_parts = describe_mesh_parts(robot);
   out.drawn_triangles = drawn.num_drawn_triangles();
   for (int k = 1; k <= config.geometry.coarser_levels; ++k)
     out.level_triangles.push_back(drawn.num_drawn_triangles(k));

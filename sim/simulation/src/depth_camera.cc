@@ -56,6 +56,8 @@ DepthCamera::DepthCamera(std::shared_ptr<const SimModel> model, int width, int h
   s.scene.flags[mjRND_REFLECTION] = 0;
   s.scene.flags[mjRND_SKYBOX] = 0;
   s.scene.flags[mjRND_FOG] = 0;
+  // A camera sees an open surface from either side (SimModel::render_both_sides).
+  s.scene.flags[mjRND_CULL_FACE] = s.model->render_both_sides ? 0 : 1;
   mjv_defaultOption(&s.option);
   mjv_defaultCamera(&s.camera);
   s.camera.type = mjCAMERA_FIXED;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <vector>
 
 #include "arttrack/tracker/error.h"
@@ -111,6 +112,34 @@ bool is_flat(const std::vector<Triangle>& tris) {
          tolerance;
 }
 
+// Turns the closed parts of a triangle soup outward (orient_parts, on its
+// corners joined where they are equal), every triangle kept in its place.
+MeshOrientation orient_soup(std::vector<Triangle>& tris) {
+  struct Less {
+    bool operator()(const Eigen::Vector3f& a, const Eigen::Vector3f& b) const {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    }
+  };
+  std::map<Eigen::Vector3f, int, Less> index_of;
+  TriangleMesh mesh;
+  mesh.triangles.reserve(tris.size());
+  for (const Triangle& t : tris) {
+    Eigen::Vector3i corners;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3f p = t[std::size_t(k)] + Eigen::Vector3f::Zero();  // -0 is 0
+      const auto [it, inserted] = index_of.try_emplace(p, int(mesh.vertices_m.size()));
+      if (inserted) mesh.vertices_m.push_back(p);
+      corners[k] = it->second;
+    }
+    mesh.triangles.push_back(corners);
+  }
+  const std::vector<Eigen::Vector3i> before = mesh.triangles;
+  const MeshOrientation report = orient_parts(mesh);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+    if (mesh.triangles[i] != before[i]) std::swap(tris[i][1], tris[i][2]);
+  return report;
+}
+
 void put_f32(std::vector<char>& buf, size_t& at, float v) {
   std::memcpy(buf.data() + at, &v, 4);
   at += 4;
@@ -142,9 +171,14 @@ ConvertedMesh convert_mesh_to_binary_stl(const fs::path& source, const fs::path&
   // every triangle keeps normals pointing outward.
   const bool mirror = scale.x() * scale.y() * scale.z() < 0;
   const Eigen::Vector3f s = scale.cast<float>();
+  for (Triangle& t : tris) {
+    for (auto& v : t) v = v.cwiseProduct(s);
+    if (mirror) std::swap(t[1], t[2]);
+  }
   ConvertedMesh converted;
   converted.triangles = tris.size();
   converted.flat = is_flat(tris);
+  converted.orientation = orient_soup(tris);
   for (std::size_t first = 0; first < tris.size(); first += kMaxStlTriangles) {
     const std::size_t count = std::min<std::size_t>(kMaxStlTriangles, tris.size() - first);
     std::vector<char> buf(84 + 50 * count, 0);
@@ -154,9 +188,7 @@ ConvertedMesh convert_mesh_to_binary_stl(const fs::path& source, const fs::path&
     std::memcpy(buf.data() + 80, &n, 4);
     size_t at = 84;
     for (std::size_t i = first; i < first + count; ++i) {
-      Triangle t = tris[i];
-      for (auto& v : t) v = v.cwiseProduct(s);
-      if (mirror) std::swap(t[1], t[2]);
+      const Triangle& t = tris[i];
       Eigen::Vector3f normal = (t[1] - t[0]).cross(t[2] - t[0]);
       if (normal.norm() > 0) normal.normalize();
       for (int k = 0; k < 3; ++k) put_f32(buf, at, normal[k]);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "arttrack/tracker/mesh_loader.h"
+
 namespace arttrack::sim {
 
 // MuJoCo 2.2 reads STL files of at most this many triangles.
@@ -23,13 +25,17 @@ struct ConvertedMesh {
   // volume, which MuJoCo 2.2 cannot take as a collision shape (its convex
   // hull fails).
   bool flat = false;
+  // What orient_parts() found (the tracker's loader does the same): closed
+  // parts are written wound outward, open ones as they were.
+  MeshOrientation orientation;
 };
 
 // Writes the mesh at `source` as binary STL: all sub-meshes merged, node
 // transforms baked in (a COLLADA file's unit is applied, its up_axis is not,
 // as in ROS), each vertex multiplied by `scale`, winding kept outward for
-// mirroring scales. Binary STL input is read directly (assimp misreads
-// binary STL whose header starts with "solid"); everything else goes
+// mirroring scales and closed parts turned outward (orient_parts(): MuJoCo
+// culls back faces, so a part exported inside out would show its far side). Binary STL input is
+// read directly (assimp misreads binary STL whose header starts with "solid"); everything else goes
 // through assimp. The file is `target_stem`.stl, or, past kMaxStlTriangles,
 // parts `target_stem`.stl, `target_stem`_1.stl, ... of at most that many.
 // Unreadable or empty meshes, or more than `max_triangles` (checked before

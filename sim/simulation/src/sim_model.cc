@@ -514,6 +514,7 @@ std::shared_ptr<const SimModel> build_sim_model(const SceneDescription& scene,
   model->root_link = urdf.root_link;
   model->camera_id = id_of(m, mjOBJ_CAMERA, kCameraName, where);
   model->camera_body = id_of(m, mjOBJ_BODY, scene.camera_link, where);
+  model->render_both_sides = urdf.open_visual_meshes;
   for (const auto& e : scene.end_effector_links) {
     model->end_effector_names.push_back(e);
     model->end_effector_body.push_back(id_of(m, mjOBJ_BODY, e, where));

@@ -471,7 +471,8 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
                                         std::string(scale_text ? scale_text : "1 1 1"));
         std::uint64_t& used = triangles[kind];
         auto it = converted.find(key);
-        if (it == converted.end()) {
+        const bool first_use = it == converted.end();
+        if (first_use) {
           std::string stem = "m";
           stem += std::to_string(converted.size());
           stem += '_';
@@ -483,6 +484,20 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
                    .first;
         }
         used += it->second.triangles;
+        // Once per file: what orient_parts() turned or left open.
+        const MeshOrientation& parts = it->second.orientation;
+        if (first_use && (parts.turned_parts > 0 || parts.open_parts > 0)) {
+          std::string what = context + " '" + filename + "': of its " +
+                             std::to_string(parts.parts) + " parts, " +
+                             std::to_string(parts.turned_parts) +
+                             " wound inside out or with faces flipped (turned outward), " +
+                             std::to_string(parts.open_parts) + " open";
+          if (parts.open_parts > 0)
+            what += " (not closed: the depth camera draws both sides of every surface)";
+          info.notices.push_back(what);
+        }
+        if (std::string(kind) == "visual")
+          info.open_visual_meshes = info.open_visual_meshes || parts.open_parts > 0;
         check_model_count(where, used, ModelLimits::kMaxMeshTriangles,
                           std::string(kind) + " mesh triangles (with '" + filename + "' of link '" +
                               l->Attribute("name") + "')");

@@ -54,6 +54,10 @@ struct UrdfInfo {
   // (mass or an inertia eigenvalue not positive, nothing welded to them
   // with mass): link -> why.
   std::map<std::string, std::string> unusable_inertials;
+  // A visual mesh has an open part (orient_parts()): the depth camera then
+  // draws both sides of every surface, as MuJoCo's back-face culling would
+  // show the far side or nothing there.
+  bool open_visual_meshes = false;
   // What the simulator left out or changed that the user should know
   // ("<source>:<line>: ..."), e.g. a collision shape without volume.
   std::vector<std::string> notices;

@@ -5,7 +5,8 @@
 // link is seen, in the optical frame of model.camera_link() (z forward, x
 // right, y down) with pinhole intrinsics; pixel (u, v) samples the ray through
 // its centre (u + 0.5, v + 0.5). Link meshes are closed and wound
-// counter-clockwise seen from outside; back faces are culled, triangles
+// counter-clockwise seen from outside, and back faces are culled, except on
+// a link with an open mesh part (Link::draw_both_sides()); triangles
 // crossing the near plane are clipped, depth is exact for planar triangles
 // (1/z interpolated in screen space), and triangles sharing an edge leave no
 // gap between them (a pixel centre belongs to the triangle whose half-open
@@ -102,7 +103,8 @@ class DepthRenderer {
   PixelRect draw_link(int link, const Eigen::Isometry3d& T_camera_root, DepthImage& depth);
   void raster_triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
                        DepthImage& depth, PixelRect& drawn) const;
-  void raster_clipped(const Eigen::Vector3f* hom[3], DepthImage& depth, PixelRect& drawn) const;
+  void raster_clipped(const Eigen::Vector3f* hom[3], bool cull_back_faces, DepthImage& depth,
+                      PixelRect& drawn) const;
   void draw_round_shape(const RoundShape& shape, const Eigen::Isometry3d& T_camera_link,
                         DepthImage& depth, PixelRect& drawn) const;
 

@@ -1,8 +1,10 @@
 // Triangle meshes of link shapes: loading mesh files (STL, OBJ, DAE through
 // assimp) and tessellating the URDF primitives (box, cylinder, sphere).
 //
-// Every mesh is closed and wound counter-clockwise seen from outside (the
-// renderer culls back faces). Lengths are metres.
+// The primitives are closed and wound counter-clockwise seen from outside
+// (the renderer culls back faces). A mesh file need not be: orient_parts()
+// turns its closed parts outward and finds those that are open, which the
+// renderer draws from both sides. Lengths are metres.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,6 +40,34 @@ struct TriangleMesh {
 // it is missing, unreadable or holds no triangle.
 TriangleMesh load_mesh(const std::string& path,
                        const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
+
+// What orient_parts() found in a mesh: its parts (triangles joined by
+// edges that exactly two triangles share), those it turned outward, and
+// those it left open.
+struct MeshOrientation {
+  int parts = 0;
+  // Closed parts some of whose triangles were wound the other way (a part
+  // inside out, or faces flipped in it): their triangles now wind
+  // counter-clockwise seen from outside (the part encloses a positive volume).
+  int turned_parts = 0;
+  // Parts with a border edge (one triangle), an edge of three or more
+  // triangles, or no consistent winding: they enclose nothing, so no side
+  // is a back face, and back-face culling would show the far side or hide
+  // the surface. Left as they are.
+  int open_parts = 0;
+  int open_triangles = 0;
+
+  MeshOrientation& operator+=(const MeshOrientation& other);
+};
+
+// Winds every closed part of `mesh` counter-clockwise seen from outside,
+// as the renderer's back-face culling needs, and reports the parts that
+// are not closed. Published meshes come with faces flipped, parts inside out
+// (a mirrored export) and open shells; the camera sees their surfaces
+// whichever way they are wound. A part of zero volume (two faces back to
+// back) is left as it is; a triangle with a repeated corner belongs to no
+// part.
+MeshOrientation orient_parts(TriangleMesh& mesh);
 
 // A box centred at the origin with edge lengths `size_m` along x, y, z
 // (8 vertices, 12 triangles).

@@ -28,6 +28,7 @@ struct SceneRender {
   // scenario's tracker configuration, or the default one for a scene).
   DepthImage model_depth;
   DepthImage full_model_depth;  // the same with the full meshes
+  std::string mesh_parts;       // describe_mesh_parts() of the tracker's model
   int model_triangles = 0;      // of the tracker's model as loaded
   int drawn_triangles = 0;      // of what it draws
   // Per coarser level k = 1, 2, ...: triangles drawn beyond nearest_range_m 2^k.

@@ -62,6 +62,9 @@ struct SimModel {
 
   int camera_id = -1;    // MuJoCo camera at the camera link
   int camera_body = -1;  // body of the camera link (the optical frame)
+  // A robot visual mesh has an open part (orient_parts()): the depth camera
+  // draws both sides of every surface (MuJoCo culls back faces otherwise).
+  bool render_both_sides = false;
   std::vector<std::string> end_effector_names;
   std::vector<int> end_effector_body;
   std::vector<std::string> occluder_names;
