@@ -267,24 +267,6 @@ TEST(JointFilter, ImagesFoldedInTeachTheBias) {
   EXPECT_LT(std::sqrt(b.var_b[0]), 0.01);
 }
 
-TEST(JointFilter, PerJointParamsAppliesOverridesAndRejectsUnknownJoints) {
-  const std::vector<std::string> names = {"a", "b", "c"};
-  JointFilterParams defaults, special;
-  special.encoder_noise_rad = 0.05;
-  const auto params = per_joint_params(names, defaults, {{"b", special}}, "cfg.yaml joints");
-  ASSERT_EQ(params.size(), 3u);
-  EXPECT_EQ(params[0].encoder_noise_rad, defaults.encoder_noise_rad);
-  EXPECT_EQ(params[1].encoder_noise_rad, 0.05);
-  const std::string error = test_support::error_of([&] {
-    per_joint_params(names, defaults, {{"wrist", special}}, "cfg.yaml joints");
-  });
-  EXPECT_NE(error.find("wrist"), std::string::npos) << error;
-  EXPECT_NE(error.find("cfg.yaml"), std::string::npos) << error;
-  const std::vector<std::string> cams = {"cam_x"};
-  EXPECT_THROW(per_joint_params(cams, VirtualJointParams{}, {{"cam_q", VirtualJointParams{}}}, "v"),
-               InputError);
-}
-
 TEST(JointFilter, RejectsBadInput) {
   JointFilterParams bad_c;
   bad_c.bias_decay_per_s = 1.0;

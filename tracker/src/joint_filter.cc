@@ -12,23 +12,6 @@
 namespace arttrack {
 namespace {
 
-template <class P>
-std::vector<P> expand_params(std::span<const std::string> names, const P& defaults,
-                             const std::map<std::string, P>& overrides, std::string_view context) {
-  for (const auto& [name, p] : overrides) {
-    if (std::find(names.begin(), names.end(), name) == names.end()) {
-      throw InputError(std::string(context) + ": unknown joint '" + name + "'");
-    }
-  }
-  std::vector<P> out;
-  out.reserve(names.size());
-  for (const std::string& name : names) {
-    const auto it = overrides.find(name);
-    out.push_back(it == overrides.end() ? defaults : it->second);
-  }
-  return out;
-}
-
 // The bias transition over dt for decay rate k: the mean factor
 // phi = exp(-k dt) = c^dt, and the variance an Ornstein-Uhlenbeck process of
 // unit diffusion rate gains, (1 - exp(-2 k dt)) / (2 k) (dt for k -> 0, a
@@ -114,18 +97,6 @@ inline void update_one(double q, double r, double& a, double& b, double& paa, do
 double JointFilterParams::stationary_bias_std_rad() const {
   if (!estimate_bias) return 0;
   return bias_diffusion_rad_per_sqrt_s / std::sqrt(2 * std::log(1 / bias_decay_per_s));
-}
-
-std::vector<JointFilterParams> per_joint_params(
-    std::span<const std::string> joint_names, const JointFilterParams& defaults,
-    const std::map<std::string, JointFilterParams>& overrides, std::string_view context) {
-  return expand_params(joint_names, defaults, overrides, context);
-}
-
-std::vector<VirtualJointParams> per_joint_params(
-    std::span<const std::string> joint_names, const VirtualJointParams& defaults,
-    const std::map<std::string, VirtualJointParams>& overrides, std::string_view context) {
-  return expand_params(joint_names, defaults, overrides, context);
 }
 
 void JointFilterParams::validate(std::string_view source, const std::string& prefix,

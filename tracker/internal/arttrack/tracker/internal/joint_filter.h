@@ -26,7 +26,6 @@
 // joints after them. Angles in radians (metres for prismatic virtual joints).
 #pragma once
 
-#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -37,17 +36,6 @@
 #include "arttrack/tracker/units.h"
 
 namespace arttrack {
-
-// Per-joint parameters in bank order from defaults plus per-name overrides
-// (complete structs, e.g. the defaults with some fields changed by a config
-// file). Throws InputError naming `context` and the joint if an override
-// names a joint not in `joint_names`.
-std::vector<JointFilterParams> per_joint_params(
-    std::span<const std::string> joint_names, const JointFilterParams& defaults,
-    const std::map<std::string, JointFilterParams>& overrides, std::string_view context);
-std::vector<VirtualJointParams> per_joint_params(
-    std::span<const std::string> joint_names, const VirtualJointParams& defaults,
-    const std::map<std::string, VirtualJointParams>& overrides, std::string_view context);
 
 // The immutable part of the bank: joint names and their noises, stored as
 // flat per-joint arrays for the filter loops.
