@@ -101,28 +101,18 @@ double JointFilterParams::stationary_bias_std_rad() const {
 
 void JointFilterParams::validate(std::string_view source, const std::string& prefix,
                                  bool linear) const {
-  if (linear) {
-    check_range(source, prefix + "encoder_noise_m", encoder_noise_rad,
-                ConfigRange::open_closed(0, 1));
-    check_range(source, prefix + "position_diffusion_m_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
-                ConfigRange::closed(0, 1e3));
-  } else {
-    check_range(source, prefix + "encoder_noise_deg", encoder_noise_rad,
-                ConfigRange::open_closed(0, 90), kRadPerDeg);
-    check_range(source, prefix + "angle_diffusion_deg_per_sqrt_s", angle_diffusion_rad_per_sqrt_s,
-                ConfigRange::closed(0, 1e5), kRadPerDeg);
-  }
+  const JointNoiseKeys& keys = joint_noise_keys(linear);
+  check_range(source, prefix + keys.encoder_noise, encoder_noise_rad,
+              ConfigRange::open_closed(0, keys.max_encoder_noise), keys.unit);
+  check_range(source, prefix + keys.motion_diffusion, angle_diffusion_rad_per_sqrt_s,
+              ConfigRange::closed(0, keys.max_diffusion), keys.unit);
   // sigma_b and c matter only while the bias is estimated; c is held to
   // (0, 1) either way, so that a per-joint override that switches the
   // estimate on never inherits an impossible decay.
-  ConfigRange sigma_b = ConfigRange::closed(0, linear ? 1e3 : 1e5);
+  ConfigRange sigma_b = ConfigRange::closed(0, keys.max_diffusion);
   sigma_b.lo_open = estimate_bias;
-  if (linear)
-    check_range(source, prefix + "bias_diffusion_m_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
-                sigma_b);
-  else
-    check_range(source, prefix + "bias_diffusion_deg_per_sqrt_s", bias_diffusion_rad_per_sqrt_s,
-                sigma_b, kRadPerDeg);
+  check_range(source, prefix + keys.bias_diffusion, bias_diffusion_rad_per_sqrt_s, sigma_b,
+              keys.unit);
   check_range(source, prefix + "bias_decay_per_s", bias_decay_per_s, ConfigRange::open(0, 1));
 }
 

@@ -37,18 +37,12 @@ void read_numbers(const ConfigNode& node, std::initializer_list<NumberKey> keys)
 // `base` supplies the values of keys not given.
 JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterParams& base,
                                     bool linear) {
+  const JointNoiseKeys& keys = joint_noise_keys(linear);
   JointFilterParams p = base;
-  if (linear)
-    read_numbers(node, {{"encoder_noise_m", &p.encoder_noise_rad},
-                        {"position_diffusion_m_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s},
-                        {"bias_diffusion_m_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s},
-                        {"bias_decay_per_s", &p.bias_decay_per_s}});
-  else
-    read_numbers(node,
-                 {{"encoder_noise_deg", &p.encoder_noise_rad, kRadPerDeg},
-                  {"angle_diffusion_deg_per_sqrt_s", &p.angle_diffusion_rad_per_sqrt_s, kRadPerDeg},
-                  {"bias_diffusion_deg_per_sqrt_s", &p.bias_diffusion_rad_per_sqrt_s, kRadPerDeg},
-                  {"bias_decay_per_s", &p.bias_decay_per_s}});
+  read_numbers(node, {{keys.encoder_noise, &p.encoder_noise_rad, keys.unit},
+                      {keys.motion_diffusion, &p.angle_diffusion_rad_per_sqrt_s, keys.unit},
+                      {keys.bias_diffusion, &p.bias_diffusion_rad_per_sqrt_s, keys.unit},
+                      {"bias_decay_per_s", &p.bias_decay_per_s}});
   p.estimate_bias = node.get<bool>("estimate_bias", base.estimate_bias);
   return p;
 }
@@ -56,28 +50,25 @@ JointFilterParams read_joint_params(const ConfigNode& node, const JointFilterPar
 // A joints.per_joint entry: the keys it gives, in the units its keys say
 // (degrees or metres, never both).
 JointFilterOverride read_joint_override(const ConfigNode& node) {
-  constexpr const char* kAngular[] = {"encoder_noise_deg", "angle_diffusion_deg_per_sqrt_s",
-                                      "bias_diffusion_deg_per_sqrt_s"};
-  constexpr const char* kLinear[] = {"encoder_noise_m", "position_diffusion_m_per_sqrt_s",
-                                     "bias_diffusion_m_per_sqrt_s"};
-  JointFilterOverride o;
-  const auto given = [&](const char* const(&keys)[3]) {
-    for (const char* k : keys)
+  const auto given = [&](const JointNoiseKeys& keys) {
+    for (const char* k : {keys.encoder_noise, keys.motion_diffusion, keys.bias_diffusion})
       if (node.has(k)) return k;
     return static_cast<const char*>(nullptr);
   };
-  const char* angular = given(kAngular);
-  const char* linear = given(kLinear);
+  const char* angular = given(kRevoluteNoiseKeys);
+  const char* linear = given(kPrismaticNoiseKeys);
   if (angular && linear)
     node.fail(linear, std::string("is in metres (a prismatic joint's) but ") + angular +
                           " is in degrees (a revolute joint's): one joint is one or the other");
+  JointFilterOverride o;
   if (angular || linear) o.linear = linear != nullptr;
-  const char* const* keys = linear ? kLinear : kAngular;
-  const double unit = linear ? 1.0 : kRadPerDeg;
-  std::optional<double>* fields[] = {&o.encoder_noise, &o.motion_diffusion_per_sqrt_s,
-                                     &o.bias_diffusion_per_sqrt_s};
-  for (int k = 0; k < 3; ++k)
-    if (node.has(keys[k])) *fields[k] = node.number(keys[k], 0.0) * unit;
+  const JointNoiseKeys& keys = joint_noise_keys(linear != nullptr);
+  const std::pair<const char*, std::optional<double>*> fields[] = {
+      {keys.encoder_noise, &o.encoder_noise},
+      {keys.motion_diffusion, &o.motion_diffusion_per_sqrt_s},
+      {keys.bias_diffusion, &o.bias_diffusion_per_sqrt_s}};
+  for (const auto& [key, field] : fields)
+    if (node.has(key)) *field = node.number(key, 0.0) * keys.unit;
   if (node.has("bias_decay_per_s")) o.bias_decay_per_s = node.number("bias_decay_per_s", 0.0);
   if (node.has("estimate_bias")) o.estimate_bias = node.get<bool>("estimate_bias", true);
   return o;

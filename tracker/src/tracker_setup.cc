@@ -93,13 +93,14 @@ JointFilterParams joint_filter_params(const RobotModel& model, const TrackerConf
   const auto it = config.joint_overrides.find(name);
   if (it == config.joint_overrides.end()) return defaults;
   const JointFilterOverride& o = it->second;
-  if (o.linear && *o.linear != prismatic)
+  if (o.linear && *o.linear != prismatic) {
+    const JointNoiseKeys& keys = joint_noise_keys(prismatic);
     throw InputError(config.source + ": joints.per_joint." + name + ": '" + name + "' is " +
-                     (prismatic
-                          ? "a prismatic joint: its keys are in metres (encoder_noise_m, "
-                            "position_diffusion_m_per_sqrt_s, bias_diffusion_m_per_sqrt_s)"
-                          : "a revolute joint: its keys are in degrees (encoder_noise_deg, "
-                            "angle_diffusion_deg_per_sqrt_s, bias_diffusion_deg_per_sqrt_s)"));
+                     (prismatic ? "a prismatic joint: its keys are in metres ("
+                                : "a revolute joint: its keys are in degrees (") +
+                     keys.encoder_noise + ", " + keys.motion_diffusion + ", " +
+                     keys.bias_diffusion + ")");
+  }
   return o.over(defaults);
 }
 

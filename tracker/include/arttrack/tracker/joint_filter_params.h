@@ -56,6 +56,33 @@ struct JointFilterParams {
   void validate(std::string_view source, const std::string& prefix = "", bool linear = false) const;
 };
 
+// The configuration keys of a joint's three noises, in the units of its
+// kind: a revolute or continuous joint's in degrees, a prismatic joint's in
+// metres. The one table the configuration is read, checked and explained by.
+struct JointNoiseKeys {
+  const char* encoder_noise;     // JointFilterParams::encoder_noise_rad
+  const char* motion_diffusion;  // angle_diffusion_rad_per_sqrt_s
+  const char* bias_diffusion;    // bias_diffusion_rad_per_sqrt_s
+  double unit;                   // a key's value times unit: the field's (rad or m)
+  // Largest encoder noise and diffusion, in the key's unit.
+  double max_encoder_noise, max_diffusion;
+};
+inline constexpr JointNoiseKeys kRevoluteNoiseKeys{"encoder_noise_deg",
+                                                   "angle_diffusion_deg_per_sqrt_s",
+                                                   "bias_diffusion_deg_per_sqrt_s",
+                                                   kRadPerDeg,
+                                                   90,
+                                                   1e5};
+inline constexpr JointNoiseKeys kPrismaticNoiseKeys{"encoder_noise_m",
+                                                    "position_diffusion_m_per_sqrt_s",
+                                                    "bias_diffusion_m_per_sqrt_s",
+                                                    1.0,
+                                                    1,
+                                                    1e3};
+inline const JointNoiseKeys& joint_noise_keys(bool linear) {
+  return linear ? kPrismaticNoiseKeys : kRevoluteNoiseKeys;
+}
+
 // Some of one joint's parameters, over the defaults for its kind of joint
 // (TrackerConfig::joint_overrides, a YAML joints.per_joint entry). The
 // numbers are radians, or metres when `linear` (the entry gave _m keys: a
