@@ -165,6 +165,20 @@ PixelRect DepthRenderer::draw_links(const KinematicsState& state, const LinkSet&
   return drawn;
 }
 
+// Vertex i of the drawn level into hom_, and where it is in front of the
+// near plane (or the link cannot reach it), into screen_ and first_centre_.
+inline void DepthRenderer::transform_vertex(int i, const Eigen::Matrix3f& A,
+                                            const Eigen::Vector3f& b, const Eigen::Vector3f* v,
+                                            bool may_clip) {
+  hom_[std::size_t(i)] = A * v[i] + b;
+  if (!may_clip || hom_[std::size_t(i)].z() >= options_.near_m) {
+    screen_[std::size_t(i)] = project(hom_[std::size_t(i)]);
+    first_centre_[std::size_t(i)] =
+        Eigen::Vector2i(first_centre_from(screen_[std::size_t(i)].x(), camera_.width),
+                        first_centre_from(screen_[std::size_t(i)].y(), camera_.height));
+  }
+}
+
 PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_link,
                                    DepthImage& depth) {
   const float near = options_.near_m;
@@ -270,19 +284,6 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   for (const RoundShape& shape : l.round_shapes)
     draw_round_shape(shape, T_camera_link, depth, drawn);
   return drawn.empty() ? PixelRect{} : drawn;
-}
-
-// Vertex i of the drawn level into hom_, and where it is in front of the
-// near plane (or the link cannot reach it), into screen_ and first_centre_.
-void DepthRenderer::transform_vertex(int i, const Eigen::Matrix3f& A, const Eigen::Vector3f& b,
-                                     const Eigen::Vector3f* v, bool may_clip) {
-  hom_[std::size_t(i)] = A * v[i] + b;
-  if (!may_clip || hom_[std::size_t(i)].z() >= options_.near_m) {
-    screen_[std::size_t(i)] = project(hom_[std::size_t(i)]);
-    first_centre_[std::size_t(i)] =
-        Eigen::Vector2i(first_centre_from(screen_[std::size_t(i)].x(), camera_.width),
-                        first_centre_from(screen_[std::size_t(i)].y(), camera_.height));
-  }
 }
 
 // meshoptimizer's meshlets of the mesh's triangles but the round shapes':
