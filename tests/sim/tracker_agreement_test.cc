@@ -227,7 +227,8 @@ class BothRenders {
 // `geometry`, the tracker's meshes are simplified as a tracker with that
 // configuration draws them for an 80x60 likelihood (mesh_simplify.h).
 void check_render(const Robot& r, const std::map<std::string, double>& home,
-                  const TrackerConfig::Geometry* geometry = nullptr) {
+                  const TrackerConfig::Geometry* geometry = nullptr,
+                  bool open_parts_both_sides = false) {
   SCOPED_TRACE(r.name);
   SceneDescription scene = scene_for(r, 160, 120);
   scene.initial_joints_rad = home;
@@ -245,6 +246,7 @@ void check_render(const Robot& r, const std::map<std::string, double>& home,
   }
   RenderOptions options;
   options.near_m = float(scene.near_m);  // clip where MuJoCo clips
+  options.open_parts_both_sides = open_parts_both_sides;
   BothRenders renders(model, robot, options);
   PosesAroundHome poses(*model, 30, 0.15);
   for (int trial = 0; trial < 6; ++trial) {
@@ -391,19 +393,19 @@ TEST(TrackerAgreement, RenderMeshesWoundInsideOut) {
   }
 }
 
-// Open: a link with an open part is drawn from both sides by the tracker,
-// and MuJoCo's camera draws both sides of everything; they agree.
+// Open: MuJoCo's camera draws both sides of every surface, and so does the
+// tracker asked to draw open parts from both sides; they agree.
 TEST(TrackerAgreement, RenderMeshesWithAnOpenPart) {
   const test_support::ScratchDir dir("agreement_open");
   const Robot exported = dual_arm_meshes_as_exported(dir.path(), /*open=*/true);
   const RobotModel robot = tracker_model(exported);
   int open_links = 0;
-  for (int l = 0; l < robot.num_links(); ++l) open_links += robot.link(l).draw_both_sides();
+  for (int l = 0; l < robot.num_links(); ++l) open_links += robot.link(l).has_open_parts();
   EXPECT_EQ(open_links, 2) << describe_mesh_parts(robot);  // the upper arms
   SceneDescription scene = scene_for(exported, 160, 120);
   EXPECT_TRUE(build_sim_model(scene)->render_both_sides);
   EXPECT_FALSE(build_sim_model(scene_for(dual_arm_meshes(), 64, 48))->render_both_sides);
-  check_render(exported, home_pose());
+  check_render(exported, home_pose(), nullptr, /*open_parts_both_sides=*/true);
 }
 
 }  // namespace

@@ -40,7 +40,7 @@ struct Fixture {
     reading[std::size_t(elbow())] = kTrueElbow + kBias;
     belief = initial_joint_belief(*setup.filter_model, reading);
     encoders_arm = belief.mean_a;
-    if (image.set_image(observed, kCamera)) acquisition.draw(image.geometry().drawn_model());
+    if (image.set_image(observed, kCamera)) acquisition.draw(image.geometry());
   }
   int shoulder() const { return setup.model->joint_index("shoulder"); }
   int elbow() const { return setup.model->joint_index("elbow"); }

@@ -67,7 +67,7 @@ constexpr std::size_t field_count() {
   else
     return sizeof...(Fields);
 }
-static_assert(field_count<TrackerConfig::Geometry>() == 3);  // the counting itself
+static_assert(field_count<TrackerConfig::Geometry>() == 4);  // the counting itself
 static_assert(field_count<TrackerConfig::Block>() == 2);
 
 // A key of default.yaml and the field of S it holds; a double's value in
@@ -260,7 +260,8 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
   f.nested("geometry.", &C::geometry, [](FieldList<C::Geometry>& g) {
     using G = C::Geometry;
     g(key("max_error_px", &G::max_error_px), key("nearest_range_m", &G::nearest_range_m),
-      key("coarser_levels", &G::coarser_levels));
+      key("coarser_levels", &G::coarser_levels),
+      key("open_parts_both_sides", &G::open_parts_both_sides));
   });
   f.nested("particle_filter.", &C::particle_filter, list_particle_filter);
   f.elements("particle_filter.blocks", &C::blocks, [](FieldList<C::Block>& b) {

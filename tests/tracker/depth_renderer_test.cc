@@ -415,8 +415,9 @@ TEST(DepthRenderer, SkippedClustersHideNoFrontFace) {
 
 // Published meshes come inside out and open. A box wound inside out is
 // drawn like the box; a box without its top, seen from above through the
-// opening, shows its floor and inner walls, which culling would have hidden
-// (they face away from the camera as wound).
+// opening, shows its floor and inner walls when open parts are drawn from
+// both sides, and nothing there when culled as if closed (they face away
+// from the camera as wound).
 TEST(DepthRenderer, InsideOutAndOpenMeshesShowTheSurfaceTheCameraSees) {
   const test_support::ScratchDir scratch("depth_renderer_open");
   auto write_box = [&](const std::string& name, bool inside_out, bool open_top) {
@@ -459,9 +460,9 @@ TEST(DepthRenderer, InsideOutAndOpenMeshesShowTheSurfaceTheCameraSees) {
   const int link = box.link_index("box");
   EXPECT_EQ(box.link(link).mesh_parts.turned_parts, 0);
   EXPECT_EQ(inside_out.link(link).mesh_parts.turned_parts, 1);
-  EXPECT_FALSE(inside_out.link(link).draw_both_sides());
+  EXPECT_FALSE(inside_out.link(link).has_open_parts());
   EXPECT_EQ(open.link(link).mesh_parts.open_parts, 1);
-  EXPECT_TRUE(open.link(link).draw_both_sides());
+  EXPECT_TRUE(open.link(link).has_open_parts());
 
   const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kPi / 180);
   for (const double angle : {0.0, 0.7}) {
@@ -475,19 +476,24 @@ TEST(DepthRenderer, InsideOutAndOpenMeshesShowTheSurfaceTheCameraSees) {
     DepthRenderer(inside_out, camera).render(state, turned);
     EXPECT_EQ(turned.depth_m, expected.depth_m);
 
-    DepthRenderer open_renderer(open, camera);
-    open_renderer.render(state, opened);
-    const DepthImage truth =
-        ray_cast(open, state, camera, open_renderer.options().near_m, /*both_sides=*/true);
-    int floor = 0, mismatches = 0;
-    for (std::size_t i = 0; i < opened.depth_m.size(); ++i) {
-      floor += std::abs(truth.depth_m[i] - 0.7f) < 1e-4f;
-      if ((opened.depth_m[i] > 0) != (truth.depth_m[i] > 0) ||
-          std::abs(opened.depth_m[i] - truth.depth_m[i]) > 1e-4f * truth.depth_m[i])
-        ++mismatches;
+    // Both sides, as asked: the floor, 0.7 m away, seen through the
+    // opening. Culled (the default): the opening shows nothing.
+    for (const bool both_sides : {true, false}) {
+      RenderOptions options;
+      options.open_parts_both_sides = both_sides;
+      DepthRenderer open_renderer(open, camera, options);
+      open_renderer.render(state, opened);
+      const DepthImage truth = ray_cast(open, state, camera, options.near_m, both_sides);
+      int floor = 0, mismatches = 0;
+      for (std::size_t i = 0; i < opened.depth_m.size(); ++i) {
+        floor += std::abs(opened.depth_m[i] - 0.7f) < 1e-4f;
+        if ((opened.depth_m[i] > 0) != (truth.depth_m[i] > 0) ||
+            std::abs(opened.depth_m[i] - truth.depth_m[i]) > 1e-4f * truth.depth_m[i])
+          ++mismatches;
+      }
+      EXPECT_EQ(floor > 100, both_sides) << floor;
+      EXPECT_LE(mismatches, 2) << "of " << opened.depth_m.size();
     }
-    EXPECT_GT(floor, 100);  // the floor, 0.7 m away, seen through the opening
-    EXPECT_LE(mismatches, 2) << "of " << opened.depth_m.size();
   }
 }
 

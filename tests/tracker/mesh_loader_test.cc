@@ -239,10 +239,11 @@ TEST(MeshLoader, OrientPartsTurnsClosedPartsOutward) {
   EXPECT_EQ(mesh.triangles, before.triangles);
 }
 
-// A box without its top (a border), three triangles on one edge (not a
-// surface) and a triangle's two faces back to back (closed, no volume): none
-// has a right side to cull, and none is changed.
-TEST(MeshLoader, OrientPartsLeavesOpenPartsAsTheyAre) {
+// A box without its top (a border) wound inside out, three triangles on one
+// edge (not a surface) and a triangle's two faces back to back (closed, no
+// volume): the box, open but enclosing a volume, is turned outward; the
+// others have no outside and are left as they are.
+TEST(MeshLoader, OrientPartsTurnsOpenPartsOnlyWhenTheyEncloseAVolume) {
   TriangleMesh open_box = make_box(Eigen::Vector3d(0.2, 0.2, 0.2));
   std::erase_if(open_box.triangles, [&](const Eigen::Vector3i& t) {
     return open_box.vertices_m[t[0]].z() > 0 && open_box.vertices_m[t[1]].z() > 0 &&
@@ -257,16 +258,21 @@ TEST(MeshLoader, OrientPartsLeavesOpenPartsAsTheyAre) {
   sheet.triangles = {{0, 1, 2}, {0, 2, 1}};
 
   TriangleMesh mesh = open_box;
+  for (Eigen::Vector3i& t : mesh.triangles) std::swap(t[1], t[2]);  // inside out
   mesh.append(fin, Eigen::Affine3d(Eigen::Translation3d(1, 0, 0)));
   mesh.append(sheet, Eigen::Affine3d(Eigen::Translation3d(3, 0, 0)));
   const TriangleMesh before = mesh;
   const MeshOrientation report = orient_parts(mesh);
   // The fin's triangles share only the edge of three: a part each.
   EXPECT_EQ(report.parts, 1 + 3 + 1);
-  EXPECT_EQ(report.turned_parts, 0);
   EXPECT_EQ(report.open_parts, 1 + 3);
   EXPECT_EQ(report.open_triangles, 13);
-  EXPECT_EQ(mesh.triangles, before.triangles);
+  // The open box still encloses a volume: turned outward like a closed one.
+  EXPECT_EQ(report.turned_parts, 1);
+  for (std::size_t t = 0; t < open_box.triangles.size(); ++t)
+    EXPECT_EQ(mesh.triangles[t], open_box.triangles[t]);
+  for (std::size_t t = open_box.triangles.size(); t < mesh.triangles.size(); ++t)
+    EXPECT_EQ(mesh.triangles[t], before.triangles[t]);
 }
 
 }  // namespace

@@ -39,6 +39,20 @@ TEST(RenderGeometry, ScoreIsTheTemperedLogRatioOfTheRobotDrawnAtQ) {
   EXPECT_GT(geometry.score(q, likelihood, beta), expected);
 }
 
+// geometry.open_parts_both_sides reaches the renderers: the geometry's own
+// and, through render_options(), the evaluators' (image_filter.cc,
+// acquisition.cc).
+TEST(RenderGeometry, OpenPartsBothSidesReachesTheRenderers) {
+  for (const bool both_sides : {false, true}) {
+    TrackerConfig::Geometry params;
+    params.open_parts_both_sides = both_sides;
+    RenderGeometry geometry(arm_model(), params);
+    ASSERT_TRUE(geometry.use_camera(kCamera));
+    EXPECT_EQ(geometry.render_options().open_parts_both_sides, both_sides);
+    EXPECT_EQ(geometry.renderer().options().open_parts_both_sides, both_sides);
+  }
+}
+
 // Simplified meshes are made once per model and bound and shared; a camera
 // at the same bound keeps the drawn model (only the renderer is new).
 TEST(RenderGeometry, SimplifiedModelsAreSharedPerModelAndBound) {

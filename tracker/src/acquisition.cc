@@ -63,9 +63,11 @@ AcquisitionWorkspace::AcquisitionWorkspace(const AcquisitionSetup& setup) {
 
 Acquisition::Acquisition(const TrackerSetup& setup) : setup_(setup), ws_(setup_) {}
 
-void Acquisition::draw(const RobotModel& drawn_model) {
+void Acquisition::draw(const RenderGeometry& geometry) {
   if (ws_.cpf)
-    ws_.evaluator = std::make_unique<HypothesisEvaluator>(drawn_model, ws_.cpf->blocks());
+    ws_.evaluator = std::make_unique<HypothesisEvaluator>(geometry.drawn_model(), ws_.cpf->blocks(),
+                                                          HypothesisEvaluator::Mode::kCached,
+                                                          geometry.render_options());
 }
 
 double Acquisition::acquire_first(ImageFilter& image, const DepthImage& observed,

@@ -232,7 +232,8 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
 
   PixelRect drawn{camera_.width, camera_.height, 0, 0};
   // An open mesh part has no back faces (Link::mesh_parts).
-  const bool cull_back_faces = options_.cull_back_faces && !l.draw_both_sides();
+  const bool cull_back_faces =
+      options_.cull_back_faces && !(options_.open_parts_both_sides && l.has_open_parts());
   for (const Cluster& cluster : clusters.clusters) {
     if (cull_back_faces && cluster.cos_angle > 0.f) {
       // n . (camera - p) over the cluster's normals n and points p is at

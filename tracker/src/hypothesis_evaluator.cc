@@ -72,8 +72,12 @@ struct HypothesisEvaluator::Workspace {
 };
 
 HypothesisEvaluator::HypothesisEvaluator(const RobotModel& model,
-                                         const std::vector<SamplingBlock>& blocks, Mode mode)
-    : model_(&model), mode_(mode), all_links_(model.num_links(), true) {
+                                         const std::vector<SamplingBlock>& blocks, Mode mode,
+                                         const RenderOptions& render_options)
+    : model_(&model),
+      mode_(mode),
+      render_options_(render_options),
+      all_links_(model.num_links(), true) {
   const int n = model.num_joints();
   const int camera = model.camera_link();
   std::vector<LinkSet> moved(n);
@@ -177,7 +181,7 @@ void HypothesisEvaluator::allocate(int num_particles, int num_workers) {
     ws->q = Eigen::VectorXd::Zero(model_->num_joints());
     ws->kinematics = KinematicsState(*model_);
     // The other workers copy the first renderer's clusters instead of building them again.
-    ws->renderer = w == 0 ? std::make_unique<DepthRenderer>(*model_, camera_)
+    ws->renderer = w == 0 ? std::make_unique<DepthRenderer>(*model_, camera_, render_options_)
                           : std::make_unique<DepthRenderer>(*workspaces_[0]->renderer);
     ws->statics = ws->moving = ws->image = DepthImage(W, H);
     for (auto* v : {&ws->pixel, &ws->covered_pixel}) v->resize(std::size_t(W) * H);

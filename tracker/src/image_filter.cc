@@ -29,7 +29,9 @@ bool ImageFilter::set_image(const DepthImage& image, const CameraIntrinsics& cam
 bool ImageFilter::set_camera(const CameraIntrinsics& camera) {
   camera_ = camera;
   if (geometry_.has_camera(camera) || !geometry_.use_camera(camera)) return false;
-  evaluator_ = std::make_unique<HypothesisEvaluator>(geometry_.drawn_model(), cpf_.blocks());
+  evaluator_ = std::make_unique<HypothesisEvaluator>(geometry_.drawn_model(), cpf_.blocks(),
+                                                     HypothesisEvaluator::Mode::kCached,
+                                                     geometry_.render_options());
   return true;
 }
 

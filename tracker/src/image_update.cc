@@ -28,7 +28,7 @@ CameraIntrinsics ImageUpdate::likelihood_camera(const CameraIntrinsics& camera) 
 
 void ImageUpdate::prepare(const CameraIntrinsics& camera) {
   if (!filter_.set_camera(likelihood_camera(camera))) return;
-  acquisition_.draw(filter_.geometry().drawn_model());
+  acquisition_.draw(filter_.geometry());
   ++geometry_builds_;
 }
 
@@ -40,7 +40,7 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
   std::copy(belief.mean_a.begin(), belief.mean_a.end(), prior_mean_.begin());
   const DepthLikelihood& likelihood = filter_.likelihood();
   if (filter_.set_image(image, likelihood_camera(full_camera))) {
-    acquisition_.draw(filter_.geometry().drawn_model());
+    acquisition_.draw(filter_.geometry());
     ++geometry_builds_;
   }
   double search_ms = 0;

@@ -209,10 +209,10 @@ MeshOrientation orient_parts(TriangleMesh& mesh) {
     const int part = report.parts++;
     members.assign(1, seed);
     part_of[std::size_t(seed)] = part;
-    bool open = false;
+    bool border = false, conflict = false;
     for (std::size_t m = 0; m < members.size(); ++m) {
       const int t = members[m];
-      open = open || on_border[std::size_t(t)];
+      border = border || on_border[std::size_t(t)];
       for (int k = 0; k < num_neighbours[std::size_t(t)]; ++k) {
         const Neighbour& nb = neighbours[std::size_t(t)][std::size_t(k)];
         const char wanted = char(flip[std::size_t(t)] ^ char(nb.same_way));
@@ -221,23 +221,35 @@ MeshOrientation orient_parts(TriangleMesh& mesh) {
           flip[std::size_t(nb.triangle)] = wanted;
           members.push_back(nb.triangle);
         } else if (flip[std::size_t(nb.triangle)] != wanted) {
-          open = true;  // no consistent winding (a Moebius band)
+          conflict = true;  // no consistent winding (a Moebius band)
         }
       }
     }
-    if (open) {
+    if (border || conflict) {
       ++report.open_parts;
       report.open_triangles += int(members.size());
-      continue;
     }
-    double six_volume = 0;
+    if (conflict) continue;
+    // The volume enclosed, wound like the seed, about the part's centroid:
+    // exact for a closed part; for an open one with small holes (a crack, a
+    // T-junction) nearly so, and then its sign says which side is outside
+    // too. An open part enclosing less than 1% of area^1.5 (a sheet, a
+    // shell with a wide opening) has no outside: left as it is.
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const int t : members)
+      for (int k = 0; k < 3; ++k)
+        centroid += mesh.vertices_m[std::size_t(mesh.triangles[std::size_t(t)][k])].cast<double>();
+    centroid /= 3.0 * double(members.size());
+    double six_volume = 0, twice_area = 0;
     for (const int t : members) {
       const Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
-      const Eigen::Vector3d a = mesh.vertices_m[std::size_t(tri[0])].cast<double>();
-      const Eigen::Vector3d b = mesh.vertices_m[std::size_t(tri[1])].cast<double>();
-      const Eigen::Vector3d c = mesh.vertices_m[std::size_t(tri[2])].cast<double>();
+      const Eigen::Vector3d a = mesh.vertices_m[std::size_t(tri[0])].cast<double>() - centroid;
+      const Eigen::Vector3d b = mesh.vertices_m[std::size_t(tri[1])].cast<double>() - centroid;
+      const Eigen::Vector3d c = mesh.vertices_m[std::size_t(tri[2])].cast<double>() - centroid;
       six_volume += (flip[std::size_t(t)] ? -1 : 1) * a.dot(b.cross(c));
+      twice_area += (b - a).cross(c - a).norm();
     }
+    if (border && !(std::abs(six_volume) >= 6 * 0.01 * std::pow(0.5 * twice_area, 1.5))) continue;
     const char invert = six_volume < 0;
     bool turned = false;
     for (const int t : members) {

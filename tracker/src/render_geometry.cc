@@ -38,7 +38,9 @@ RenderGeometry::RenderGeometry(std::shared_ptr<const RobotModel> model,
       params_(params),
       threads_(threads),
       kinematics_(*model_),
-      q_(Eigen::VectorXd::Zero(model_->num_joints())) {}
+      q_(Eigen::VectorXd::Zero(model_->num_joints())) {
+  render_options_.open_parts_both_sides = params_.open_parts_both_sides;
+}
 
 bool RenderGeometry::use_camera(const CameraIntrinsics& camera) {
   camera_ = camera;
@@ -51,7 +53,7 @@ bool RenderGeometry::use_camera(const CameraIntrinsics& camera) {
                                             params_.coarser_levels, error_m_, threads_)
                          : model_;
   }
-  renderer_ = std::make_unique<DepthRenderer>(*drawn_, camera);
+  renderer_ = std::make_unique<DepthRenderer>(*drawn_, camera, render_options_);
   return changed;
 }
 

@@ -242,7 +242,7 @@ std::string describe_mesh_parts(const RobotModel& model) {
                     " mesh parts: " + std::to_string(total.turned_parts) + " turned outward";
   if (!turned.empty()) out += " (" + turned + ")";
   out += ", " + std::to_string(total.open_parts) + " open";
-  if (!open.empty()) out += ", drawn from both sides (" + open + ")";
+  if (!open.empty()) out += " (" + open + ")";
   return out;
 }
 

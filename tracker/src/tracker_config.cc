@@ -251,6 +251,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   read_numbers(root.child("geometry"), {{"max_error_px", &c.geometry.max_error_px},
                                         {"nearest_range_m", &c.geometry.nearest_range_m},
                                         {"coarser_levels", &c.geometry.coarser_levels}});
+  c.geometry.open_parts_both_sides =
+      root.child("geometry").get<bool>("open_parts_both_sides", c.geometry.open_parts_both_sides);
 
   const ConfigNode pf = root.child("particle_filter");
   read_numbers(pf, {{"particles", &c.particle_filter.num_particles},

@@ -493,7 +493,9 @@ UrdfInfo prepare_urdf(const fs::path& urdf, const std::map<std::string, fs::path
                              " wound inside out or with faces flipped (turned outward), " +
                              std::to_string(parts.open_parts) + " open";
           if (parts.open_parts > 0)
-            what += " (not closed: the depth camera draws both sides of every surface)";
+            what +=
+                " (not closed: the depth camera draws both sides of every surface; the "
+                "tracker culls them as if closed unless geometry.open_parts_both_sides)";
           info.notices.push_back(what);
         }
         if (std::string(kind) == "visual")

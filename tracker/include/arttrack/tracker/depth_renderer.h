@@ -5,8 +5,9 @@
 // link is seen, in the optical frame of model.camera_link() (z forward, x
 // right, y down) with pinhole intrinsics; pixel (u, v) samples the ray through
 // its centre (u + 0.5, v + 0.5). Link meshes are closed and wound
-// counter-clockwise seen from outside, and back faces are culled, except on
-// a link with an open mesh part (Link::draw_both_sides()); triangles
+// counter-clockwise seen from outside, and back faces are culled (on a link
+// with an open mesh part too, unless RenderOptions::open_parts_both_sides);
+// triangles
 // crossing the near plane are clipped, depth is exact for planar triangles
 // (1/z interpolated in screen space), and triangles sharing an edge leave no
 // gap between them (a pixel centre belongs to the triangle whose half-open
@@ -68,6 +69,10 @@ struct RenderOptions {
   float near_m = 0.01f;
   // Skip triangles seen from behind (valid for closed outward-wound meshes).
   bool cull_back_faces = true;
+  // Draw the links with an open mesh part (Link::has_open_parts()) from
+  // both sides: what a camera sees of an open surface, at up to 1.6 times
+  // the cost of those links (sculpted dual arm, all links: 123 -> 198 us).
+  bool open_parts_both_sides = false;
 };
 
 // Renders depth images of a robot model from its camera link.

@@ -3,8 +3,8 @@
 //
 // The primitives are closed and wound counter-clockwise seen from outside
 // (the renderer culls back faces). A mesh file need not be: orient_parts()
-// turns its closed parts outward and finds those that are open, which the
-// renderer draws from both sides. Lengths are metres.
+// turns its parts outward and finds those that are open. Lengths are
+// metres.
 #pragma once
 
 #include <Eigen/Core>
@@ -46,27 +46,28 @@ TriangleMesh load_mesh(const std::string& path,
 // those it left open.
 struct MeshOrientation {
   int parts = 0;
-  // Closed parts some of whose triangles were wound the other way (a part
-  // inside out, or faces flipped in it): their triangles now wind
-  // counter-clockwise seen from outside (the part encloses a positive volume).
+  // Parts some of whose triangles were wound the other way (a part inside
+  // out, or faces flipped in it): their triangles now wind counter-clockwise
+  // seen from outside (the part encloses a positive volume). An open part
+  // is turned too when it still encloses a volume (small holes: a crack, a
+  // T-junction), at least 1% of its area^1.5.
   int turned_parts = 0;
   // Parts with a border edge (one triangle), an edge of three or more
-  // triangles, or no consistent winding: they enclose nothing, so no side
-  // is a back face, and back-face culling would show the far side or hide
-  // the surface. Left as they are.
+  // triangles, or no consistent winding: culling their back faces is only
+  // right where they are nearly closed (RenderOptions::open_parts_both_sides).
   int open_parts = 0;
   int open_triangles = 0;
 
   MeshOrientation& operator+=(const MeshOrientation& other);
 };
 
-// Winds every closed part of `mesh` counter-clockwise seen from outside,
-// as the renderer's back-face culling needs, and reports the parts that
-// are not closed. Published meshes come with faces flipped, parts inside out
-// (a mirrored export) and open shells; the camera sees their surfaces
-// whichever way they are wound. A part of zero volume (two faces back to
-// back) is left as it is; a triangle with a repeated corner belongs to no
-// part.
+// Winds every closed part of `mesh` (and every open one that still encloses
+// a volume) counter-clockwise seen from outside, as the renderer's
+// back-face culling needs, and reports the parts that are not closed.
+// Published meshes come with faces flipped, parts inside out (a mirrored
+// export) and open shells; the camera sees their surfaces whichever way
+// they are wound. A part of zero volume (two faces back to back, a sheet)
+// is left as it is; a triangle with a repeated corner belongs to no part.
 MeshOrientation orient_parts(TriangleMesh& mesh);
 
 // A box centred at the origin with edge lengths `size_m` along x, y, z

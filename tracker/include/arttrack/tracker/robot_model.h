@@ -95,11 +95,11 @@ struct Link {
   // The cylinders and spheres among them, in mesh order.
   std::vector<RoundShape> round_shapes;
   // What orient_parts() found in the link's mesh files, every use counted.
-  // With an open part (mesh_parts.open_parts > 0) the renderer draws the
-  // link's triangles from both sides: back-face culling is only right for
-  // closed surfaces.
+  // Back-face culling is only right for closed surfaces: with
+  // RenderOptions::open_parts_both_sides a link with an open part is drawn
+  // from both sides.
   MeshOrientation mesh_parts;
-  bool draw_both_sides() const { return mesh_parts.open_parts > 0; }
+  bool has_open_parts() const { return mesh_parts.open_parts > 0; }
   // Levels of detail (RobotModel::with_simplified_meshes): coarser versions
   // of `mesh`'s triangles without the round shapes' (drawn exactly anyway),
   // in increasing min_range_m. The renderer draws the coarsest level whose
@@ -220,8 +220,8 @@ class RobotModel {
 
 // One line on the model's mesh files as orient_parts() found them, for a
 // user bringing a robot, e.g. "1204 mesh parts: 2 turned outward (link_3,
-// link_5), 1 open, drawn from both sides (gripper)"; "no mesh file" when
-// the links are URDF primitives only.
+// link_5), 1 open (gripper)"; "no mesh file" when the links are URDF
+// primitives only.
 std::string describe_mesh_parts(const RobotModel& model);
 
 }  // namespace arttrack

@@ -90,6 +90,13 @@ struct TrackerConfig {
     // Levels of detail beyond the first, in [0, 8]: level k drawn from 2^k
     // times the nearest range (4: up to 16 times, 0.3 -> 4.8 m).
     int coarser_levels = 4;
+    // Draw the links whose meshes have an open part (a border, an edge of
+    // three triangles: robot_model.h, Link::mesh_parts) from both sides, as
+    // a camera sees an open surface, instead of culling back faces as for
+    // closed ones. Off: a crack or T-junction makes a mesh open, and both
+    // sides cost up to 1.6 times as much; on when the camera sees into an
+    // open shell (render and bench name the links).
+    bool open_parts_both_sides = false;
     // The largest error the simplification may make for a camera at the
     // likelihood's resolution (mesh_error_bound_m(); 0: full meshes).
     double error_bound_m(const CameraIntrinsics& likelihood_camera) const;

@@ -84,7 +84,7 @@ class Acquisition {
   bool on() const { return setup_.on; }
   // Makes the search's evaluator for the image filter's drawn model (after
   // ImageFilter::set_image returned true).
-  void draw(const RobotModel& drawn_model);
+  void draw(const RenderGeometry& geometry);
 
   // The first image (the prior is the encoders': bias prior around the
   // readings): searches the prior coarse to fine and folds the best search

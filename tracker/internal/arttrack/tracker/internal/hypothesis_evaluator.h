@@ -60,9 +60,10 @@ class HypothesisEvaluator final : public LogLikelihoodEvaluator {
   enum class Mode { kCached, kReference };
 
   // `blocks`: the filter's sampling blocks in visiting order (coordinates are
-  // DOF indices of `model`). The model must outlive the evaluator.
+  // DOF indices of `model`). The model must outlive the evaluator. Its
+  // renderers draw with `render_options` (RenderGeometry::render_options()).
   HypothesisEvaluator(const RobotModel& model, const std::vector<SamplingBlock>& blocks,
-                      Mode mode = Mode::kCached);
+                      Mode mode = Mode::kCached, const RenderOptions& render_options = {});
   ~HypothesisEvaluator() override;
 
   // Before each filter run: the camera at the likelihood's resolution (its
@@ -98,6 +99,7 @@ class HypothesisEvaluator final : public LogLikelihoodEvaluator {
 
   const RobotModel* model_;
   Mode mode_;
+  RenderOptions render_options_;
   std::vector<Group> groups_;
   std::vector<BlockPlan> plans_;
   LinkSet all_links_;
