@@ -34,7 +34,7 @@ void TriangleMesh::append(const TriangleMesh& other, const Eigen::Affine3d& T_th
   }
 }
 
-void TriangleMesh::weld_vertices() {
+void TriangleMesh::join_equal_vertices() {
   struct Key {
     uint32_t x, y, z;
     bool operator==(const Key&) const = default;
@@ -61,14 +61,15 @@ void TriangleMesh::weld_vertices() {
     if (inserted) welded.push_back(v);
     remap[i] = it->second;
   }
-  std::vector<Eigen::Vector3i> kept;
-  kept.reserve(triangles.size());
-  for (const Eigen::Vector3i& t : triangles) {
-    const Eigen::Vector3i r(remap[t[0]], remap[t[1]], remap[t[2]]);
-    if (r[0] != r[1] && r[1] != r[2] && r[2] != r[0]) kept.push_back(r);
-  }
+  for (Eigen::Vector3i& t : triangles) t = Eigen::Vector3i(remap[t[0]], remap[t[1]], remap[t[2]]);
   vertices_m = std::move(welded);
-  triangles = std::move(kept);
+}
+
+void TriangleMesh::weld_vertices() {
+  join_equal_vertices();
+  std::erase_if(triangles, [](const Eigen::Vector3i& t) {
+    return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+  });
 }
 
 namespace {

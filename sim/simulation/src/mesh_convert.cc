@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <unordered_map>
 #include <vector>
 
 #include "arttrack/tracker/error.h"
@@ -115,31 +114,15 @@ bool is_flat(const std::vector<Triangle>& tris) {
 // Turns the closed parts of a triangle soup outward (orient_parts, on its
 // corners joined where they are equal), every triangle kept in its place.
 MeshOrientation orient_soup(std::vector<Triangle>& tris) {
-  // Corners joined by their coordinates' bits (-0 taken as 0).
-  using Key = std::array<std::uint32_t, 3>;
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      return (std::size_t(k[0]) * 0x9E3779B97F4A7C15ull) ^
-             (std::size_t(k[1]) * 0xC2B2AE3D27D4EB4Full) ^
-             (std::size_t(k[2]) * 0x165667B19E3779F9ull);
-    }
-  };
-  std::unordered_map<Key, int, KeyHash> index_of;
-  index_of.reserve(tris.size());
   TriangleMesh mesh;
+  mesh.vertices_m.reserve(3 * tris.size());
   mesh.triangles.reserve(tris.size());
   for (const Triangle& t : tris) {
-    Eigen::Vector3i corners;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3f p = t[std::size_t(k)] + Eigen::Vector3f::Zero();  // -0 is 0
-      Key key;
-      std::memcpy(key.data(), p.data(), sizeof key);
-      const auto [it, inserted] = index_of.try_emplace(key, int(mesh.vertices_m.size()));
-      if (inserted) mesh.vertices_m.push_back(p);
-      corners[k] = it->second;
-    }
-    mesh.triangles.push_back(corners);
+    const int first = int(mesh.vertices_m.size());
+    mesh.vertices_m.insert(mesh.vertices_m.end(), t.begin(), t.end());
+    mesh.triangles.emplace_back(first, first + 1, first + 2);
   }
+  mesh.join_equal_vertices();
   const std::vector<Eigen::Vector3i> before = mesh.triangles;
   const MeshOrientation report = orient_parts(mesh);
   for (std::size_t i = 0; i < tris.size(); ++i)

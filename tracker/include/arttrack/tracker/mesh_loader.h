@@ -27,8 +27,11 @@ struct TriangleMesh {
   void append(const TriangleMesh& other,
               const Eigen::Affine3d& T_this_other = Eigen::Affine3d::Identity());
 
-  // Merges vertices at exactly the same position and drops triangles that
-  // became degenerate, so each shared vertex is transformed once per render.
+  // Merges vertices at exactly the same position (-0 as 0), every triangle
+  // kept in its place.
+  void join_equal_vertices();
+  // join_equal_vertices(), then drops the triangles that became degenerate,
+  // so each shared vertex is transformed once per render.
   void weld_vertices();
 };
 
