@@ -7,7 +7,12 @@
 #include <mujoco/mujoco.h>
 #include <tinyxml2.h>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -112,6 +117,68 @@ TEST(UrdfPrepare, MujocoErrorsAreRetoldAtTheUsersLine) {
                         ":10: MuJoCo 2.2 cannot load it: repeated element: 'origin' (element "
                         "<origin>)")
       << "MuJoCo said: " << error;
+}
+
+// Meshes as makers export them: a cube wound inside out and a cube without
+// its top. The converted copy of the first is wound outward (what MuJoCo,
+// culling back faces, needs), each file gets a notice naming it, and the
+// open one has the camera draw both sides. A closed outward cube has none.
+TEST(UrdfPrepare, MeshPartsInsideOutOrOpenAreTurnedAndNamed) {
+  test_support::ScratchDir dir("urdf_prepare_mesh_parts");
+  const char* cube_corners =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+  // Counter-clockwise seen from outside; the top is the second face.
+  const char* faces[6] = {"1 4 3 2", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8"};
+  std::string outward = cube_corners, inside_out = cube_corners, open = cube_corners;
+  for (int f = 0; f < 6; ++f) {
+    std::string reversed;
+    std::istringstream corners(faces[f]);
+    for (std::string c; corners >> c;) reversed = c + (reversed.empty() ? "" : " ") + reversed;
+    outward += std::string("f ") + faces[f] + "\n";
+    inside_out += "f " + reversed + "\n";
+    if (f != 1) open += std::string("f ") + faces[f] + "\n";
+  }
+  dir.write("outward.obj", outward);
+  dir.write("inside_out.obj", inside_out);
+  dir.write("open.obj", open);
+  auto urdf_with = [&](const std::string& mesh) {
+    return dir.write(mesh + ".urdf", R"(<robot name="r">
+  <link name="base_link"><visual><geometry><mesh filename=")" +
+                                         mesh +
+                                         R"(.obj" scale="0.1 0.1 0.1"/></geometry></visual></link>
+</robot>)");
+  };
+  const UrdfInfo plain = prepare_urdf(urdf_with("outward"), {}, dir.path());
+  EXPECT_TRUE(plain.notices.empty());
+  EXPECT_FALSE(plain.open_visual_meshes);
+
+  const UrdfInfo turned = prepare_urdf(urdf_with("inside_out"), {}, dir.path());
+  ASSERT_EQ(turned.notices.size(), 1u);
+  EXPECT_NE(turned.notices[0].find("inside_out.obj"), std::string::npos) << turned.notices[0];
+  EXPECT_NE(turned.notices[0].find("1 wound inside out"), std::string::npos) << turned.notices[0];
+  EXPECT_FALSE(turned.open_visual_meshes);
+  // The converted binary STL MuJoCo reads encloses a positive volume.
+  std::ifstream stl(dir.path() / "m0_inside_out.stl", std::ios::binary);
+  ASSERT_TRUE(stl) << "no converted mesh";
+  std::string bytes((std::istreambuf_iterator<char>(stl)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes.size(), 84u + 50u * 12u);
+  double six_volume = 0;
+  for (std::size_t at = 84; at < bytes.size(); at += 50) {
+    float v[9];
+    std::memcpy(v, bytes.data() + at + 12, sizeof v);
+    const Eigen::Vector3d a(v[0], v[1], v[2]), b(v[3], v[4], v[5]), c(v[6], v[7], v[8]);
+    six_volume += a.dot(b.cross(c));
+  }
+  EXPECT_NEAR(six_volume / 6, 1e-3, 1e-6);
+  char error[1024] = "";
+  mjModel* m = mj_loadXML(turned.prepared_urdf.c_str(), nullptr, error, sizeof(error));
+  EXPECT_NE(m, nullptr) << error;
+  mj_deleteModel(m);
+
+  const UrdfInfo opened = prepare_urdf(urdf_with("open"), {}, dir.path());
+  ASSERT_EQ(opened.notices.size(), 1u);
+  EXPECT_NE(opened.notices[0].find("1 open"), std::string::npos) << opened.notices[0];
+  EXPECT_TRUE(opened.open_visual_meshes);
 }
 
 }  // namespace
