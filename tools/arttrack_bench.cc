@@ -257,7 +257,8 @@ void run_bench(const BenchArgs& args) {
                     {"error_bound_m", stats.mesh_error_bound_m},
                     {"simplifier_error_m", stats.mesh_error_m},
                     {"prepare_ms", sink.prepare_ms()}};
-  j["mesh_parts"] = describe_mesh_parts(*robot);
+  const std::string mesh_parts = describe_mesh_parts(*robot);
+  j["mesh_parts"] = mesh_parts;
   j["evaluations_per_image"] = evaluations_per_image;
   j["threads"] = threads;
   j["joint_measurements"] = stats.joint_measurements;
@@ -304,7 +305,7 @@ void run_bench(const BenchArgs& args) {
             << config.geometry.nearest_range_m << " m: at most " << 1e3 * stats.mesh_error_bound_m
             << " mm; the simplifier reports " << 1e3 * stats.mesh_error_m << " mm), prepared in "
             << sink.prepare_ms() << " ms before the stream\n";
-  std::cout << "  meshes           " << describe_mesh_parts(*robot) << "\n";
+  std::cout << "  meshes           " << mesh_parts << "\n";
   std::cout << "  joint update     p50 " << joint_us.p50 << " us, p99 " << joint_us.p99 << " us ("
             << stats.joint_measurements << ", " << stats.joint_measurements_dropped
             << " dropped)\n";

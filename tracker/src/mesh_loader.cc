@@ -34,6 +34,13 @@ void TriangleMesh::append(const TriangleMesh& other, const Eigen::Affine3d& T_th
   }
 }
 
+namespace {
+
+// A triangle with a repeated corner: no area, no edges of its own.
+bool degenerate(const Eigen::Vector3i& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
+
+}  // namespace
+
 void TriangleMesh::join_equal_vertices() {
   struct Key {
     uint32_t x, y, z;
@@ -67,9 +74,7 @@ void TriangleMesh::join_equal_vertices() {
 
 void TriangleMesh::weld_vertices() {
   join_equal_vertices();
-  std::erase_if(triangles, [](const Eigen::Vector3i& t) {
-    return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-  });
+  std::erase_if(triangles, degenerate);
 }
 
 namespace {
@@ -157,12 +162,8 @@ MeshOrientation orient_parts(TriangleMesh& mesh) {
   };
   std::vector<HalfEdge> edges;
   edges.reserve(3 * std::size_t(n));
-  auto degenerate = [&](int t) {
-    const Eigen::Vector3i& tri = mesh.triangles[std::size_t(t)];
-    return tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0];
-  };
   for (int t = 0; t < n; ++t) {
-    if (degenerate(t)) continue;
+    if (degenerate(mesh.triangles[std::size_t(t)])) continue;
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[std::size_t(t)][k];
       const int b = mesh.triangles[std::size_t(t)][(k + 1) % 3];
@@ -206,7 +207,7 @@ MeshOrientation orient_parts(TriangleMesh& mesh) {
   std::vector<char> flip(std::size_t(n), 0);
   std::vector<int> members;
   for (int seed = 0; seed < n; ++seed) {
-    if (part_of[std::size_t(seed)] >= 0 || degenerate(seed)) continue;
+    if (part_of[std::size_t(seed)] >= 0 || degenerate(mesh.triangles[std::size_t(seed)])) continue;
     const int part = report.parts++;
     members.assign(1, seed);
     part_of[std::size_t(seed)] = part;

@@ -38,9 +38,7 @@ RenderGeometry::RenderGeometry(std::shared_ptr<const RobotModel> model,
       params_(params),
       threads_(threads),
       kinematics_(*model_),
-      q_(Eigen::VectorXd::Zero(model_->num_joints())) {
-  render_options_.open_parts_both_sides = params_.open_parts_both_sides;
-}
+      q_(Eigen::VectorXd::Zero(model_->num_joints())) {}
 
 bool RenderGeometry::use_camera(const CameraIntrinsics& camera) {
   camera_ = camera;
@@ -53,7 +51,7 @@ bool RenderGeometry::use_camera(const CameraIntrinsics& camera) {
                                             params_.coarser_levels, error_m_, threads_)
                          : model_;
   }
-  renderer_ = std::make_unique<DepthRenderer>(*drawn_, camera, render_options_);
+  renderer_ = std::make_unique<DepthRenderer>(*drawn_, camera, render_options());
   return changed;
 }
 

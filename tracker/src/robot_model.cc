@@ -143,7 +143,8 @@ std::string resolve_mesh_path(const std::string& uri, const std::string& base_di
                    " not found (tried: " + tried + ")");
 }
 
-// A mesh file as loaded, its closed parts turned outward (orient_parts).
+// A mesh file as loaded, its parts turned outward where they enclose a
+// volume (orient_parts).
 struct LoadedMesh {
   TriangleMesh mesh;
   MeshOrientation orientation;

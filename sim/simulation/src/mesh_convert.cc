@@ -111,8 +111,8 @@ bool is_flat(const std::vector<Triangle>& tris) {
          tolerance;
 }
 
-// Turns the closed parts of a triangle soup outward (orient_parts, on its
-// corners joined where they are equal), every triangle kept in its place.
+// Turns the parts of a triangle soup outward (orient_parts, on its corners
+// joined where they are equal), every triangle kept in its place.
 MeshOrientation orient_soup(std::vector<Triangle>& tris) {
   TriangleMesh mesh;
   mesh.vertices_m.reserve(3 * tris.size());

@@ -25,18 +25,19 @@ struct ConvertedMesh {
   // volume, which MuJoCo 2.2 cannot take as a collision shape (its convex
   // hull fails).
   bool flat = false;
-  // What orient_parts() found (the tracker's loader does the same): closed
-  // parts are written wound outward, open ones as they were.
+  // What orient_parts() found (the tracker's loader does the same): parts
+  // that enclose a volume are written wound outward, the others as they were.
   MeshOrientation orientation;
 };
 
 // Writes the mesh at `source` as binary STL: all sub-meshes merged, node
 // transforms baked in (a COLLADA file's unit is applied, its up_axis is not,
 // as in ROS), each vertex multiplied by `scale`, winding kept outward for
-// mirroring scales and closed parts turned outward (orient_parts(): MuJoCo
-// culls back faces, so a part exported inside out would show its far side). Binary STL input is
-// read directly (assimp misreads binary STL whose header starts with "solid"); everything else goes
-// through assimp. The file is `target_stem`.stl, or, past kMaxStlTriangles,
+// mirroring scales and parts that enclose a volume turned outward
+// (orient_parts(): MuJoCo culls back faces, so a part exported inside out
+// would show its far side). Binary STL input is read directly (assimp
+// misreads binary STL whose header starts with "solid"); everything else
+// goes through assimp. The file is `target_stem`.stl, or, past kMaxStlTriangles,
 // parts `target_stem`.stl, `target_stem`_1.stl, ... of at most that many.
 // Unreadable or empty meshes, or more than `max_triangles` (checked before
 // reading a binary STL): InputError naming `context` (the URDF and mesh

@@ -7,11 +7,11 @@
 // its centre (u + 0.5, v + 0.5). Link meshes are closed and wound
 // counter-clockwise seen from outside, and back faces are culled (on a link
 // with an open mesh part too, unless RenderOptions::open_parts_both_sides);
-// triangles
-// crossing the near plane are clipped, depth is exact for planar triangles
-// (1/z interpolated in screen space), and triangles sharing an edge leave no
-// gap between them (a pixel centre belongs to the triangle whose half-open
-// span [left, right) holds it). Vertices are transformed in float.
+// triangles crossing the near plane are clipped, depth is exact for planar
+// triangles (1/z interpolated in screen space), and triangles sharing an
+// edge leave no gap between them (a pixel centre belongs to the triangle
+// whose half-open span [left, right) holds it). Vertices are transformed in
+// float.
 //
 // URDF cylinders and spheres (RoundShape) are drawn exactly: each pixel
 // whose ray meets the shape gets the depth of the ray's entry point

@@ -58,7 +58,11 @@ class RenderGeometry {
   double error_m() const { return error_m_; }
   DepthRenderer& renderer() { return *renderer_; }
   // How the drawn model is drawn (TrackerConfig::Geometry::open_parts_both_sides).
-  const RenderOptions& render_options() const { return render_options_; }
+  RenderOptions render_options() const {
+    RenderOptions options;
+    options.open_parts_both_sides = params_.open_parts_both_sides;
+    return options;
+  }
 
   // The tempered image log-likelihood ratio of the robot at q (every DOF),
   // beta * log p(z | r(q)) / p(z | no robot) over the likelihood's
@@ -70,7 +74,6 @@ class RenderGeometry {
   std::shared_ptr<const RobotModel> model_;
   TrackerConfig::Geometry params_;
   int threads_ = 1;
-  RenderOptions render_options_;
   // Workspace.
   std::shared_ptr<const RobotModel> drawn_;
   double error_bound_m_ = -1, error_m_ = 0;
