@@ -21,10 +21,13 @@ using arttrack::test_support::tracker_config_error;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 TEST(TrackerConfigTest, ReadsGeometry) {
-  const TrackerConfig c = tracker_config_from_yaml(
-      load_yaml_string("geometry: {max_error_px: 0.5, nearest_range_m: 0.6}\n", "t.yaml"));
+  const TrackerConfig c = tracker_config_from_yaml(load_yaml_string(
+      "geometry: {max_error_px: 0.5, nearest_range_m: 0.6, open_parts_both_sides: true}\n",
+      "t.yaml"));
   EXPECT_EQ(c.geometry.max_error_px, 0.5);
   EXPECT_EQ(c.geometry.nearest_range_m, 0.6);
+  EXPECT_TRUE(c.geometry.open_parts_both_sides);
+  EXPECT_FALSE(default_tracker_config().geometry.open_parts_both_sides);
 }
 
 TEST(TrackerConfigTest, ReadsWhetherTheFirstSearchMovesTheCamera) {
@@ -347,7 +350,9 @@ TEST(TrackerConfigTest, TheReaderChecksTypes) {
            {"depth_model.max_range_m=far", "key 'depth_model.max_range_m' must be a number"},
            {"timing.camera_delay_s=.inf", "key 'timing.camera_delay_s' = inf is out of range"},
            {"particle_filter.block_moments_below_nats=some",
-            "key 'particle_filter.block_moments_below_nats' must be a number"}})
+            "key 'particle_filter.block_moments_below_nats' must be a number"},
+           {"geometry.open_parts_both_sides=maybe",
+            "key 'geometry.open_parts_both_sides' has the wrong type"}})
     EXPECT_NE(defaults_error({o}).find(part), std::string::npos)
         << o << ": " << defaults_error({o});
 }
