@@ -273,7 +273,8 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.discount_correlated_residuals", &C::discount_correlated_residuals),
     key("uncertainty.model_error", &C::model_error),
     key("uncertainty.model_error_time_constant_s", &C::model_error_time_constant_s),
-    key("uncertainty.model_error_min_std_m", &C::model_error_min_std_m));
+    key("uncertainty.model_error_min_std_m", &C::model_error_min_std_m),
+    key("uncertainty.model_error_unpinned_scale", &C::model_error_unpinned_scale));
   f(key("refinement.enabled", &C::refine_mean),
     key("refinement.min_pixels", &C::refinement_min_pixels));
   f.nested("acquisition.", &C::acquisition, [](FieldList<C::Acquisition>& a) {

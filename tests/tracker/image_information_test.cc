@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <numbers>
 #include <random>
 
@@ -291,9 +292,15 @@ TEST(ImageInformation, LinkShiftVarianceSeesAShiftedLink) {
   info.compute(renderer, at_q0, likelihood);
   // One shift of 4 mm among the 3 to 6 the image pins (the board's are
   // mostly the camera's): a variance of 16 mm^2 over that many.
-  const double sd = std::sqrt(info.link_shift_variance_m2());
+  std::vector<char> pinned;
+  const double sd = std::sqrt(info.link_shift_variance_m2(20, &pinned));
   EXPECT_GT(sd, 0.004 / std::sqrt(6.0) * 0.8);
   EXPECT_LT(sd, 0.004 * 1.2);
+  // The flags name the shifts counted: 3 per link, the pinned ones 3 to 6.
+  ASSERT_EQ(pinned.size(), 3 * info.shift_links().size());
+  const long count = std::count(pinned.begin(), pinned.end(), 1);
+  EXPECT_GE(count, 3);
+  EXPECT_LE(count, 6);
 }
 
 // A link whose every shift the camera's DOFs explain (the plate alone in
@@ -318,8 +325,12 @@ TEST(ImageInformation, LinkShiftsTheDofsExplainGiveNoModelError) {
     s.observe(observed_q);
     const Eigen::VectorXd q = Eigen::VectorXd::Zero(s.model.num_joints());
     info.compute(s.renderer, {q.data(), std::size_t(q.size())}, s.likelihood);
-    const double variance = info.link_shift_variance_m2();
+    std::vector<char> pinned(1, 1);
+    const double variance = info.link_shift_variance_m2(20, &pinned);
     EXPECT_TRUE(variance >= 0 && variance < 1e-6) << "trial " << trial << ": " << variance;
+    // Nothing is pinned: the camera's DOFs absorb every shift.
+    EXPECT_EQ(std::count(pinned.begin(), pinned.end(), 1), 0) << "trial " << trial;
+    EXPECT_EQ(pinned.size(), 3 * info.shift_links().size());
   }
 }
 

@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "planar_arm.h"
 
@@ -88,6 +92,85 @@ TEST(ReportedCovariance, AnImageFoldsItsInformationIntoThePriorsVariances) {
   EXPECT_EQ(reopened[0], 0);
   EXPECT_EQ(reported.covariance().covariance()(0, 0), reported.setup().reopened_bias_var_rad2);
   EXPECT_EQ(reported.covariance().covariance()(0, 1), 0.0);
+}
+
+// The arm with the forearm `forearm_nearer_m` nearer the camera.
+std::shared_ptr<const RobotModel> arm_with_forearm_nearer(double forearm_nearer_m) {
+  std::string urdf = kArm;
+  const std::string elbow = "<origin xyz=\"0 0 0.3\"/>";
+  const std::size_t at = urdf.find(elbow);
+  EXPECT_NE(at, std::string::npos);
+  if (at != std::string::npos)
+    urdf.replace(at, elbow.size(),
+                 "<origin xyz=\"" + std::to_string(forearm_nearer_m) + " 0 0.3\"/>");
+  return std::make_shared<const RobotModel>(RobotModel::from_urdf_string(urdf, "."));
+}
+
+// With model error, each link shift is a consider parameter: one the image
+// pins at the estimated model error's standard deviation, one it does not
+// pin (the DOFs absorb it) at model_error_unpinned_scale times it. The real
+// arm's forearm sits 8 mm nearer the camera than the model's; the base's
+// shift along the view is the camera's depth offset, which the DOFs absorb.
+TEST(ReportedCovariance, ShiftsTheImageDoesNotPinTakeTheScaledModelError) {
+  const auto real = arm_with_forearm_nearer(0.008);
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  const TrackerSetup setup(arm_model(), c, {"shoulder", "elbow"});
+  const RobotModel& model = *setup.model;
+  DepthLikelihood likelihood(c.depth_model);
+  likelihood.set_observation(render_truth(*real, 0.4, -0.6));
+  DepthRenderer renderer(model, kCamera);
+  const std::size_t n = std::size_t(model.num_joints());
+  std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
+  mean[std::size_t(model.joint_index("shoulder"))] = 0.4;
+  mean[std::size_t(model.joint_index("elbow"))] = -0.6;
+  prior_std[std::size_t(model.joint_index("shoulder"))] = 0.05;
+  prior_std[std::size_t(model.joint_index("elbow"))] = 0.05;
+
+  // One image at unpinned scale `scale`; returns the covariance, and the
+  // pinned flags and model error it was made with.
+  auto one_image = [&](double scale, std::vector<char>& pinned, double& model_error_m,
+                       Eigen::MatrixXd& cross) {
+    TrackerConfig cs = c;
+    cs.model_error_unpinned_scale = scale;
+    const TrackerSetup scaled(setup.model, cs, {"shoulder", "elbow"});
+    ReportedCovariance reported(scaled, sampling_blocks(model, cs));
+    std::vector<char> reopened(n, 0);
+    EXPECT_TRUE(reported.begin_image(1.0, prior_std, reopened, mean, renderer, likelihood));
+    TrackingHealth health;
+    reported.end_image(1.0, health);
+    reported.information().link_shift_variance_m2(20, &pinned);
+    model_error_m = health.model_error_std_m;
+    cross = reported.information().motion_field_shift_cross_information();
+    // The same update made here from its parts.
+    PosteriorCovariance expected(reported.setup().states, reported.setup().num_consider);
+    Eigen::VectorXd start(expected.size());
+    for (int i = 0; i < expected.size(); ++i)
+      start[i] = std::pow(prior_std[std::size_t(expected.states()[std::size_t(i)].dof)], 2);
+    expected.reset(start, 1.0);
+    Eigen::MatrixXd scaled_cross = cross;
+    for (int k = 0; k < scaled_cross.cols(); ++k)
+      scaled_cross.col(k) *= (pinned[std::size_t(k)] ? 1.0 : scale) * model_error_m;
+    expected.update(reported.information_matrix(), scaled_cross,
+                    reported.information().effective_pixel_fraction());
+    EXPECT_EQ(reported.covariance().covariance(), expected.covariance()) << "scale " << scale;
+    return reported.covariance().covariance();
+  };
+  std::vector<char> pinned_1, pinned_3;
+  double error_1 = 0, error_3 = 0;
+  Eigen::MatrixXd cross;
+  const Eigen::MatrixXd at_1 = one_image(1.0, pinned_1, error_1, cross);
+  const Eigen::MatrixXd at_3 = one_image(3.0, pinned_3, error_3, cross);
+  ASSERT_GT(error_1, 0.0);
+  EXPECT_EQ(error_1, error_3);
+  EXPECT_EQ(pinned_1, pinned_3);
+  // Some shift moves the image (a cross term) and is not pinned: scaling it
+  // widens the covariance, and never narrows it.
+  bool unpinned_seen = false;
+  for (int k = 0; k < cross.cols(); ++k)
+    unpinned_seen = unpinned_seen || (!pinned_1[std::size_t(k)] && cross.col(k).norm() > 0);
+  ASSERT_TRUE(unpinned_seen);
+  EXPECT_GT((at_3 - at_1).trace(), 0.0);
+  EXPECT_GE((at_3 - at_1).eigenvalues().real().minCoeff(), -1e-12 * at_1.trace());
 }
 
 }  // namespace

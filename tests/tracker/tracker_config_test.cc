@@ -230,6 +230,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"uncertainty.model_error_time_constant_s", "1e4", "2e4"},
     {"uncertainty.model_error_min_std_m", "0", "-1e-3"},
     {"uncertainty.model_error_min_std_m", "0.1", "0.2"},
+    {"uncertainty.model_error_unpinned_scale", "1", "0.9"},
+    {"uncertainty.model_error_unpinned_scale", "10", "11"},
     {"refinement.min_pixels", "1", "0"},
     {"refinement.min_pixels", "10000000", "10000001"},
     {"acquisition.passes", "1", "0"},

@@ -391,7 +391,8 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   });
 }
 
-double ImageInformation::link_shift_variance_m2(int min_pixels) const {
+double ImageInformation::link_shift_variance_m2(int min_pixels, std::vector<char>* pinned) const {
+  if (pinned) pinned->assign(3 * shift_links_.size(), 0);
   if (!params_.link_shifts || pixels_used_ == 0) return 0;
   const int n = int(dofs_.size());
   std::vector<int> columns;
@@ -438,6 +439,7 @@ double ImageInformation::link_shift_variance_m2(int min_pixels) const {
     if (!(c * noise(i, i) < kMaxShiftNoiseVar_m2)) continue;  // the image hardly sees it
     sum += estimate[i] * estimate[i] - c * noise(i, i);
     ++counted;
+    if (pinned) (*pinned)[std::size_t(columns[std::size_t(i)])] = 1;
   }
   return counted > 0 ? std::max(0.0, sum / counted) : 0.0;
 }

@@ -13,7 +13,8 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
       discount_correlated_residuals(setup.config.discount_correlated_residuals),
       model_error(setup.config.model_error),
       model_error_time_constant_s(setup.config.model_error_time_constant_s),
-      model_error_min_std_m(setup.config.model_error_min_std_m) {
+      model_error_min_std_m(setup.config.model_error_min_std_m),
+      model_error_unpinned_scale(setup.config.model_error_unpinned_scale) {
   const JointFilterModel& filter = *setup.filter_model;
   std::vector<char> sampled(setup.n, 0);
   for (const SamplingBlock& b : sampled_blocks)
@@ -79,7 +80,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     return;
   }
   // The link shifts' variance, averaged over time (one image's estimate is noisy).
-  const double sample = information_.link_shift_variance_m2();
+  const double sample = information_.link_shift_variance_m2(20, &pinned_);
   // From 0, so that the first images (the estimate still converging, its
   // residuals large) weigh one image's share each.
   const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
@@ -89,7 +90,14 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   model_error_started_ = true;
   health.model_error_std_m = std::sqrt(model_error_var_m2_);
   const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
-  consider_cross_ = information_.motion_field_shift_cross_information() * std_m;
+  // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm
+  // length, taken up by the shoulder): the estimate, from the shifts that
+  // fit, says least about those (docs/accuracy.md, stop 41).
+  const double unpinned_std_m =
+      std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
+  consider_cross_ = information_.motion_field_shift_cross_information();
+  for (int c = 0; c < consider_cross_.cols(); ++c)
+    consider_cross_.col(c) *= pinned_[std::size_t(c)] ? std_m : unpinned_std_m;
   covariance_.update(info, consider_cross_, setup_.image_information_scale * discount);
 }
 

@@ -135,9 +135,13 @@ struct TrackerConfig {
   // with a standard deviation estimated from the images' residuals,
   // averaged over model_error_time_constant_s, and at least
   // model_error_min_std_m (a user who knows their URDF is off by about that).
+  // A shift one image does not pin (the DOFs absorb it: a link's length
+  // along the chain) is taken model_error_unpinned_scale times that
+  // estimate, in [1, 10]: the estimate comes from the links that fit.
   bool model_error = true;
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;
+  double model_error_unpinned_scale = 1.0;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = true;

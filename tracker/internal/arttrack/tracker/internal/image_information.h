@@ -169,8 +169,10 @@ class ImageInformation {
   // links hide the small ones' error: half the standard deviation on
   // scenarios/realistic/both.yaml). 0 when the links fit; noisy from one
   // image (the tracker averages it over time). Allocates its k x k
-  // matrices (k up to 3 x links) once per image.
-  double link_shift_variance_m2(int min_pixels = 20) const;
+  // matrices (k up to 3 x links) once per image. `pinned`, when given, is
+  // set per shift column (3 per link, as shift_cross_information()) to
+  // whether this image pinned it (and so counted it).
+  double link_shift_variance_m2(int min_pixels = 20, std::vector<char>* pinned = nullptr) const;
 
  private:
   struct Worker;  // one worker's renderer and scratch images

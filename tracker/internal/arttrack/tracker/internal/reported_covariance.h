@@ -49,6 +49,7 @@ struct ReportedCovarianceSetup {
   bool model_error = true;
   double model_error_time_constant_s = 2;
   double model_error_min_std_m = 0;
+  double model_error_unpinned_scale = 1;
 };
 
 class ReportedCovariance {
@@ -93,6 +94,7 @@ class ReportedCovariance {
   double model_error_var_m2_ = 0, model_error_time_s_ = 0;
   bool model_error_started_ = false;
   Eigen::MatrixXd consider_cross_;
+  std::vector<char> pinned_;  // per link shift column: the last image pinned it
 };
 
 }  // namespace arttrack
