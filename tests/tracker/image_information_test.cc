@@ -293,7 +293,7 @@ TEST(ImageInformation, LinkShiftVarianceSeesAShiftedLink) {
   // One shift of 4 mm among the 3 to 6 the image pins (the board's are
   // mostly the camera's): a variance of 16 mm^2 over that many.
   std::vector<char> pinned;
-  const double sd = std::sqrt(info.link_shift_variance_m2(20, &pinned));
+  const double sd = std::sqrt(info.link_shift_variance_m2(&pinned));
   EXPECT_GT(sd, 0.004 / std::sqrt(6.0) * 0.8);
   EXPECT_LT(sd, 0.004 * 1.2);
   // The flags name the shifts counted: 3 per link, the pinned ones 3 to 6.
@@ -326,7 +326,7 @@ TEST(ImageInformation, LinkShiftsTheDofsExplainGiveNoModelError) {
     const Eigen::VectorXd q = Eigen::VectorXd::Zero(s.model.num_joints());
     info.compute(s.renderer, {q.data(), std::size_t(q.size())}, s.likelihood);
     std::vector<char> pinned(1, 1);
-    const double variance = info.link_shift_variance_m2(20, &pinned);
+    const double variance = info.link_shift_variance_m2(&pinned);
     EXPECT_TRUE(variance >= 0 && variance < 1e-6) << "trial " << trial << ": " << variance;
     // Nothing is pinned: the camera's DOFs absorb every shift.
     EXPECT_EQ(std::count(pinned.begin(), pinned.end(), 1), 0) << "trial " << trial;

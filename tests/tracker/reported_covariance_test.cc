@@ -138,7 +138,7 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinTakeTheScaledModelError) {
     EXPECT_TRUE(reported.begin_image(1.0, prior_std, reopened, mean, renderer, likelihood));
     TrackingHealth health;
     reported.end_image(1.0, health);
-    reported.information().link_shift_variance_m2(20, &pinned);
+    reported.information().link_shift_variance_m2(&pinned);
     model_error_m = health.model_error_std_m;
     cross = reported.information().motion_field_shift_cross_information();
     // The same update made here from its parts.

@@ -391,7 +391,7 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   });
 }
 
-double ImageInformation::link_shift_variance_m2(int min_pixels, std::vector<char>* pinned) const {
+double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned, int min_pixels) const {
   if (pinned) pinned->assign(3 * shift_links_.size(), 0);
   if (!params_.link_shifts || pixels_used_ == 0) return 0;
   const int n = int(dofs_.size());

@@ -80,7 +80,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     return;
   }
   // The link shifts' variance, averaged over time (one image's estimate is noisy).
-  const double sample = information_.link_shift_variance_m2(20, &pinned_);
+  const double sample = information_.link_shift_variance_m2(&pinned_);
   // From 0, so that the first images (the estimate still converging, its
   // residuals large) weigh one image's share each.
   const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
@@ -91,8 +91,9 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   health.model_error_std_m = std::sqrt(model_error_var_m2_);
   const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
   // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm
-  // length, taken up by the shoulder): the estimate, from the shifts that
-  // fit, says least about those (docs/accuracy.md, stop 41).
+  // length, taken up by the shoulder) or one it hardly sees: the estimate,
+  // from the shifts that fit, says least about those (docs/accuracy.md,
+  // stop 41).
   const double unpinned_std_m =
       std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
   consider_cross_ = information_.motion_field_shift_cross_information();

@@ -172,7 +172,7 @@ class ImageInformation {
   // matrices (k up to 3 x links) once per image. `pinned`, when given, is
   // set per shift column (3 per link, as shift_cross_information()) to
   // whether this image pinned it (and so counted it).
-  double link_shift_variance_m2(int min_pixels = 20, std::vector<char>* pinned = nullptr) const;
+  double link_shift_variance_m2(std::vector<char>* pinned = nullptr, int min_pixels = 20) const;
 
  private:
   struct Worker;  // one worker's renderer and scratch images
