@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <numeric>
 #include <random>
 #include <stdexcept>
+#include <thread>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -476,23 +478,53 @@ TEST(CoordinateParticleFilter, EvaluatorExceptionsReachTheCaller) {
   EXPECT_EQ(count.load(), 100);
 }
 
-TEST(WorkerPool, CoversEveryIndexOnceWithContiguousChunks) {
+TEST(WorkerPool, CoversEveryIndexOnceInChunksOfTheGrain) {
   for (int workers : {1, 2, 3, 7}) {
     WorkerPool pool(workers);
     EXPECT_EQ(pool.num_workers(), workers);
-    for (int n : {0, 1, 5, 6, 100, 1001}) {
-      std::vector<std::atomic<int>> hits(n);
-      std::vector<std::atomic<int>> used(workers);
-      pool.parallel_for(n, [&](int b, int e, int w) {
-        EXPECT_EQ(b, int(std::int64_t(n) * w / workers));
-        EXPECT_EQ(e, int(std::int64_t(n) * (w + 1) / workers));
-        ++used[w];
-        for (int i = b; i < e; ++i) ++hits[i];
-      });
-      for (int i = 0; i < n; ++i) EXPECT_EQ(hits[i].load(), 1);
-      for (int w = 0; w < workers; ++w) EXPECT_LE(used[w].load(), 1);
+    for (int grain : {1, 3}) {
+      for (int n : {0, 1, 5, 6, 100, 1001}) {
+        std::vector<std::atomic<int>> hits(n);
+        pool.parallel_for(
+            n,
+            [&](int b, int e, int w) {
+              EXPECT_GE(w, 0);
+              EXPECT_LT(w, workers);
+              EXPECT_LT(b, e);
+              if (workers > 1) {  // one worker runs [0, n) in one call
+                EXPECT_EQ(b % grain, 0);
+                EXPECT_LE(e - b, grain);
+              }
+              for (int i = b; i < e; ++i) ++hits[i];
+            },
+            grain);
+        for (int i = 0; i < n; ++i) EXPECT_EQ(hits[i].load(), 1) << i;
+      }
     }
   }
+}
+
+// A chunk that waits until every other index is done finishes only if the
+// other thread takes them all: chunks are taken as threads get free, not
+// fixed per thread (index 0 would hold indices 1-4 on its own thread).
+TEST(WorkerPool, ADelayedChunkDoesNotHoldTheOthers) {
+  WorkerPool pool(2);
+  constexpr int n = 10;
+  std::atomic<int> others_done{0};
+  bool all_others_done = false;
+  pool.parallel_for(n, [&](int b, int e, int) {
+    for (int i = b; i < e; ++i) {
+      if (i == 0) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (others_done.load() < n - 1 && std::chrono::steady_clock::now() < deadline)
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        all_others_done = others_done.load() == n - 1;
+      } else {
+        ++others_done;
+      }
+    }
+  });
+  EXPECT_TRUE(all_others_done);
 }
 
 TEST(CoordinateParticleFilter, RejectsBadBlocks) {

@@ -4,6 +4,7 @@
 // headers so that they need no <thread> or <mutex>.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -34,21 +35,28 @@ class WorkerPool {
 
   int num_workers() const { return num_workers_; }
 
-  // Calls fn(begin, end, worker) for the contiguous chunks of [0, n),
-  // chunk w = [n w / W, n (w+1) / W) on worker w in [0, W) (the caller is
-  // worker 0), and returns when all are done. An exception thrown by fn is
-  // rethrown here. Does not allocate.
+  // Calls fn(begin, end, worker) for chunks of [0, n) that cover each index
+  // once, and returns when all are done. worker in [0, W) names the thread
+  // that runs the chunk (the caller is worker 0), so fn may use a workspace
+  // per worker; which chunks a worker gets is not fixed: each takes the next
+  // `grain` indices when it is free, so that a thread the system delays (or
+  // a dearer particle) does not hold the others up at the end of the loop.
+  // fn must therefore give the same result for an index on any worker. An
+  // exception thrown by fn is rethrown here (no further chunk is started).
+  // Does not allocate.
   template <class F>
-  void parallel_for(int n, F&& fn) {
+  void parallel_for(int n, F&& fn, int grain = 1) {
     using Fn = std::remove_reference_t<F>;
     auto* p = const_cast<std::remove_const_t<Fn>*>(&fn);
     run(
-        n, [](void* c, int b, int e, int w) { (*static_cast<Fn*>(c))(b, e, w); }, p);
+        n, grain, [](void* c, int b, int e, int w) { (*static_cast<Fn*>(c))(b, e, w); }, p);
   }
 
  private:
   using Call = void (*)(void*, int, int, int);
-  void run(int n, Call call, void* context);
+  void run(int n, int grain, Call call, void* context);
+  // Runs the current job's chunks until none is left; returns what one threw.
+  std::exception_ptr take_chunks(int worker);
   void worker_loop(int worker);
   void stop_and_join();
 
@@ -56,10 +64,14 @@ class WorkerPool {
   std::vector<std::thread> threads_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
-  std::uint64_t generation_ = 0;
-  int remaining_ = 0;
+  // Atomic so that a worker between jobs, and the caller waiting for the
+  // workers, may watch them for a moment without the mutex (kSpin).
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<int> remaining_{0};
   bool stop_ = false;
   int job_n_ = 0;
+  int job_grain_ = 1;
+  std::atomic<int> next_{0};  // the job's first index no worker has taken
   Call job_call_ = nullptr;
   void* job_context_ = nullptr;
   std::exception_ptr error_;
