@@ -413,6 +413,70 @@ TEST(DepthRenderer, SkippedClustersHideNoFrontFace) {
   }
 }
 
+// A link wholly in front of the near plane has its vertices transformed
+// four at a time (SSE); one whose bounding sphere reaches the near plane one
+// at a time, to clip. Both must give the same bits: a rod across the view
+// with the near plane between its bounding sphere's nearest point and its
+// own nearest vertex takes the one-at-a-time path without clipping anything.
+TEST(DepthRenderer, TransformsLikeOneVertexAtATime) {
+  const test_support::ScratchDir scratch("depth_renderer_lanes");
+  const int rings = 240, segments = 24;  // 11 520 triangles, 0.4 m x 0.02 m
+  {
+    std::ofstream obj(scratch.path() / "rod.obj");
+    char line[128];
+    for (int i = 0; i < rings; ++i) {
+      for (int j = 0; j < segments; ++j) {
+        const double x = -0.2 + 0.4 * i / (rings - 1), phi = 2 * kPi * j / segments;
+        const double r = 0.01 * (1 + 0.2 * std::sin(13 * x) * std::cos(3 * phi));
+        std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", x, r * std::cos(phi),
+                      r * std::sin(phi));
+        obj << line;
+      }
+    }
+    auto vertex = [&](int i, int j) { return 1 + i * segments + j % segments; };
+    for (int i = 0; i + 1 < rings; ++i) {
+      for (int j = 0; j < segments; ++j) {  // outward: (+x) x (+phi) points out
+        obj << "f " << vertex(i, j) << " " << vertex(i + 1, j) << " " << vertex(i + 1, j + 1)
+            << "\n";
+        obj << "f " << vertex(i, j) << " " << vertex(i + 1, j + 1) << " " << vertex(i, j + 1)
+            << "\n";
+      }
+    }
+  }
+  const RobotModel model = RobotModel::from_urdf_string(R"(<robot name="rod">
+  <link name="camera_optical_frame"/>
+  <link name="gimbal"/>
+  <link name="rod"><visual><geometry><mesh filename="rod.obj"/></geometry></visual></link>
+  <joint name="spin" type="continuous"><parent link="camera_optical_frame"/><child link="gimbal"/>
+    <origin xyz="0.01 -0.02 0.6"/><axis xyz="0 0 1"/></joint>
+  <joint name="roll" type="continuous"><parent link="gimbal"/><child link="rod"/>
+    <axis xyz="1 0 0"/></joint>
+</robot>)",
+                                                        scratch.path().string());
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, 50 * kPi / 180);
+  // Bounding sphere nearest at about 0.4 m, vertices at 0.588 m and beyond.
+  DepthRenderer lanes(model, camera, RenderOptions{.near_m = 0.01f});
+  DepthRenderer one_at_a_time(model, camera, RenderOptions{.near_m = 0.5f});
+  KinematicsState state(model);
+  DepthImage a, b;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-kPi, kPi);
+  int covered = 0;
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+    q[model.joint_index("spin")] = U(rng);
+    q[model.joint_index("roll")] = U(rng);
+    forward_kinematics(model, q, state);
+    lanes.render(state, a);
+    one_at_a_time.render(state, b);
+    for (int i = 0; i < 80 * 60; ++i) {
+      covered += a.depth_m[std::size_t(i)] > 0;
+      ASSERT_EQ(a.depth_m[std::size_t(i)], b.depth_m[std::size_t(i)]) << "pixel " << i;
+    }
+  }
+  EXPECT_GT(covered, 5 * 60);  // the rod spans about 50 pixels and 2-3 rows
+}
+
 // Published meshes come inside out and open. A box wound inside out is
 // drawn like the box; a box without its top, seen from above through the
 // opening, shows its floor and inner walls when open parts are drawn from

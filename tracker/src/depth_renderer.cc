@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "arttrack/tracker/error.h"
 
@@ -97,10 +100,8 @@ DepthRenderer::DepthRenderer(const RobotModel& model, const CameraIntrinsics& ca
       all_links_(model.num_links(), true),
       bounds_(model.num_links()) {
   ARTTRACK_CHECK_ARGUMENT(model.camera_link() >= 0 && camera.width > 0 && camera.height > 0);
-  size_t max_vertices = 0;
   for (int l : model.links_with_geometry()) {
     const std::vector<Eigen::Vector3f>& v = model.link(l).mesh.vertices_m;
-    max_vertices = std::max(max_vertices, v.size());
     Eigen::Vector3f lo = v[0], hi = v[0];
     for (const Eigen::Vector3f& p : v) {
       lo = lo.cwiseMin(p);
@@ -118,17 +119,19 @@ DepthRenderer::DepthRenderer(const RobotModel& model, const CameraIntrinsics& ca
     }
     b.radius_m *= 1.0001f;  // float rounding of the transformed vertices
   }
-  hom_.resize(max_vertices);
-  screen_.resize(max_vertices);
-  first_centre_.resize(max_vertices);
-  vertex_stamp_.assign(max_vertices, 0);
   clusters_.resize(std::size_t(model.num_links()));
+  std::size_t max_cluster_vertices = 0;
   for (int l : model.links_with_geometry()) {
     const Link& link = model.link(l);
     clusters_[std::size_t(l)].push_back(make_clusters(link.mesh, link.round_shapes));
     for (const Link::MeshLevel& coarser : link.coarser_meshes)
       clusters_[std::size_t(l)].push_back(make_clusters(coarser.mesh, {}));
+    for (const Clusters& level : clusters_[std::size_t(l)])
+      max_cluster_vertices = std::max(max_cluster_vertices, level.x.size());
   }
+  hom_.resize(max_cluster_vertices);
+  screen_.resize(max_cluster_vertices);
+  first_centre_.resize(max_cluster_vertices);
   // A camera-frame point p is inside the view when 0 <= u <= W and 0 <= v <= H,
   // i.e. fx x + cx z >= 0, -fx x + (W - cx) z >= 0, and the same in y.
   const float fx = float(camera.fx), fy = float(camera.fy);
@@ -165,18 +168,76 @@ PixelRect DepthRenderer::draw_links(const KinematicsState& state, const LinkSet&
   return drawn;
 }
 
-// Vertex i of the drawn level into hom_, and where it is in front of the
-// near plane (or the link cannot reach it), into screen_ and first_centre_.
 inline void DepthRenderer::transform_vertex(int i, const Eigen::Matrix3f& A,
-                                            const Eigen::Vector3f& b, const Eigen::Vector3f* v,
+                                            const Eigen::Vector3f& b, const Clusters& clusters,
                                             bool may_clip) {
-  hom_[std::size_t(i)] = A * v[i] + b;
+  const float x = clusters.x[std::size_t(i)], y = clusters.y[std::size_t(i)],
+              z = clusters.z[std::size_t(i)];
+  // A x + b in the order Eigen's product sums it, which transform_cluster
+  // repeats lane by lane.
+  hom_[std::size_t(i)] = Eigen::Vector3f((A(0, 0) * x + (A(0, 1) * y + A(0, 2) * z)) + b.x(),
+                                         (A(1, 0) * x + (A(1, 1) * y + A(1, 2) * z)) + b.y(),
+                                         (A(2, 0) * x + (A(2, 1) * y + A(2, 2) * z)) + b.z());
   if (!may_clip || hom_[std::size_t(i)].z() >= options_.near_m) {
     screen_[std::size_t(i)] = project(hom_[std::size_t(i)]);
     first_centre_[std::size_t(i)] =
         Eigen::Vector2i(first_centre_from(screen_[std::size_t(i)].x(), camera_.width),
                         first_centre_from(screen_[std::size_t(i)].y(), camera_.height));
   }
+}
+
+inline void DepthRenderer::transform_cluster(const Cluster& cluster, const Eigen::Matrix3f& A,
+                                             const Eigen::Vector3f& b, const Clusters& clusters) {
+  const int end = cluster.first_vertex + (cluster.num_vertices + kLanes - 1) / kLanes * kLanes;
+#if defined(__SSE2__)
+  // The scalar formulas with each operation on four lanes: IEEE single
+  // precision either way, so the same bits (test TransformsLikeOneVertexAtATime).
+  const __m128 a00 = _mm_set1_ps(A(0, 0)), a01 = _mm_set1_ps(A(0, 1)), a02 = _mm_set1_ps(A(0, 2));
+  const __m128 a10 = _mm_set1_ps(A(1, 0)), a11 = _mm_set1_ps(A(1, 1)), a12 = _mm_set1_ps(A(1, 2));
+  const __m128 a20 = _mm_set1_ps(A(2, 0)), a21 = _mm_set1_ps(A(2, 1)), a22 = _mm_set1_ps(A(2, 2));
+  const __m128 bx = _mm_set1_ps(b.x()), by = _mm_set1_ps(b.y()), bz = _mm_set1_ps(b.z());
+  const __m128 one = _mm_set1_ps(1.f), half = _mm_set1_ps(0.5f), minus_half = _mm_set1_ps(-0.5f);
+  const __m128 width = _mm_set1_ps(float(camera_.width)),
+               height = _mm_set1_ps(float(camera_.height));
+  // first_centre_from, lane by lane (finite x, the link being in front of
+  // the near plane: max and min pick the value std::max and std::min do).
+  auto first_centre = [&](__m128 x, __m128 n) {
+    const __m128 t = _mm_min_ps(_mm_max_ps(_mm_sub_ps(x, half), minus_half), n);
+    const __m128i i = _mm_cvttps_epi32(t);
+    return _mm_sub_epi32(i, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(i), t)));
+  };
+  static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) &&
+                sizeof(Eigen::Vector2i) == 2 * sizeof(int));
+  for (int k = cluster.first_vertex; k < end; k += kLanes) {
+    const __m128 x = _mm_loadu_ps(clusters.x.data() + k);
+    const __m128 y = _mm_loadu_ps(clusters.y.data() + k);
+    const __m128 z = _mm_loadu_ps(clusters.z.data() + k);
+    auto row = [&](__m128 r0, __m128 r1, __m128 r2, __m128 r) {
+      return _mm_add_ps(
+          _mm_add_ps(_mm_mul_ps(r0, x), _mm_add_ps(_mm_mul_ps(r1, y), _mm_mul_ps(r2, z))), r);
+    };
+    const __m128 hx = row(a00, a01, a02, bx), hy = row(a10, a11, a12, by),
+                 hz = row(a20, a21, a22, bz);
+    const __m128 iz = _mm_div_ps(one, hz);
+    const __m128 u = _mm_mul_ps(hx, iz), v = _mm_mul_ps(hy, iz);
+    // (u, v, iz) of four vertices, interleaved into screen_'s 12 floats.
+    const __m128 uv01 = _mm_unpacklo_ps(u, v), uv23 = _mm_unpackhi_ps(u, v);
+    const __m128 z0u1 = _mm_shuffle_ps(iz, uv01, _MM_SHUFFLE(2, 2, 0, 0));
+    const __m128 v1z1 = _mm_shuffle_ps(uv01, iz, _MM_SHUFFLE(1, 1, 3, 3));
+    const __m128 z2u3 = _mm_shuffle_ps(iz, uv23, _MM_SHUFFLE(2, 2, 2, 2));
+    const __m128 v3z3 = _mm_shuffle_ps(uv23, iz, _MM_SHUFFLE(3, 3, 3, 2));
+    float* out = screen_[std::size_t(k)].data();
+    _mm_storeu_ps(out, _mm_shuffle_ps(uv01, z0u1, _MM_SHUFFLE(2, 0, 1, 0)));
+    _mm_storeu_ps(out + 4, _mm_shuffle_ps(v1z1, uv23, _MM_SHUFFLE(1, 0, 2, 0)));
+    _mm_storeu_ps(out + 8, _mm_shuffle_ps(z2u3, v3z3, _MM_SHUFFLE(2, 1, 2, 0)));
+    const __m128i cu = first_centre(u, width), cv = first_centre(v, height);
+    auto* index = reinterpret_cast<__m128i*>(first_centre_[std::size_t(k)].data());
+    _mm_storeu_si128(index, _mm_unpacklo_epi32(cu, cv));
+    _mm_storeu_si128(index + 1, _mm_unpackhi_epi32(cu, cv));
+  }
+#else
+  for (int k = cluster.first_vertex; k < end; ++k) transform_vertex(k, A, b, clusters, false);
+#endif
 }
 
 PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_link,
@@ -202,27 +263,18 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
   // The coarsest level of detail the link's nearest point is far enough for
   // (robot_model.h, Link::coarser_meshes); its triangles hold no round shape.
   const Link& l = model_->link(link);
-  const TriangleMesh* level = &l.mesh;
   std::size_t level_index = 0;
   const float nearest = centre.z() - bounds.radius_m;
   for (std::size_t k = 0; k < l.coarser_meshes.size(); ++k) {
-    if (nearest >= l.coarser_meshes[k].min_range_m) {
-      level = &l.coarser_meshes[k].mesh;
-      level_index = k + 1;
-    }
+    if (nearest >= l.coarser_meshes[k].min_range_m) level_index = k + 1;
   }
   const Clusters& clusters = clusters_[std::size_t(link)][level_index];
-  const Eigen::Vector3f* v = level->vertices_m.data();
   const Eigen::Vector3f* hom = hom_.data();
   const Eigen::Vector3f* screen = screen_.data();
   const Eigen::Vector2i* centre_index = first_centre_.data();
   // The camera's position in the link frame, for the clusters' cones.
   const Eigen::Vector3f camera_in_link =
       (-(T_camera_link.linear().transpose() * T_camera_link.translation())).cast<float>();
-  if (++stamp_ == 0) {  // wrapped: no vertex is transformed yet
-    std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
-    stamp_ = 1;
-  }
 
   // The link frame to the camera frame in float, for the clusters' spheres.
   const Eigen::Matrix3f R_camera_link = T_camera_link.linear().cast<float>();
@@ -256,12 +308,11 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
                                camera_.height)) {
       continue;
     }
-    const int* cv = clusters.vertices.data() + cluster.first_vertex;
-    for (int k = 0; k < cluster.num_vertices; ++k) {
-      const int i = cv[k];
-      if (vertex_stamp_[std::size_t(i)] == stamp_) continue;
-      vertex_stamp_[std::size_t(i)] = stamp_;
-      transform_vertex(i, A, b, v, may_clip);
+    if (may_clip) {
+      for (int k = cluster.first_vertex; k < cluster.first_vertex + cluster.num_vertices; ++k)
+        transform_vertex(k, A, b, clusters, true);
+    } else {
+      transform_cluster(cluster, A, b, clusters);
     }
     const Eigen::Vector3i* triangles = clusters.triangles.data() + cluster.first_triangle;
     for (int k = 0; k < cluster.num_triangles; ++k) {
@@ -321,19 +372,26 @@ DepthRenderer::Clusters DepthRenderer::make_clusters(const TriangleMesh& mesh,
     Cluster cluster;
     cluster.first_triangle = int(out.triangles.size());
     cluster.num_triangles = int(m.triangle_count);
-    cluster.first_vertex = int(out.vertices.size());
+    cluster.first_vertex = int(out.x.size());
     cluster.num_vertices = int(m.vertex_count);
-    for (unsigned k = 0; k < m.vertex_count; ++k)
-      out.vertices.push_back(int(meshlet_vertices[m.vertex_offset + k]));
+    const unsigned padded = (m.vertex_count + kLanes - 1) / kLanes * kLanes;
+    for (unsigned k = 0; k < padded; ++k) {
+      const Eigen::Vector3f& p =
+          mesh.vertices_m[meshlet_vertices[m.vertex_offset + std::min(k, m.vertex_count - 1)]];
+      out.x.push_back(p.x());
+      out.y.push_back(p.y());
+      out.z.push_back(p.z());
+    }
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo,
                     normal_sum = Eigen::Vector3d::Zero();
     std::vector<Eigen::Vector3d> normals;
     for (unsigned k = 0; k < m.triangle_count; ++k) {
-      Eigen::Vector3i t;
-      for (int c = 0; c < 3; ++c)
-        t[c] = int(
-            meshlet_vertices[m.vertex_offset + meshlet_triangles[m.triangle_offset + 3 * k + c]]);
-      out.triangles.push_back(t);
+      Eigen::Vector3i t, local;
+      for (int c = 0; c < 3; ++c) {
+        local[c] = meshlet_triangles[m.triangle_offset + 3 * k + c];
+        t[c] = int(meshlet_vertices[m.vertex_offset + unsigned(local[c])]);
+      }
+      out.triangles.push_back(local + Eigen::Vector3i::Constant(cluster.first_vertex));
       const Eigen::Vector3d a = mesh.vertices_m[std::size_t(t[0])].cast<double>();
       const Eigen::Vector3d b = mesh.vertices_m[std::size_t(t[1])].cast<double>();
       const Eigen::Vector3d c = mesh.vertices_m[std::size_t(t[2])].cast<double>();
@@ -349,11 +407,10 @@ DepthRenderer::Clusters DepthRenderer::make_clusters(const TriangleMesh& mesh,
     }
     const Eigen::Vector3d centre = 0.5 * (lo + hi);
     double radius = 0;
-    for (int k = cluster.first_vertex; k < cluster.first_vertex + cluster.num_vertices; ++k)
+    for (unsigned k = 0; k < m.vertex_count; ++k)
       radius = std::max(
           radius,
-          (mesh.vertices_m[std::size_t(out.vertices[std::size_t(k)])].cast<double>() - centre)
-              .norm());
+          (mesh.vertices_m[meshlet_vertices[m.vertex_offset + k]].cast<double>() - centre).norm());
     cluster.centre_m = centre.cast<float>();
     cluster.radius_m = float(radius * 1.0001 + 1e-6);  // float rounding
     if (normal_sum.norm() > 0 && !normals.empty()) {

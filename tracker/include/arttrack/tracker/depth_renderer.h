@@ -116,8 +116,11 @@ class DepthRenderer {
   // A patch of one mesh level's triangles, culled whole when all of them
   // face away from the camera.
   struct Cluster {
-    int first_triangle = 0, num_triangles = 0;           // in Clusters::triangles
-    int first_vertex = 0, num_vertices = 0;              // in Clusters::vertices
+    int first_triangle = 0, num_triangles = 0;  // in Clusters::triangles
+    // The cluster's own copies of its vertices in Clusters::x, y, z, from
+    // first_vertex (a multiple of kLanes) on, padded to a multiple of
+    // kLanes with its last vertex: transformed kLanes at a time.
+    int first_vertex = 0, num_vertices = 0;
     Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // bounding sphere, link frame
     float radius_m = 0;
     // Every triangle's unit normal lies within an angle a of `axis`; cos a
@@ -125,14 +128,22 @@ class DepthRenderer {
     Eigen::Vector3f axis = Eigen::Vector3f::UnitZ();
     float cos_angle = -1, sin_angle = 0;
   };
-  struct Clusters {  // one mesh level
+  static constexpr int kLanes = 4;  // one SSE register of floats
+  struct Clusters {                 // one mesh level
     std::vector<Cluster> clusters;
-    std::vector<Eigen::Vector3i> triangles;  // the level's vertex indices, cluster by cluster
-    std::vector<int> vertices;               // each cluster's vertices, the level's indices
+    std::vector<Eigen::Vector3i> triangles;  // indices into x, y, z, cluster by cluster
+    std::vector<float> x, y, z;              // each cluster's vertices (link frame), padded
   };
   static Clusters make_clusters(const TriangleMesh& mesh, const std::vector<RoundShape>& shapes);
+  // Vertex i of `clusters` into hom_, and where it is in front of the near
+  // plane (or the link cannot reach it), into screen_ and first_centre_.
   void transform_vertex(int i, const Eigen::Matrix3f& A, const Eigen::Vector3f& b,
-                        const Eigen::Vector3f* v, bool may_clip);
+                        const Clusters& clusters, bool may_clip);
+  // A cluster's vertices, padding included, into screen_ and first_centre_
+  // (not hom_) for a link wholly in front of the near plane: the same
+  // numbers as transform_vertex, kLanes vertices at a time.
+  void transform_cluster(const Cluster& cluster, const Eigen::Matrix3f& A, const Eigen::Vector3f& b,
+                         const Clusters& clusters);
 
   const RobotModel* model_;
   CameraIntrinsics camera_;
@@ -143,15 +154,12 @@ class DepthRenderer {
   // coarser_meshes[k - 1]).
   std::vector<std::vector<Clusters>> clusters_;
   Eigen::Matrix<float, 4, 3> frustum_planes_;  // inward unit normals of the 4 side planes
-  // Per-vertex workspace, sized for the largest link mesh:
+  // Per-vertex workspace, indexed as Clusters::x, sized for the largest level:
   std::vector<Eigen::Vector3f> hom_;     // (fx x + cx z, fy y + cy z, z), camera frame
   std::vector<Eigen::Vector3f> screen_;  // (u, v, 1/z) for vertices in front of the near plane
   // Per vertex of screen_: the first pixel column and row whose centre is at
   // or after it (first_centre_from), for the triangles' integer bounding boxes.
   std::vector<Eigen::Vector2i> first_centre_;
-  // Per vertex: the draw_link() call that last transformed it.
-  std::vector<std::uint32_t> vertex_stamp_;
-  std::uint32_t stamp_ = 0;
 };
 
 // Keeps per pixel the nearer of `depth` and `src` within `rect` (0 = empty).
