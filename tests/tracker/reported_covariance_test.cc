@@ -111,7 +111,7 @@ std::shared_ptr<const RobotModel> arm_with_forearm_nearer(double forearm_nearer_
 // pin (the DOFs absorb it) at model_error_unpinned_scale times it. The real
 // arm's forearm sits 8 mm nearer the camera than the model's; the base's
 // shift along the view is the camera's depth offset, which the DOFs absorb.
-TEST(ReportedCovariance, ShiftsTheImageDoesNotPinTakeTheScaledModelError) {
+TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
   const auto real = arm_with_forearm_nearer(0.008);
   TrackerConfig c = small_config(TrackingMethod::kFullFusion);
   const TrackerSetup setup(arm_model(), c, {"shoulder", "elbow"});
@@ -147,11 +147,21 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinTakeTheScaledModelError) {
     for (int i = 0; i < expected.size(); ++i)
       start[i] = std::pow(prior_std[std::size_t(expected.states()[std::size_t(i)].dof)], 2);
     expected.reset(start, 1.0);
-    Eigen::MatrixXd scaled_cross = cross;
-    for (int k = 0; k < scaled_cross.cols(); ++k)
-      scaled_cross.col(k) *= (pinned[std::size_t(k)] ? 1.0 : scale) * model_error_m;
-    expected.update(reported.information_matrix(), scaled_cross,
-                    reported.information().effective_pixel_fraction());
+    const Eigen::MatrixXd plain_cross = cross * model_error_m;
+    if (scale > 1) {
+      // The physical joints' rows take the unpinned shifts widened.
+      Eigen::MatrixXd widened_cross = plain_cross;
+      for (int k = 0; k < widened_cross.cols(); ++k)
+        if (!pinned[std::size_t(k)]) widened_cross.col(k) *= scale * model_error_m / model_error_m;
+      std::vector<char> physical(std::size_t(expected.size()));
+      for (int i = 0; i < expected.size(); ++i)
+        physical[std::size_t(i)] = expected.states()[std::size_t(i)].dof < scaled.n_phys;
+      expected.update(reported.information_matrix(), plain_cross, widened_cross, physical,
+                      reported.information().effective_pixel_fraction());
+    } else {
+      expected.update(reported.information_matrix(), plain_cross,
+                      reported.information().effective_pixel_fraction());
+    }
     EXPECT_EQ(reported.covariance().covariance(), expected.covariance()) << "scale " << scale;
     return reported.covariance().covariance();
   };
@@ -170,7 +180,23 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinTakeTheScaledModelError) {
     unpinned_seen = unpinned_seen || (!pinned_1[std::size_t(k)] && cross.col(k).norm() > 0);
   ASSERT_TRUE(unpinned_seen);
   EXPECT_GT((at_3 - at_1).trace(), 0.0);
-  EXPECT_GE((at_3 - at_1).eigenvalues().real().minCoeff(), -1e-12 * at_1.trace());
+  EXPECT_GE(at_3.eigenvalues().real().minCoeff(), -1e-12 * at_3.trace());
+  // Only the physical joints' rows are widened: after one image the camera
+  // offset's variances are those at scale 1, bit for bit, and some joint's
+  // is larger.
+  ReportedCovariance states(setup, sampling_blocks(model, c));
+  int camera_states = 0;
+  bool joint_wider = false;
+  for (int i = 0; i < at_1.rows(); ++i) {
+    if (states.setup().states[std::size_t(i)].dof >= setup.n_phys) {
+      ++camera_states;
+      EXPECT_EQ(at_3(i, i), at_1(i, i)) << "state " << i;
+    } else {
+      joint_wider = joint_wider || at_3(i, i) > at_1(i, i);
+    }
+  }
+  EXPECT_GT(camera_states, 0);
+  EXPECT_TRUE(joint_wider);
 }
 
 }  // namespace

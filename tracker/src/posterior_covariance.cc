@@ -43,7 +43,7 @@ PosteriorCovariance::PosteriorCovariance(std::vector<State> states, int num_cons
   J_ = Eigen::MatrixXd::Zero(m, m);
   if (num_consider_ > 0) {
     Q_ee_ = A_ = PJ_ = Eigen::MatrixXd::Zero(m, m);
-    Q_ec_ = B_ = AQ_ = Eigen::MatrixXd::Zero(m, num_consider_);
+    Q_ec_ = B_ = B_widened_ = AQ_ = Eigen::MatrixXd::Zero(m, num_consider_);
   }
 }
 
@@ -109,6 +109,20 @@ void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
   if (num_consider_ > 0) propagate_error(&consider_cross, information_scale);
 }
 
+void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
+                                 const Eigen::MatrixXd& consider_cross,
+                                 const Eigen::MatrixXd& widened_cross,
+                                 const std::vector<char>& widened, double information_scale) {
+  if (angle_information.rows() != size() || angle_information.cols() != size() ||
+      consider_cross.rows() != size() || consider_cross.cols() != num_consider_ ||
+      widened_cross.rows() != size() || widened_cross.cols() != num_consider_ ||
+      int(widened.size()) != size())
+    throw InputError("posterior covariance: information matrices of the wrong size");
+  update_nominal(angle_information, information_scale);
+  if (num_consider_ > 0)
+    propagate_error(&consider_cross, information_scale, &widened_cross, &widened);
+}
+
 void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_information,
                                          double information_scale) {
   // Id + P s D I D, solved against P: (P^-1 + s D I D)^-1 without inverting P.
@@ -123,12 +137,20 @@ void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_informatio
 
 // The error's covariance after the update that gave P_ (P+), with J_ = J_xx.
 void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
-                                          double information_scale) {
+                                          double information_scale,
+                                          const Eigen::MatrixXd* widened_cross,
+                                          const std::vector<char>* widened) {
   PJ_.noalias() = P_ * J_;  // P+ J_xx
   A_ = identity_ - PJ_;
   if (consider_cross) {
     B_.noalias() = P_ * (sign_.asDiagonal() * *consider_cross);
     B_ *= -information_scale;
+    if (widened_cross) {
+      B_widened_.noalias() = P_ * (sign_.asDiagonal() * *widened_cross);
+      B_widened_ *= -information_scale;
+      for (int i = 0; i < size(); ++i)
+        if ((*widened)[std::size_t(i)]) B_.row(i) = B_widened_.row(i);
+    }
   } else {
     B_.setZero();
   }

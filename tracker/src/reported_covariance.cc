@@ -29,6 +29,7 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
       states.push_back({j, PosteriorCovariance::Kind::kAngle, 0.0, filter.angle_rate_var()[j]});
     }
     dofs.push_back(j);
+    physical_joint.push_back(j < setup.n_phys);
   }
   information.link_shifts = model_error;
   information.motion_field = true;
@@ -90,16 +91,25 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   model_error_started_ = true;
   health.model_error_std_m = std::sqrt(model_error_var_m2_);
   const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
+  consider_cross_ = information_.motion_field_shift_cross_information();
+  consider_cross_ *= std_m;
   // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm
   // length, taken up by the shoulder) or one it hardly sees: the estimate,
   // from the shifts that fit, says least about those (docs/accuracy.md,
-  // stop 41).
+  // stop 41). The physical joints carry such a shift at the scaled
+  // estimate; the camera offset, which every link informs, at the estimate
+  // (stop 42: scaled there too, the dual arm's camera went to 99-100%).
   const double unpinned_std_m =
       std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
-  consider_cross_ = information_.motion_field_shift_cross_information();
-  for (int c = 0; c < consider_cross_.cols(); ++c)
-    consider_cross_.col(c) *= pinned_[std::size_t(c)] ? std_m : unpinned_std_m;
-  covariance_.update(info, consider_cross_, setup_.image_information_scale * discount);
+  if (unpinned_std_m > std_m) {
+    widened_cross_ = consider_cross_;
+    for (int c = 0; c < widened_cross_.cols(); ++c)
+      if (!pinned_[std::size_t(c)]) widened_cross_.col(c) *= unpinned_std_m / std_m;
+    covariance_.update(info, consider_cross_, widened_cross_, setup_.physical_joint,
+                       setup_.image_information_scale * discount);
+  } else {
+    covariance_.update(info, consider_cross_, setup_.image_information_scale * discount);
+  }
 }
 
 }  // namespace arttrack

@@ -137,7 +137,8 @@ struct TrackerConfig {
   // model_error_min_std_m (a user who knows their URDF is off by about that).
   // A shift one image does not pin (the DOFs absorb it: a link's length
   // along the chain) is taken model_error_unpinned_scale times that
-  // estimate, in [1, 10]: the estimate comes from the links that fit.
+  // estimate in the physical joints' uncertainty (the camera offset keeps
+  // the estimate), in [1, 10]: the estimate comes from the links that fit.
   bool model_error = true;
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;

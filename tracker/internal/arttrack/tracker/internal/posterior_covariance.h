@@ -80,6 +80,15 @@ class PosteriorCovariance {
   // consider parameters (size() x num_consider(), in their units).
   void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd& consider_cross,
               double information_scale);
+  // The same, where the states flagged in `widened` (one flag per state)
+  // take their response to the consider parameters from `widened_cross`
+  // instead (the same shape, larger columns): their error moves with the
+  // parameters as if those were larger, the others' as consider_cross says.
+  // Any such split is the covariance of a linear error model, so Q stays
+  // positive semi-definite.
+  void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd& consider_cross,
+              const Eigen::MatrixXd& widened_cross, const std::vector<char>& widened,
+              double information_scale);
   // Variance of state i in the reported covariance after predicting to
   // time_s (>= time_s()), without changing the covariance.
   double variance_at(int i, double time_s) const;
@@ -100,9 +109,12 @@ class PosteriorCovariance {
   Eigen::MatrixXd J_;  // the last image's J_xx
   // With consider parameters: the error's covariance with them, and scratch.
   Eigen::MatrixXd Q_ee_, Q_ec_, A_, B_, AQ_, PJ_;
+  Eigen::MatrixXd B_widened_;  // B from widened_cross
 
   void update_nominal(const Eigen::MatrixXd& angle_information, double information_scale);
-  void propagate_error(const Eigen::MatrixXd* consider_cross, double information_scale);
+  void propagate_error(const Eigen::MatrixXd* consider_cross, double information_scale,
+                       const Eigen::MatrixXd* widened_cross = nullptr,
+                       const std::vector<char>* widened = nullptr);
   double time_s_ = 0;
   bool started_ = false;
 };

@@ -41,7 +41,8 @@ struct ReportedCovarianceSetup {
   // bias for an encoder joint, an angle for the others. `dofs`: theirs.
   std::vector<PosteriorCovariance::State> states;
   std::vector<int> dofs;
-  int num_consider = 0;  // 3 per link with geometry with model_error, else 0
+  std::vector<char> physical_joint;  // per state: its DOF is a physical joint (not the camera's)
+  int num_consider = 0;              // 3 per link with geometry with model_error, else 0
   ImageInformationParams information;
   double reopened_bias_var_rad2 = 0;  // (acquisition.bias_std_rad)^2
   double image_information_scale = 1;
@@ -93,7 +94,7 @@ class ReportedCovariance {
   // uncertainty.model_error: the link shifts' variance averaged over images.
   double model_error_var_m2_ = 0, model_error_time_s_ = 0;
   bool model_error_started_ = false;
-  Eigen::MatrixXd consider_cross_;
+  Eigen::MatrixXd consider_cross_, widened_cross_;
   std::vector<char> pinned_;  // per link shift column: the last image pinned it
 };
 
