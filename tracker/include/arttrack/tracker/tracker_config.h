@@ -142,7 +142,7 @@ struct TrackerConfig {
   bool model_error = true;
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;
-  double model_error_unpinned_scale = 1.0;
+  double model_error_unpinned_scale = 2.0;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = true;
