@@ -330,7 +330,12 @@ PixelRect DepthRenderer::draw_link(int link, const Eigen::Isometry3d& T_camera_l
       // Most triangles at 80x60 hold no pixel centre: the integer test first.
       if (!box_holds_centre(centre_index[t[0]], centre_index[t[1]], centre_index[t[2]])) continue;
       const Eigen::Vector3f &pa = screen[t[0]], &pb = screen[t[1]], &pc = screen[t[2]];
-      if (faces_camera(pa, pb, pc, cull_back_faces)) raster_triangle(pa, pb, pc, depth, drawn);
+      if (faces_camera(pa, pb, pc, cull_back_faces)) {
+        // The rows from the corners' indices (first_centre_from is monotonic).
+        const int ya = centre_index[t[0]].y(), yb = centre_index[t[1]].y(),
+                  yc = centre_index[t[2]].y();
+        raster_triangle(pa, pb, pc, std::min({ya, yb, yc}), std::max({ya, yb, yc}), depth, drawn);
+      }
     }
   }
   for (const RoundShape& shape : l.round_shapes)
@@ -561,7 +566,10 @@ void DepthRenderer::raster_clipped(const Eigen::Vector3f* hom[3], bool cull_back
   for (int k = 1; k + 1 < n; ++k) {
     if (may_cover(screen[0], screen[k], screen[k + 1], depth.width, depth.height,
                   cull_back_faces)) {
-      raster_triangle(screen[0], screen[k], screen[k + 1], depth, drawn);
+      const Eigen::Vector3f &a = screen[0], &b = screen[k], &c = screen[k + 1];
+      raster_triangle(a, b, c, first_centre_from(std::min({a.y(), b.y(), c.y()}), depth.height),
+                      first_centre_from(std::max({a.y(), b.y(), c.y()}), depth.height), depth,
+                      drawn);
     }
   }
 }
@@ -572,13 +580,13 @@ void DepthRenderer::raster_clipped(const Eigen::Vector3f* hom[3], bool cull_back
 // boundary x is interpolated along an edge from its upper end, so triangles
 // sharing the edge compute the same bits and the half-open spans tile the
 // row: no crack, no pixel drawn twice. Only covered pixels are visited.
-// The caller has checked may_cover().
+// The caller has checked may_cover(). At 80x60 most triangles span one row
+// (62% on the sculpted dual arm) and half cover no pixel centre, so each
+// short edge's slope is computed only for the rows it bounds.
 void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-                                    const Eigen::Vector3f& c, DepthImage& depth,
-                                    PixelRect& drawn) const {
+                                    const Eigen::Vector3f& c, int v_top, int v_bottom,
+                                    DepthImage& depth, PixelRect& drawn) const {
   const int W = depth.width, H = depth.height;
-  const int v_top = first_centre_from(std::min({a.y(), b.y(), c.y()}), H);
-  const int v_bottom = first_centre_from(std::max({a.y(), b.y(), c.y()}), H);
 
   // Corners from top to bottom: the long edge p0-p2 bounds one side of every
   // row, the short edges p0-p1 then p1-p2 the other.
@@ -590,7 +598,7 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
     const float dy = q.y() - p.y();
     return dy > 0.f ? (q.x() - p.x()) / dy : 0.f;
   };
-  const float s02 = slope(*p0, *p2), s01 = slope(*p0, *p1), s12 = slope(*p1, *p2);
+  const float s02 = slope(*p0, *p2);
   // p1 right of the long edge (negative cross product): the long edge is the left side.
   const bool long_left =
       (p2->x() - p0->x()) * (p1->y() - p0->y()) - (p2->y() - p0->y()) * (p1->x() - p0->x()) < 0.f;
@@ -618,14 +626,12 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
 
   float* rows = depth.depth_m.data();
   int u_min = W, u_max = 0, v_min = H, v_max = 0;
-  for (int v = v_top; v < v_bottom; ++v) {
-    const float py = float(v) + 0.5f;
+  // Row v's span between the long edge and x_short.
+  auto draw_row = [&](int v, float py, float x_short) {
     const float x_long = p0->x() + (py - p0->y()) * s02;
-    const float x_short =
-        py < p1->y() ? p0->x() + (py - p0->y()) * s01 : p1->x() + (py - p1->y()) * s12;
     const int u_begin = first_centre_from(long_left ? x_long : x_short, W);
     const int u_end = first_centre_from(long_left ? x_short : x_long, W);
-    if (u_begin >= u_end) continue;
+    if (u_begin >= u_end) return;
     if (!o) set_up_depth();
     u_min = std::min(u_min, u_begin);
     u_max = std::max(u_max, u_end);
@@ -638,6 +644,23 @@ void DepthRenderer::raster_triangle(const Eigen::Vector3f& a, const Eigen::Vecto
       const float z = 1.f / iz;
       const float d = row[u];
       row[u] = (d == 0.f) | (z < d) ? z : d;
+    }
+  };
+  // Rows above p1 are bounded by p0-p1, the others by p1-p2.
+  int v = v_top;
+  if (v < v_bottom && float(v) + 0.5f < p1->y()) {
+    const float s01 = slope(*p0, *p1);
+    for (; v < v_bottom; ++v) {
+      const float py = float(v) + 0.5f;
+      if (!(py < p1->y())) break;
+      draw_row(v, py, p0->x() + (py - p0->y()) * s01);
+    }
+  }
+  if (v < v_bottom) {
+    const float s12 = slope(*p1, *p2);
+    for (; v < v_bottom; ++v) {
+      const float py = float(v) + 0.5f;
+      draw_row(v, py, p1->x() + (py - p1->y()) * s12);
     }
   }
   if (u_min < u_max) {

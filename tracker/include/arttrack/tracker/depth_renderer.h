@@ -106,8 +106,9 @@ class DepthRenderer {
     float radius_m = 0;
   };
   PixelRect draw_link(int link, const Eigen::Isometry3d& T_camera_root, DepthImage& depth);
+  // Rows [v_top, v_bottom): first_centre_from() of the corners' least and greatest v.
   void raster_triangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
-                       DepthImage& depth, PixelRect& drawn) const;
+                       int v_top, int v_bottom, DepthImage& depth, PixelRect& drawn) const;
   void raster_clipped(const Eigen::Vector3f* hom[3], bool cull_back_faces, DepthImage& depth,
                       PixelRect& drawn) const;
   void draw_round_shape(const RoundShape& shape, const Eigen::Isometry3d& T_camera_link,
