@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -157,8 +158,10 @@ Prior prior_around_home(const RobotModel& model, double arm_std) {
 
 // Runs the filter `runs` times with the cached evaluator, each particle
 // checked against brute force.
+// `held`: joints whose prior std is 0 (a search that holds them; their
+// blocks change no particle).
 void check_against_reference(const std::vector<SamplingBlock>& blocks, int particles, double max_kl,
-                             int workers, int runs) {
+                             int workers, int runs, const std::vector<std::string>& held = {}) {
   const RobotModel& model = robot();
   const DepthImage observed = observation(model);
   DepthModelParams params;
@@ -174,6 +177,7 @@ void check_against_reference(const std::vector<SamplingBlock>& blocks, int parti
   WorkerPool pool(workers);
   std::mt19937_64 rng(11);
   Prior prior = prior_around_home(model, 3 * kRadPerDeg);
+  for (const std::string& name : held) prior.std[std::size_t(model.joint_index(name))] = 0;
   for (int run = 0; run < runs; ++run) {
     fast.begin_run(kCamera, likelihood, prior.mean);
     reference.begin_run(kCamera, likelihood, prior.mean);
@@ -182,6 +186,14 @@ void check_against_reference(const std::vector<SamplingBlock>& blocks, int parti
     for (int j = 0; j < model.num_joints(); ++j) prior.mean[j] = cpf.mean()[j];
   }
   EXPECT_EQ(comparing.compared(), runs * particles * int(blocks.size()));
+  int held_blocks = 0;  // every coordinate held
+  for (const SamplingBlock& block : blocks) {
+    bool all = true;
+    for (int c : block.coordinates)
+      all = all && std::find(held.begin(), held.end(), model.joint_name(c)) != held.end();
+    held_blocks += all;
+  }
+  EXPECT_EQ(fast.stats().held_evaluations, (long long)(runs * particles * held_blocks));
   ::testing::Test::RecordProperty("worst_error_over_bound",
                                   std::to_string(comparing.worst_fraction_of_bound()));
   std::cout << "worst |fast - reference| / bound: " << comparing.worst_fraction_of_bound() << "\n";
@@ -213,10 +225,10 @@ TEST(HypothesisEvaluator, ResamplingAfterEveryBlockMatchesBruteForce) {
 // Blocks in an order the cache is not made for: the camera first (then every
 // link differs per particle), joints of both arms in one block, an arm from
 // the root to the hand, some joints not sampled at all.
-TEST(HypothesisEvaluator, UnusualBlockOrdersMatchBruteForce) {
+std::vector<SamplingBlock> unusual_blocks() {
   const RobotModel& model = robot();
   auto j = [&](const char* name) { return model.joint_index(name); };
-  const std::vector<SamplingBlock> blocks = {
+  return {
       {"camera_xyz", {j("camera_offset_x"), j("camera_offset_y"), j("camera_offset_z")}},
       {"left_1", {j("left_arm_joint_1")}},
       {"left_4", {j("left_arm_joint_4")}},
@@ -227,8 +239,96 @@ TEST(HypothesisEvaluator, UnusualBlockOrdersMatchBruteForce) {
       {"right_5", {j("right_arm_joint_5")}},
       {"left_2", {j("left_arm_joint_2")}},
   };
+}
+
+TEST(HypothesisEvaluator, UnusualBlockOrdersMatchBruteForce) {
+  const std::vector<SamplingBlock> blocks = unusual_blocks();
   check_against_reference(blocks, 10, 0.69314718055994531, 2, 2);
   check_against_reference(blocks, 7, 0.0, 2, 1);
+}
+
+// A search holds the rest of the robot while it searches one hand
+// (acquisition.h): held blocks, cached and full, among sampled ones, with
+// and without resampling between them.
+TEST(HypothesisEvaluator, HeldBlocksMatchBruteForce) {
+  const std::vector<std::string> held = {"right_arm_joint_7", "right_arm_joint_3",
+                                         "left_arm_joint_2", "camera_offset_x",
+                                         "camera_offset_roll"};
+  check_against_reference(default_blocks(robot()), 8, 0.69314718055994531, 2, 2, held);
+  check_against_reference(default_blocks(robot()), 6, 0.0, 1, 1, held);
+  // The first block held and rendered from scratch; a held block of two joints.
+  check_against_reference(unusual_blocks(), 7, 0.69314718055994531, 2, 2,
+                          {"camera_offset_x", "camera_offset_y", "camera_offset_z",
+                           "left_arm_joint_6", "right_arm_joint_6"});
+}
+
+// Records the values the filter was given for each block.
+class Recording : public LogLikelihoodEvaluator {
+ public:
+  explicit Recording(HypothesisEvaluator& inner) : inner_(inner) {}
+  void evaluate(const ParticleBatch& batch, std::span<double> out, WorkerPool& pool) override {
+    inner_.evaluate(batch, out, pool);
+    values[batch.block].assign(out.begin(), out.end());
+    particles[batch.block].clear();
+    for (int l = 0; l < batch.num_particles; ++l)
+      particles[batch.block].emplace_back(batch.particle(l).begin(), batch.particle(l).end());
+  }
+  std::map<int, std::vector<double>> values;
+  std::map<int, std::vector<std::vector<double>>> particles;
+
+ private:
+  HypothesisEvaluator& inner_;
+};
+
+// A held block that renders from scratch (the camera's) draws nothing, yet
+// gives each particle the very number drawing it would: an evaluator whose
+// prior mean is elsewhere renders the particle's state and scores it.
+TEST(HypothesisEvaluator, AHeldCameraBlockScoresAsRenderingWould) {
+  const RobotModel& model = robot();
+  const std::vector<SamplingBlock> blocks = default_blocks(model);
+  DepthLikelihood likelihood{DepthModelParams{}};
+  likelihood.set_observation(observation(model));
+  Prior prior = prior_around_home(model, 3 * kRadPerDeg);
+  // The first camera block: the blocks before it draw over the cache and
+  // sum only the pixels they change.
+  const int camera_x = model.joint_index("camera_offset_x");
+  prior.std[std::size_t(camera_x)] = 0;
+  HypothesisEvaluator fast(model, blocks);
+  Recording recording(fast);
+  CoordinateParticleFilterParams params;
+  params.num_particles = 6;
+  // No resampling: the particles stay apart, each with the score its cached
+  // updates summed (which the rescoring must not keep).
+  params.max_kl_divergence = 1e9;
+  CoordinateParticleFilter cpf(model.num_joints(), blocks, params);
+  WorkerPool pool(2);
+  std::mt19937_64 rng(7);
+  fast.begin_run(kCamera, likelihood, prior.mean);
+  cpf.run(prior.mean, prior.std, recording, rng, pool);
+  int block = 0;
+  while (blocks[std::size_t(block)].coordinates[0] != camera_x) ++block;
+  ASSERT_FALSE(fast.renders_fully(block - 1));
+  ASSERT_TRUE(fast.renders_fully(block));
+  EXPECT_EQ(fast.stats().held_evaluations, params.num_particles);
+  for (int l = 0; l < params.num_particles; ++l) {
+    const std::vector<double>& x = recording.particles[block][std::size_t(l)];
+    EXPECT_EQ(x[std::size_t(camera_x)], prior.mean[std::size_t(camera_x)]);
+    std::vector<double> elsewhere = x;
+    elsewhere[std::size_t(camera_x)] += 1e-3;
+    HypothesisEvaluator drawing(model, {blocks[std::size_t(block)]});
+    drawing.begin_run(kCamera, likelihood, elsewhere);
+    const std::vector<int> parents = {0};
+    ParticleBatch batch;
+    batch.coordinates = blocks[std::size_t(block)].coordinates;
+    batch.particles = x.data();
+    batch.num_particles = 1;
+    batch.dimension = model.num_joints();
+    batch.parents = parents;
+    std::vector<double> score(1);
+    drawing.evaluate(batch, score, pool);
+    EXPECT_EQ(drawing.stats().full_evaluations, 1);
+    EXPECT_EQ(recording.values[block][std::size_t(l)], score[0]) << "particle " << l;
+  }
 }
 
 // Per-particle work only: the numbers cannot depend on the number of workers.

@@ -68,7 +68,7 @@ struct HypothesisEvaluator::Workspace {
   // Changed or covered pixels of one evaluation.
   std::vector<int> pixel, covered_pixel;
   std::vector<float> depth, covered_depth, ratio;
-  long long full = 0, cached = 0, pixels = 0;
+  long long full = 0, cached = 0, held = 0, pixels = 0;
 };
 
 HypothesisEvaluator::HypothesisEvaluator(const RobotModel& model,
@@ -262,6 +262,23 @@ double HypothesisEvaluator::evaluate_full(const BlockPlan& plan, int slot,
   return score_[slot];
 }
 
+bool HypothesisEvaluator::holds_block(const ParticleBatch& batch) const {
+  for (int c : batch.coordinates)
+    for (int l = 0; l < batch.num_particles; ++l)
+      if (!(batch.particle(l)[std::size_t(c)] == prior_mean_[c])) return false;
+  return true;
+}
+
+// The particle's image is what evaluate_full would draw (a link drawn twice
+// at one pose is drawn alike); its score is summed again from scratch over
+// the same covered pixels in the same order, as evaluate_full sums it, so
+// that the score is the same number.
+double HypothesisEvaluator::rescore_held(const BlockPlan& plan, int slot, Workspace& w) {
+  const PixelRect all{0, 0, camera_.width, camera_.height};
+  score_[slot] = score_image(depth_[slot], all, plan.keep_cache ? ratio_[slot].data() : nullptr, w);
+  return score_[slot];
+}
+
 double HypothesisEvaluator::evaluate_cached(const BlockPlan& plan, int slot,
                                             std::span<const double> x, Workspace& w) {
   for (int j = 0; j < w.q.size(); ++j) w.q[j] = x[j];
@@ -369,9 +386,15 @@ void HypothesisEvaluator::evaluate(const ParticleBatch& batch, std::span<double>
     // its parent's cache), so that no slot is read and written at once.
     const int source_base = base_;
     const int new_base = batch.block == 0 ? 0 : (resampled ? L - base_ : base_);
-    if (!plan.full) {
+    // A held block leaves every particle as its parent was: its cache holds
+    // the image, so nothing is drawn.
+    const bool held = holds_block(batch);
+    const bool uses_cache = !plan.full || held;
+    if (uses_cache) {
       if (!prior_groups_rendered_) render_prior_groups();
       if (batch.block == 0) render_reference_slot();
+    }
+    if (!plan.full && !held) {
       // The common groups: their coordinates are unsampled, so every
       // particle has them at the prior mean.
       std::fill(common_.depth_m.begin(), common_.depth_m.end(), 0.f);
@@ -382,7 +405,7 @@ void HypothesisEvaluator::evaluate(const ParticleBatch& batch, std::span<double>
       Workspace& w = *workspaces_[worker];
       for (int l = begin; l < end; ++l) {
         const int slot = new_base + l;
-        if (!plan.full && resampled) {
+        if (uses_cache && resampled) {
           const int from = batch.block == 0 ? 2 * L : source_base + batch.parents[l];
           depth_[slot].depth_m = depth_[from].depth_m;  // same sizes: no allocation
           std::copy(ratio_[from].begin(), ratio_[from].end(), ratio_[slot].begin());
@@ -390,8 +413,13 @@ void HypothesisEvaluator::evaluate(const ParticleBatch& batch, std::span<double>
                       rects_.begin() + std::size_t(slot) * G);
           score_[slot] = score_[from];
         }
-        log_likelihood[l] = plan.full ? evaluate_full(plan, slot, batch.particle(l), w)
-                                      : evaluate_cached(plan, slot, batch.particle(l), w);
+        if (held) {
+          log_likelihood[l] = plan.full ? rescore_held(plan, slot, w) : score_[slot];
+          ++w.held;
+        } else {
+          log_likelihood[l] = plan.full ? evaluate_full(plan, slot, batch.particle(l), w)
+                                        : evaluate_cached(plan, slot, batch.particle(l), w);
+        }
       }
     });
     base_ = new_base;
@@ -399,8 +427,9 @@ void HypothesisEvaluator::evaluate(const ParticleBatch& batch, std::span<double>
   for (auto& w : workspaces_) {
     stats_.full_evaluations += w->full;
     stats_.cached_evaluations += w->cached;
+    stats_.held_evaluations += w->held;
     stats_.pixels_scored += w->pixels;
-    w->full = w->cached = w->pixels = 0;
+    w->full = w->cached = w->held = w->pixels = 0;
   }
 }
 

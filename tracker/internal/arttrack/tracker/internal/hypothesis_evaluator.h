@@ -21,6 +21,12 @@
 // e.g. head or camera-offset joints) renders and scores particles from scratch.
 // With the default hand-to-root blocks, arm blocks draw one subtree over the
 // cache and only the head and camera blocks render everything.
+// A held block (every particle has its coordinates at the prior mean: a
+// search that holds the rest of the robot, acquisition.h) changes no
+// particle: its score is the parent's, and a block that renders from
+// scratch only sums its cached image again. Nothing is drawn, and the
+// scores are the numbers drawing would give: in a search of one hand the
+// held blocks were nine in ten of the evaluations.
 //
 // Scores use DepthLikelihood::ratios() (fast exp/erfc, each ratio rounded to
 // float): every particle's score is the sum over its covered pixels of
@@ -52,6 +58,7 @@ namespace arttrack {
 struct HypothesisEvaluatorStats {
   long long full_evaluations = 0;    // particles rendered and scored from scratch
   long long cached_evaluations = 0;  // particles that drew only the moving groups
+  long long held_evaluations = 0;    // particles of held blocks: nothing drawn
   long long pixels_scored = 0;       // pixel ratios computed (fast path)
 };
 
@@ -94,6 +101,9 @@ class HypothesisEvaluator final : public LogLikelihoodEvaluator {
   void render_reference_slot();
   double evaluate_full(const BlockPlan& plan, int slot, std::span<const double> x, Workspace& w);
   double evaluate_cached(const BlockPlan& plan, int slot, std::span<const double> x, Workspace& w);
+  // Whether every particle has the batch's coordinates at the prior mean.
+  bool holds_block(const ParticleBatch& batch) const;
+  double rescore_held(const BlockPlan& plan, int slot, Workspace& w);
   double score_image(const DepthImage& depth, const PixelRect& rect, float* ratio_out,
                      Workspace& w) const;
 
