@@ -23,8 +23,9 @@
 //
 // --evaluations N sets particles = ceil(N / blocks) (sampling_blocks(): by
 // default one per joint whose bias is estimated and one per camera-offset
-// joint); --resolution sets the likelihood resolution (images are
-// subsampled to it).
+// joint), min_evaluations 0; without it the configuration's particles, at
+// least particle_filter.min_evaluations per image; --resolution sets the likelihood resolution
+// (images are subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
 // can and prints its resident memory (arttrack_bench_soak.h); fails when it
@@ -185,9 +186,12 @@ void run_bench(const BenchArgs& args) {
   config.validate(config.source);
   const std::vector<SamplingBlock> sampling = sampling_blocks(*robot, config);
   const int blocks = int(sampling.size());
-  if (args.evaluations > 0)
+  if (args.evaluations > 0) {
     config.particle_filter.num_particles = (args.evaluations + blocks - 1) / blocks;
+    config.min_evaluations = 0;
+  }
   config.validate(config.source);
+  const int particles = particle_filter_params(config, blocks).num_particles;
   if (args.soak_minutes > 0) {
     SoakOptions soak;
     soak.minutes = args.soak_minutes;
@@ -247,7 +251,7 @@ void run_bench(const BenchArgs& args) {
   j["duration_s"] = result.duration_s;
   j["run_seed"] = result.seeds.at(0);
   j["resolution"] = resolution;
-  j["particles"] = config.particle_filter.num_particles;
+  j["particles"] = particles;
   j["blocks"] = blocks;
   j["block_names"] = Json::array();
   for (const SamplingBlock& b : sampling) j["block_names"].push_back(b.name);
@@ -292,10 +296,9 @@ void run_bench(const BenchArgs& args) {
 
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "arttrack bench: " << scenario.name << ", " << result.duration_s
-            << " s of stream, full fusion at " << resolution << ", "
-            << config.particle_filter.num_particles << " particles x " << blocks
-            << " blocks = " << evaluations_per_image << " evaluations per image, " << threads
-            << " threads\n";
+            << " s of stream, full fusion at " << resolution << ", " << particles << " particles x "
+            << blocks << " blocks = " << evaluations_per_image << " evaluations per image, "
+            << threads << " threads\n";
   std::cout << "  blocks           ";
   for (std::size_t b = 0; b < sampling.size(); ++b)
     std::cout << (b ? ", " : "") << sampling[b].name;

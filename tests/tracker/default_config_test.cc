@@ -267,7 +267,8 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
   f.elements("particle_filter.blocks", &C::blocks, [](FieldList<C::Block>& b) {
     b(key("name", &C::Block::name), key("joints", &C::Block::joints));
   });
-  f(key("particle_filter.likelihood_exponent", &C::likelihood_exponent),
+  f(key("particle_filter.min_evaluations", &C::min_evaluations),
+    key("particle_filter.likelihood_exponent", &C::likelihood_exponent),
     key("particle_filter.seed", &C::seed), key("particle_filter.threads", &C::threads));
   f(key("uncertainty.image_information_scale", &C::image_information_scale),
     key("uncertainty.discount_correlated_residuals", &C::discount_correlated_residuals),

@@ -43,6 +43,7 @@ inline TrackerConfig small_config(TrackingMethod method) {
   c.method = method;
   c.end_effectors = {"tool"};
   c.particle_filter.num_particles = 40;
+  c.min_evaluations = 0;  // exactly 40 per block
   c.threads = 1;
   c.depth_model.width = 64;
   c.depth_model.height = 48;

@@ -223,6 +223,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"particle_filter.likelihood_exponent", "1e-3", "9e-4"},
     {"particle_filter.likelihood_exponent", "1", "1.01"},
     {"particle_filter.threads", "0", "-1"},
+    {"particle_filter.min_evaluations", "0", "-1"},
+    {"particle_filter.min_evaluations", "1000000", "1000001"},
     {"particle_filter.threads", kMaxThreads, std::to_string(kMaxWorkerThreads + 1)},
     {"uncertainty.image_information_scale", "1e-6", "1e-7"},
     {"uncertainty.image_information_scale", "1", "1.1"},

@@ -1,6 +1,7 @@
 // TrackerSetup (tracker/internal): the wiring Tracker's constructor does
 // once, from the model, the configuration and the encoders' order.
 #include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/tracker.h"
 
 #include <gtest/gtest.h>
 
@@ -71,6 +72,29 @@ TEST(TrackerSetup, RefusesAnEncoderOrderThatIsNotEveryPhysicalJointOnce) {
   EXPECT_EQ(error_of([&] { TrackerSetup(model, c, {"shoulder"}); }),
             "no encoder reading for joint 'elbow' (every physical joint needs one, except for "
             "vision_only)");
+}
+
+// Full fusion samples at least min_evaluations per image over its blocks
+// (the planar arm's 2 joints and 6 camera joints: 8 blocks); the other
+// methods exactly the configured particles, without the bandwidth floor.
+TEST(TrackerSetup, FullFusionSamplesAtLeastMinEvaluationsPerImage) {
+  const auto model = arm_model();
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  c.particle_filter.bandwidth_factor = 1;
+  const int blocks = int(sampling_blocks(*model, c).size());
+  ASSERT_EQ(blocks, 8);
+  EXPECT_EQ(particle_filter_params(c, blocks).num_particles, 40);  // min_evaluations 0
+  c.min_evaluations = 400;
+  EXPECT_EQ(particle_filter_params(c, blocks).num_particles, 50);
+  c.min_evaluations = 401;
+  EXPECT_EQ(particle_filter_params(c, blocks).num_particles, 51);  // rounded up
+  c.min_evaluations = 320;
+  EXPECT_EQ(particle_filter_params(c, blocks).num_particles, 40);  // never fewer than configured
+  EXPECT_EQ(particle_filter_params(c, blocks).bandwidth_factor, 1);
+  c.method = TrackingMethod::kVisionOnly;
+  c.min_evaluations = 400;
+  EXPECT_EQ(particle_filter_params(c, blocks).num_particles, 40);
+  EXPECT_EQ(particle_filter_params(c, blocks).bandwidth_factor, 0);
 }
 
 }  // namespace

@@ -50,7 +50,8 @@ AcquisitionWorkspace::AcquisitionWorkspace(const AcquisitionSetup& setup) {
   const int n = setup.tracker.n;
   part_open.assign(n, 0);
   if (!setup.on) return;
-  cpf.emplace(n, setup.blocks, setup.tracker.config.particle_filter);
+  cpf.emplace(n, setup.blocks,
+              particle_filter_params(setup.tracker.config, int(setup.blocks.size())));
   for (const DepthModelParams& p : setup.pass_models) likelihoods.emplace_back(p);
   search_mean.assign(n, 0.0);
   search_std.assign(n, 0.0);

@@ -5,10 +5,10 @@
 namespace arttrack {
 namespace {
 
-CoordinateParticleFilterParams filter_params(const TrackerConfig& config) {
-  CoordinateParticleFilterParams params = config.particle_filter;
-  if (config.method != TrackingMethod::kFullFusion) params.bandwidth_factor = 0;
-  return params;
+CoordinateParticleFilter make_filter(const TrackerSetup& setup) {
+  const std::vector<SamplingBlock> blocks = sampling_blocks(*setup.model, setup.config);
+  return CoordinateParticleFilter(setup.n, blocks,
+                                  particle_filter_params(setup.config, int(blocks.size())));
 }
 
 }  // namespace
@@ -16,7 +16,7 @@ CoordinateParticleFilterParams filter_params(const TrackerConfig& config) {
 ImageFilter::ImageFilter(const TrackerSetup& setup)
     : beta_(setup.config.likelihood_exponent),
       pool_(setup.config.threads),
-      cpf_(setup.n, sampling_blocks(*setup.model, setup.config), filter_params(setup.config)),
+      cpf_(make_filter(setup)),
       likelihood_(setup.config.depth_model),
       rng_(setup.config.seed),
       geometry_(setup.model, setup.config.geometry, pool_.num_workers()) {}

@@ -104,6 +104,17 @@ JointFilterParams joint_filter_params(const RobotModel& model, const TrackerConf
   return o.over(defaults);
 }
 
+CoordinateParticleFilterParams particle_filter_params(const TrackerConfig& config, int num_blocks) {
+  CoordinateParticleFilterParams params = config.particle_filter;
+  if (config.method != TrackingMethod::kFullFusion) {
+    params.bandwidth_factor = 0;
+  } else if (num_blocks > 0) {
+    params.num_particles =
+        std::max(params.num_particles, (config.min_evaluations + num_blocks - 1) / num_blocks);
+  }
+  return params;
+}
+
 std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config) {
   std::vector<SamplingBlock> blocks;
   if (config.method == TrackingMethod::kEncodersOnly) return blocks;

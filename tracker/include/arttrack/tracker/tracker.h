@@ -255,6 +255,12 @@ struct TrackerStats {
 // InputError naming a block and its unknown joint.
 std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config);
 
+// The particle filter's settings for `num_blocks` sampling blocks:
+// config.particle_filter, with full fusion's particles per block raised to
+// ceil(config.min_evaluations / num_blocks) when that is more, and no
+// bandwidth floor for the other methods.
+CoordinateParticleFilterParams particle_filter_params(const TrackerConfig& config, int num_blocks);
+
 // The joint filter parameters `config` gives the physical joint `dof` of
 // `model`, before the method's rules: the defaults of its kind
 // (prismatic_joint_defaults for a prismatic joint, in metres, joint_defaults

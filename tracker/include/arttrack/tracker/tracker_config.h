@@ -103,6 +103,13 @@ struct TrackerConfig {
   };
   Geometry geometry;
   CoordinateParticleFilterParams particle_filter;
+  // Full fusion samples at least this many particles per image over its
+  // blocks: particles per block max(particle_filter.num_particles,
+  // ceil(min_evaluations / blocks)) (particle_filter_params() in
+  // tracker.h). A 7-DoF arm has 13 blocks: 31 particles, where 20 would be
+  // 260 evaluations; the dual arm's 20 blocks keep 20. 0: exactly
+  // particle_filter.num_particles.
+  int min_evaluations = 400;
   // Sampling blocks: named lists of joint names. Empty: one block per
   // physical joint whose bias is estimated (every physical joint for
   // vision_only; a joint whose bias is not estimated, like a mimic joint,
