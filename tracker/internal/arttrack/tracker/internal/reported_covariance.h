@@ -50,7 +50,7 @@ struct ReportedCovarianceSetup {
   bool model_error = true;
   double model_error_time_constant_s = 2;
   double model_error_min_std_m = 0;
-  double model_error_unpinned_scale = 1;
+  double model_error_unpinned_scale = 2;  // the constructor copies the configuration's
 };
 
 class ReportedCovariance {
