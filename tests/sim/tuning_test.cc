@@ -122,6 +122,7 @@ TEST(TuningParameters, NormalisedCoordinatesAndWholeNumbers) {
   EXPECT_DOUBLE_EQ(p[1].value_at(0.51), 25);   // 10 + 15.3, rounded
   EXPECT_EQ(p[1].text(25), "25");
   EXPECT_EQ(parse_tuning_parameters({"timing.camera_delay_s=0:3:int"}, base)[0].integer, true);
+  EXPECT_TRUE(parse_tuning_parameters({"particle_filter.min_evaluations=0:800"}, base)[0].integer);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"depth_model.occlusion_priority=0:1", "not a known key"},

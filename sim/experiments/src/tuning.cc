@@ -40,9 +40,9 @@ std::string yaml_quoted(const std::string& s) {
 }
 
 bool is_integer_key(const std::string& key) {
-  static const std::set<std::string> keys = {"particle_filter.particles", "depth_model.width",
-                                             "depth_model.height", "timing.buffer_capacity",
-                                             "timing.max_pending_images"};
+  static const std::set<std::string> keys = {
+      "particle_filter.particles", "particle_filter.min_evaluations", "depth_model.width",
+      "depth_model.height",        "timing.buffer_capacity",          "timing.max_pending_images"};
   return keys.count(key) > 0;
 }
 
