@@ -23,9 +23,9 @@
 //
 // --evaluations N sets particles = ceil(N / blocks) (sampling_blocks(): by
 // default one per joint whose bias is estimated and one per camera-offset
-// joint), min_evaluations 0; without it the configuration's particles, at
-// least particle_filter.min_evaluations per image; --resolution sets the likelihood resolution
-// (images are subsampled to it).
+// joint) and min_evaluations 0; without it the configuration's particles,
+// at least particle_filter.min_evaluations per image. --resolution sets the
+// likelihood resolution (images are subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
 // can and prints its resident memory (arttrack_bench_soak.h); fails when it

@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
 namespace arttrack {
@@ -120,6 +121,21 @@ TEST(PosteriorCovariance, RejectsBadInput) {
   EXPECT_THROW(cov.reset(Eigen::Vector2d(1, 1), 0), InputError);
   cov.reset(Eigen::VectorXd::Ones(1), 0);
   EXPECT_THROW(cov.update(Eigen::Matrix2d::Identity(), 1), InputError);
+  // With consider parameters, every part's size is checked and named.
+  PosteriorCovariance with({{0, Kind::kAngle, 0, 0.1}, {1, Kind::kBias, 0.05, 0.003}}, 3);
+  with.reset(Eigen::Vector2d(1, 1), 0);
+  const Eigen::MatrixXd info = Eigen::Matrix2d::Identity(), cross = Eigen::MatrixXd::Zero(2, 3);
+  const std::vector<char> flags = {1, 0};
+  EXPECT_EQ(test_support::error_of([&] { with.update(Eigen::Matrix3d::Identity(), cross, 1); }),
+            "posterior covariance: the information matrix is 3 x 3, not 2 x 2");
+  EXPECT_EQ(test_support::error_of([&] { with.update(info, Eigen::MatrixXd::Zero(2, 2), 1); }),
+            "posterior covariance: the consider cross-information is 2 x 2, not 2 x 3");
+  EXPECT_EQ(test_support::error_of(
+                [&] { with.update(info, cross, Eigen::MatrixXd::Zero(3, 3), flags, 1); }),
+            "posterior covariance: the widened cross-information is 3 x 3, not 2 x 3");
+  EXPECT_EQ(test_support::error_of([&] { with.update(info, cross, cross, {1}, 1); }),
+            "posterior covariance: 1 widened flags, not one per state (2)");
+  EXPECT_EQ(test_support::error_of([&] { with.update(info, cross, cross, flags, 1); }), "");
 }
 
 }  // namespace

@@ -94,33 +94,39 @@ void PosteriorCovariance::predict_to(double time_s) {
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  double information_scale) {
-  if (angle_information.rows() != size() || angle_information.cols() != size())
-    throw InputError("posterior covariance: information matrix of the wrong size");
-  update_nominal(angle_information, information_scale);
-  if (num_consider_ > 0) propagate_error(nullptr, information_scale);
+  update(angle_information, nullptr, nullptr, nullptr, information_scale);
 }
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  const Eigen::MatrixXd& consider_cross, double information_scale) {
-  if (angle_information.rows() != size() || angle_information.cols() != size() ||
-      consider_cross.rows() != size() || consider_cross.cols() != num_consider_)
-    throw InputError("posterior covariance: information matrices of the wrong size");
-  update_nominal(angle_information, information_scale);
-  if (num_consider_ > 0) propagate_error(&consider_cross, information_scale);
+  update(angle_information, &consider_cross, nullptr, nullptr, information_scale);
 }
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  const Eigen::MatrixXd& consider_cross,
                                  const Eigen::MatrixXd& widened_cross,
                                  const std::vector<char>& widened, double information_scale) {
-  if (angle_information.rows() != size() || angle_information.cols() != size() ||
-      consider_cross.rows() != size() || consider_cross.cols() != num_consider_ ||
-      widened_cross.rows() != size() || widened_cross.cols() != num_consider_ ||
-      int(widened.size()) != size())
-    throw InputError("posterior covariance: information matrices of the wrong size");
+  update(angle_information, &consider_cross, &widened_cross, &widened, information_scale);
+}
+
+void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
+                                 const Eigen::MatrixXd* consider_cross,
+                                 const Eigen::MatrixXd* widened_cross,
+                                 const std::vector<char>* widened, double information_scale) {
+  auto check = [&](const Eigen::MatrixXd& m, int cols, const char* what) {
+    if (m.rows() != size() || m.cols() != cols)
+      throw InputError(std::string("posterior covariance: ") + what + " is " +
+                       std::to_string(m.rows()) + " x " + std::to_string(m.cols()) + ", not " +
+                       std::to_string(size()) + " x " + std::to_string(cols));
+  };
+  check(angle_information, size(), "the information matrix");
+  if (consider_cross) check(*consider_cross, num_consider_, "the consider cross-information");
+  if (widened_cross) check(*widened_cross, num_consider_, "the widened cross-information");
+  if (widened && int(widened->size()) != size())
+    throw InputError("posterior covariance: " + std::to_string(widened->size()) +
+                     " widened flags, not one per state (" + std::to_string(size()) + ")");
   update_nominal(angle_information, information_scale);
-  if (num_consider_ > 0)
-    propagate_error(&consider_cross, information_scale, &widened_cross, &widened);
+  if (num_consider_ > 0) propagate_error(consider_cross, information_scale, widened_cross, widened);
 }
 
 void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_information,

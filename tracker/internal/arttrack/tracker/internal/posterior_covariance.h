@@ -111,10 +111,13 @@ class PosteriorCovariance {
   Eigen::MatrixXd Q_ee_, Q_ec_, A_, B_, AQ_, PJ_;
   Eigen::MatrixXd B_widened_;  // B from widened_cross
 
+  // The three update()s: a null part is absent. Checks every size.
+  void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd* consider_cross,
+              const Eigen::MatrixXd* widened_cross, const std::vector<char>* widened,
+              double information_scale);
   void update_nominal(const Eigen::MatrixXd& angle_information, double information_scale);
   void propagate_error(const Eigen::MatrixXd* consider_cross, double information_scale,
-                       const Eigen::MatrixXd* widened_cross = nullptr,
-                       const std::vector<char>* widened = nullptr);
+                       const Eigen::MatrixXd* widened_cross, const std::vector<char>* widened);
   double time_s_ = 0;
   bool started_ = false;
 };
