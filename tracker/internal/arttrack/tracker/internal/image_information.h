@@ -88,8 +88,13 @@ class ImageInformation {
   // moves the pixel's link and not the camera, negated when it moves the
   // camera and not the link; the rendered depth at the pixel changes by
   // j . dX, j the link-shift vector below (from the rendered depth's
-  // slopes), over the same pixels. It is one linear map for every DOF: a
-  // motion that moves no surface relative to the camera changes no pixel.
+  // slopes), over the same pixels; on a cylinder or sphere (RoundShape,
+  // drawn exactly) j = n / n . (x, y, 1) from the surface's normal n, and 0
+  // beyond 76 degrees from facing the camera: slopes between pixels are
+  // chords of the curve, and a shape turned about its own axis seemed to
+  // move (arm7's round base, docs/accuracy.md stop 44). It is one linear map
+  // for every DOF: a motion that moves no surface relative to the camera
+  // changes no pixel.
   // Central differences are not: where one surface steps in front of
   // another by less than inlier_sigmas (a finger before the hand, a link
   // before the next), a DOF's step moves the edge across a pixel centre and
@@ -218,16 +223,27 @@ class ImageInformation {
   void difference_column(int k, const DepthLikelihood& likelihood, Worker& w);
   void motion_field_gradients(const RobotModel& model, const CameraIntrinsics& camera,
                               const DepthLikelihood& likelihood);
-  Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma) const;
+  Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma,
+                                     bool round_normals) const;
+  // Every link's round shapes (RoundShape) seen from the camera at q: the
+  // link's are [first_round_shape_[l], first_round_shape_[l + 1]).
+  std::vector<int> first_round_shape_;
+  std::vector<Eigen::Isometry3d> T_shape_camera_;
+  void place_round_shapes(const RobotModel& model);
+  // The unit normal, in camera axes, of the round shape of `link` that
+  // camera-frame point X lies on, at q; false when on none.
+  bool round_surface_normal(int link, const Eigen::Vector3d& X_camera,
+                            Eigen::Vector3d& n_camera) const;
   // Calls f(pixel, labelled link index, j / sigma) for every used pixel of
   // the labelled render (j: depth_slope_vector).
   template <class F>
   void for_each_labelled_pixel(const CameraIntrinsics& camera, const DepthLikelihood& likelihood,
-                               F&& f) const {
+                               bool round_normals, F&& f) const {
     for (int p = 0; p < camera.width * camera.height; ++p) {
       if (!used_[std::size_t(p)] || label_[std::size_t(p)] < 0) continue;
       const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
-      f(p, label_[std::size_t(p)], Eigen::Vector3d(depth_slope_vector(p, camera, sigma) / sigma));
+      f(p, label_[std::size_t(p)],
+        Eigen::Vector3d(depth_slope_vector(p, camera, sigma, round_normals) / sigma));
     }
   }
   struct MotionTerm {
