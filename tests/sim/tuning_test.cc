@@ -123,6 +123,14 @@ TEST(TuningParameters, NormalisedCoordinatesAndWholeNumbers) {
   EXPECT_EQ(p[1].text(25), "25");
   EXPECT_EQ(parse_tuning_parameters({"timing.camera_delay_s=0:3:int"}, base)[0].integer, true);
   EXPECT_TRUE(parse_tuning_parameters({"particle_filter.min_evaluations=0:800"}, base)[0].integer);
+  // Every key the tracker reads as a whole number, without a list here: the
+  // parser rejects 0.5 there. (A hand list lacked these four.)
+  for (const char* key : {"geometry.coarser_levels=0:4", "particle_filter.threads=1:2",
+                          "acquisition.searches=1:5", "refinement.min_pixels=10:60"})
+    EXPECT_TRUE(parse_tuning_parameters({key}, base)[0].integer) << key;
+  EXPECT_FALSE(parse_tuning_parameters({"geometry.coarser_levels=0:4:real"}, base)[0].integer);
+  EXPECT_FALSE(
+      parse_tuning_parameters({"uncertainty.model_error_min_std_m=0:0.01"}, base)[0].integer);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"depth_model.occlusion_priority=0:1", "not a known key"},

@@ -12,7 +12,6 @@
 #include <limits>
 #include <map>
 #include <optional>
-#include <set>
 #include <sstream>
 
 #include "arttrack/sim/internal/text_format.h"
@@ -39,11 +38,17 @@ std::string yaml_quoted(const std::string& s) {
   return out + "'";
 }
 
-bool is_integer_key(const std::string& key) {
-  static const std::set<std::string> keys = {
-      "particle_filter.particles", "particle_filter.min_evaluations", "depth_model.width",
-      "depth_model.height",        "timing.buffer_capacity",          "timing.max_pending_images"};
-  return keys.count(key) > 0;
+// Whether the tracker's configuration reads p.key as a whole number: it
+// rejects a value halfway between two (ConfigNode::whole_number), before
+// any range check. The parser says, so no list here goes stale.
+bool takes_whole_numbers(const YamlDocument& base, TuningParameter p) {
+  p.integer = false;
+  try {
+    candidate_document(base, {p}, {std::floor(p.lo) + 0.5});
+  } catch (const InputError& e) {
+    return std::string(e.what()).find("is not a whole number") != std::string::npos;
+  }
+  return false;
 }
 
 }  // namespace
@@ -83,13 +88,10 @@ std::vector<TuningParameter> parse_tuning_parameters(const std::vector<std::stri
       std::vector<std::string> parts;
       std::stringstream r(spec.substr(eq + 1));
       for (std::string part; std::getline(r, part, ':');) parts.push_back(text::trim(part));
-      if (parts.size() == 3 && parts[2] == "int") {
-        p.integer = true;
+      const bool typed = parts.size() == 3 && (parts[2] == "int" || parts[2] == "real");
+      if (typed) {
+        p.integer = parts[2] == "int";
         parts.pop_back();
-      } else if (parts.size() == 3 && parts[2] == "real") {
-        parts.pop_back();
-      } else {
-        p.integer = is_integer_key(p.key);
       }
       if (parts.size() != 2) throw InputError(context + ": expected key=lo:hi (or key=lo:hi:int)");
       if (!text::parse_number(parts[0], p.lo))
@@ -97,6 +99,7 @@ std::vector<TuningParameter> parse_tuning_parameters(const std::vector<std::stri
       if (!text::parse_number(parts[1], p.hi))
         throw InputError(context + ": hi '" + parts[1] + "' is not a finite number");
       if (!(p.lo < p.hi)) throw InputError(context + ": lo must be below hi");
+      if (!typed) p.integer = takes_whole_numbers(base, p);
       if (p.integer && (p.lo != std::floor(p.lo) || p.hi != std::floor(p.hi)))
         throw InputError(context + ": " + p.key + " takes whole numbers: give whole bounds");
       for (const TuningParameter& q : params)

@@ -57,8 +57,9 @@ OptimizerResult minimize_unit_box(const std::function<double(const std::vector<d
 struct TuningParameter {
   std::string key;  // dotted tracker YAML key, e.g. depth_model.occlusion_prior
   double lo = 0, hi = 1;
-  // Whole numbers only (rounded): particle_filter.particles, depth_model.width
-  // and .height, timing.buffer_capacity and .max_pending_images, or `:int`.
+  // Whole numbers only (rounded): the keys the tracker's configuration reads
+  // as whole numbers (particle_filter.particles, depth_model.width, ...), or
+  // `:int`; `:real` makes any key real.
   bool integer = false;
 
   // The value at normalised u (clamped into [0, 1]), rounded as text()
