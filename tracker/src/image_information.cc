@@ -251,16 +251,20 @@ bool ImageInformation::round_surface_normal(int link, const Eigen::Vector3d& X_c
     const Eigen::Isometry3d& T_shape_camera =
         T_shape_camera_[std::size_t(first_round_shape_[std::size_t(link)]) + k];
     const Eigen::Vector3d P = T_shape_camera * X_camera;
+    // Squared distances against the band [radius - tolerance, radius +
+    // tolerance]: no square root for the many pixels on no shape.
+    const double inner = std::max(0.0, s.radius_m - tolerance_m), outer = s.radius_m + tolerance_m;
     Eigen::Vector3d n_shape;
     if (s.kind == RoundShape::Kind::kSphere) {
-      if (std::abs(P.norm() - s.radius_m) > tolerance_m) continue;
+      const double d2 = P.squaredNorm();
+      if (d2 < inner * inner || d2 > outer * outer) continue;
       n_shape = P;
     } else {
-      const double radial = std::hypot(P.x(), P.y()), half = 0.5 * s.length_m;
-      if (std::abs(radial - s.radius_m) <= tolerance_m && std::abs(P.z()) <= half + tolerance_m)
+      const double radial2 = P.x() * P.x() + P.y() * P.y(), half = 0.5 * s.length_m;
+      if (radial2 >= inner * inner && radial2 <= outer * outer &&
+          std::abs(P.z()) <= half + tolerance_m)
         n_shape = Eigen::Vector3d(P.x(), P.y(), 0);
-      else if (std::abs(std::abs(P.z()) - half) <= tolerance_m &&
-               radial <= s.radius_m + tolerance_m)
+      else if (std::abs(std::abs(P.z()) - half) <= tolerance_m && radial2 <= outer * outer)
         n_shape = Eigen::Vector3d(0, 0, P.z());
       else
         continue;
