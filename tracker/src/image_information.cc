@@ -225,11 +225,6 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
 }
 
 void ImageInformation::place_round_shapes(const RobotModel& model) {
-  first_round_shape_.assign(std::size_t(model.num_links()) + 1, 0);
-  for (int l = 0; l < model.num_links(); ++l)
-    first_round_shape_[std::size_t(l) + 1] =
-        first_round_shape_[std::size_t(l)] + int(model.link(l).round_shapes.size());
-  T_shape_camera_.resize(std::size_t(first_round_shape_.back()));
   const Eigen::Isometry3d T_camera_root =
       kinematics_.T_root_link[std::size_t(model.camera_link())].inverse();
   for (int l = 0; l < model.num_links(); ++l) {
@@ -293,6 +288,11 @@ void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers)
       for (int a = l; a >= 0; a = model.link(a).parent)
         if (index[std::size_t(a)] >= 0) shift_above_.back().push_back(index[std::size_t(a)]);
     }
+    first_round_shape_.assign(std::size_t(model.num_links()) + 1, 0);
+    for (int l = 0; l < model.num_links(); ++l)
+      first_round_shape_[std::size_t(l) + 1] =
+          first_round_shape_[std::size_t(l)] + int(model.link(l).round_shapes.size());
+    T_shape_camera_.resize(std::size_t(first_round_shape_.back()));
   }
   if (workers_model_ == &model && workers_camera_ == camera &&
       int(workers_.size()) == num_workers) {

@@ -225,8 +225,10 @@ class ImageInformation {
                               const DepthLikelihood& likelihood);
   Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma,
                                      bool round_normals) const;
-  // Every link's round shapes (RoundShape) seen from the camera at q: the
-  // link's are [first_round_shape_[l], first_round_shape_[l + 1]).
+  // Every link's round shapes (RoundShape) seen from the camera at q
+  // (place_round_shapes(), per compute()): the link's are
+  // [first_round_shape_[l], first_round_shape_[l + 1]) (prepare_workers(),
+  // with shift_links_, from the model).
   std::vector<int> first_round_shape_;
   std::vector<Eigen::Isometry3d> T_shape_camera_;
   void place_round_shapes(const RobotModel& model);
