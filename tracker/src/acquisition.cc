@@ -5,16 +5,13 @@
 #include <cmath>
 
 #include "arttrack/tracker/internal/gaussian_fold.h"
+#include "elapsed.h"
 #include "health_check.h"
 
 namespace arttrack {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // log N(x; mean, sd^2) up to its constant: a prior's term in a search's target.
 double gaussian_log_kernel(double x, double mean, double sd) {

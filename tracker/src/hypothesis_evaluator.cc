@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include "arttrack/tracker/error.h"
@@ -11,8 +12,6 @@
 
 namespace arttrack {
 namespace {
-
-constexpr double kLog2 = 0.69314718055994531;
 
 bool intersects(const PixelRect& a, const PixelRect& b) {
   return !a.empty() && !b.empty() && a.u0 < b.u1 && b.u0 < a.u1 && a.v0 < b.v1 && b.v0 < a.v1;
@@ -32,7 +31,7 @@ class LogProduct {
       pending_ = 0;
     }
   }
-  double log() const { return std::log(product_) + double(exponent_) * kLog2; }
+  double log() const { return std::log(product_) + double(exponent_) * std::numbers::ln2; }
 
  private:
   double product_ = 1;

@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
-#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -19,13 +18,13 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/mesh_simplify.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/model_limits.h"
 
 namespace arttrack {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // urdfdom reports why a parse failed only through console_bridge; collect
 // those messages to put them in the exception instead of on stderr.

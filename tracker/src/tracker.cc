@@ -16,16 +16,13 @@
 #include "arttrack/tracker/internal/image_update.h"
 #include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
+#include "elapsed.h"
 
 namespace arttrack {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kNoTime = -std::numeric_limits<double>::infinity();
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // The belief as a flat vector for the buffer: five arrays of n.
 void save_belief(const JointBelief& b, std::span<double> out) {

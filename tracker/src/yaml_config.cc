@@ -7,13 +7,12 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 
 namespace arttrack {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Deep merge: maps merge key by key, anything else in `over` replaces `base`.
 YAML::Node merge(const YAML::Node& base, const YAML::Node& over) {
