@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -12,6 +11,7 @@
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/urdf_perturbation.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/yaml_config.h"
 
@@ -20,8 +20,6 @@ namespace fs = std::filesystem;
 using text::shortest_number;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 [[noreturn]] void fail_time_order(const text::CsvReader& csv, double t, double previous) {
   csv.fail("time stamp " + shortest_number(t) + " s is " +

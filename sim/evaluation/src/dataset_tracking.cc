@@ -2,24 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/method_trackers.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
 using text::shortest_number;
-
-namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-}  // namespace
 
 TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
                           std::ostream* estimate_csv) {

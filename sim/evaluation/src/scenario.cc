@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <set>
 #include <type_traits>
 
 #include "arttrack/sim/internal/config_geometry.h"
 #include "arttrack/sim/search_paths.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 #include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
@@ -19,8 +19,6 @@ namespace arttrack::sim {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Runs `f`; an InputError from a struct's own validation is re-thrown naming
 // the scenario file and the key path of `n`.

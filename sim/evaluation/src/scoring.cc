@@ -5,13 +5,12 @@
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/kinematics.h"
 
 namespace arttrack::sim {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Sample times of two methods in the same run count as equal within this.
 constexpr double kTimeMatch_s = 1e-6;
 

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 #include <set>
 #include <sstream>
 
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/units.h"
 #include "arttrack/tracker/yaml_config.h"
 
@@ -20,7 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kMaxAxisValues = 10000;
 
 std::uint64_t splitmix64(std::uint64_t x) {

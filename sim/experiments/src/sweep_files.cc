@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -14,6 +13,7 @@
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -22,8 +22,6 @@ using Json = nlohmann::ordered_json;
 // ---- CSV ----
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<std::string> csv_header(const SweepSpec& spec) {
   std::vector<std::string> h = {"cell"};

@@ -1,7 +1,6 @@
 // sweep.html: the sweep's page (sweep.h), drawn with the chart layer.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -9,15 +8,13 @@
 #include "arttrack/sim/internal/svg_chart.h"
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/sweep.h"
+#include "arttrack/tracker/internal/non_finite.h"
 
 namespace arttrack::sim {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 using Cells = std::map<std::size_t, const CellResult*>;
-
-std::string esc(const std::string& s) { return text::html_escape(s); }
 
 // A value as a heat map cell shows it: three digits, "never" for +inf.
 std::string short_value(double v) {
@@ -52,9 +49,10 @@ std::string axis_values_text(const GridAxis& a) {
 
 void intro(std::ostream& o, const SweepSpec& spec, const std::vector<CellResult>& cells,
            std::size_t n_failed) {
-  o << "<h1>Sweep: " << esc(spec.scenario_name) << "</h1>\n<p>Scenario <code>"
-    << esc(spec.scenario.string()) << "</code>";
-  for (const std::string& ov : spec.overrides) o << " <code>--set " << esc(ov) << "</code>";
+  o << "<h1>Sweep: " << text::html_escape(spec.scenario_name) << "</h1>\n<p>Scenario <code>"
+    << text::html_escape(spec.scenario.string()) << "</code>";
+  for (const std::string& ov : spec.overrides)
+    o << " <code>--set " << text::html_escape(ov) << "</code>";
   o << "; " << spec.runs << " run(s) per cell, seeds from each cell's overrides and the scenario "
     << "seed " << spec.scenario_seed << ". " << cells.size() << " of " << spec.cell_count()
     << " cells in these results, " << n_failed << " failed to run.</p>\n<table><tr>"
@@ -63,13 +61,15 @@ void intro(std::ostream& o, const SweepSpec& spec, const std::vector<CellResult>
   for (std::size_t a = 0; a < spec.axes.size(); ++a)
     o << "<tr><td class=\"m\">"
       << (a < 2 ? std::string(axis_role[a]) : "panel " + std::to_string(a - 1))
-      << "</td><td class=\"m\"><code>" << esc(spec.axes[a].key) << "</code></td><td class=\"m\">"
-      << esc(axis_values_text(spec.axes[a])) << "</td></tr>";
+      << "</td><td class=\"m\"><code>" << text::html_escape(spec.axes[a].key)
+      << "</code></td><td class=\"m\">" << text::html_escape(axis_values_text(spec.axes[a]))
+      << "</td></tr>";
   const StatisticUnit fail_unit = statistic_unit(spec.fail_statistic);
-  o << "</table>\n<p>A method <b>fails</b> in a cell where its <code>" << esc(spec.fail_statistic)
-    << "</code> exceeds " << text::format_g(spec.fail_threshold_m * fail_unit.scale, 6) << " "
-    << fail_unit.shown << " (<code>--fail-threshold-m " << text::format_g(spec.fail_threshold_m, 6)
-    << "</code>, in " << fail_unit.si << ")"
+  o << "</table>\n<p>A method <b>fails</b> in a cell where its <code>"
+    << text::html_escape(spec.fail_statistic) << "</code> exceeds "
+    << text::format_g(spec.fail_threshold_m * fail_unit.scale, 6) << " " << fail_unit.shown
+    << " (<code>--fail-threshold-m " << text::format_g(spec.fail_threshold_m, 6) << "</code>, in "
+    << fail_unit.si << ")"
     << ": outlined in magenta on every map of that method; a thick black line separates failing "
        "cells from holding neighbours.</p>\n";
 }
@@ -80,10 +80,11 @@ void breaks_table(std::ostream& o, const SweepSpec& spec, const Cells& by_cell) 
   const std::size_t rows = spec.cell_count() / a0.values.size();
   o << "<h2>Where each method breaks</h2>\n<table><tr><th class=\"m\">";
   for (std::size_t a = 1; a < spec.axes.size(); ++a)
-    o << (a > 1 ? ", " : "") << "<code>" << esc(spec.axes[a].key) << "</code>";
+    o << (a > 1 ? ", " : "") << "<code>" << text::html_escape(spec.axes[a].key) << "</code>";
   if (spec.axes.size() == 1) o << "&nbsp;";
   o << "</th>";
-  for (const std::string& m : spec.methods) o << "<th class=\"m\">" << esc(m) << "</th>";
+  for (const std::string& m : spec.methods)
+    o << "<th class=\"m\">" << text::html_escape(m) << "</th>";
   o << "</tr>\n";
   bool any_known = false;
   for (std::size_t r = 0; r < rows; ++r) {
@@ -91,7 +92,7 @@ void breaks_table(std::ostream& o, const SweepSpec& spec, const Cells& by_cell) 
     const std::vector<std::size_t> coord = spec.cell_coordinates(r);
     o << "<tr><td class=\"m\">";
     for (std::size_t a = 1; a < spec.axes.size(); ++a)
-      o << (a > 1 ? ", " : "") << esc(spec.axes[a].values[coord[a]]);
+      o << (a > 1 ? ", " : "") << text::html_escape(spec.axes[a].values[coord[a]]);
     if (spec.axes.size() == 1) o << "all";
     o << "</td>";
     for (std::size_t m = 0; m < spec.methods.size(); ++m) {
@@ -117,13 +118,14 @@ void breaks_table(std::ostream& o, const SweepSpec& spec, const Cells& by_cell) 
         for (std::size_t i = 0; i < failing.size(); ++i)
           text += (i ? ", " : "") + a0.values[failing[i]];
       }
-      o << "<td class=\"m" << (failing.empty() ? "" : " fail") << "\">" << esc(text) << "</td>";
+      o << "<td class=\"m" << (failing.empty() ? "" : " fail") << "\">" << text::html_escape(text)
+        << "</td>";
     }
     o << "</tr>\n";
   }
   o << "</table>\n";
   if (!any_known)
-    o << "<p class=\"warn\">No cell has a value of <code>" << esc(spec.fail_statistic)
+    o << "<p class=\"warn\">No cell has a value of <code>" << text::html_escape(spec.fail_statistic)
       << "</code>: nothing is known about where the methods fail. A converged_ statistic has "
          "no value when the runs end before <code>scoring.converged_after_s</code> (no "
          "converged window): run longer, or choose another --fail-statistic.</p>\n";
@@ -136,8 +138,8 @@ void failed_cells(std::ostream& o, const SweepSpec& spec, const std::vector<Cell
     if (!c.failed) continue;
     std::string ov;
     for (const std::string& s : spec.cell_overrides(c.cell)) ov += (ov.empty() ? "" : " ") + s;
-    o << "<tr><td>" << c.cell << "</td><td class=\"m\"><code>" << esc(ov)
-      << "</code></td><td class=\"m\">" << esc(c.message) << "</td></tr>\n";
+    o << "<tr><td>" << c.cell << "</td><td class=\"m\"><code>" << text::html_escape(ov)
+      << "</code></td><td class=\"m\">" << text::html_escape(c.message) << "</td></tr>\n";
   }
   o << "</table>\n";
 }
@@ -218,8 +220,8 @@ void heat_maps(std::ostream& o, const SweepSpec& spec, const std::vector<CellRes
   // Panels: every combination of the axes after the first two.
   std::size_t panels = 1;
   for (std::size_t a = 2; a < spec.axes.size(); ++a) panels *= spec.axes[a].values.size();
-  o << "<h2>Heat maps</h2>\n<p>Across: <code>" << esc(spec.axes[0].key) << "</code>";
-  if (spec.axes.size() > 1) o << "; up: <code>" << esc(spec.axes[1].key) << "</code>";
+  o << "<h2>Heat maps</h2>\n<p>Across: <code>" << text::html_escape(spec.axes[0].key) << "</code>";
+  if (spec.axes.size() > 1) o << "; up: <code>" << text::html_escape(spec.axes[1].key) << "</code>";
   if (panels > 1) o << "; one map per value of the other axes";
   o << ". Hover a cell for its overrides and value.</p>\n";
   chart::legend(o, "cell-key",

@@ -1,17 +1,13 @@
 // Running one cell of a sweep: the scenario with the cell's overrides and
 // seed, every method, its statistics; a failure is recorded, not thrown.
 #include <algorithm>
-#include <limits>
 
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 
 namespace arttrack::sim {
-
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}  // namespace
 
 CellResult run_sweep_cell(const SweepSpec& spec, std::size_t cell,
                           const std::function<void(const RunProgress&)>& progress) {

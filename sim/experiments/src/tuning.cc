@@ -19,14 +19,13 @@
 #include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/tracker_config_yaml.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A path as a single-quoted YAML scalar.
 std::string yaml_quoted(const std::string& s) {

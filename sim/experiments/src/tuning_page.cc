@@ -8,15 +8,12 @@
 #include "arttrack/sim/internal/text_format.h"
 #include "arttrack/sim/sweep.h"
 #include "arttrack/sim/tuning.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/units.h"
 
 namespace arttrack::sim {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string esc(const std::string& s) { return text::html_escape(s); }
 
 // A statistic the page shows, in its display unit.
 struct Shown {
@@ -146,7 +143,7 @@ void parameters_table(std::ostream& o, const TuningResult& r) {
        "<th>default</th><th>tuned</th></tr>\n";
   for (std::size_t i = 0; i < r.params.size(); ++i) {
     const TuningParameter& p = r.params[i];
-    o << "<tr><td class=\"m\"><code>" << esc(p.key) << "</code></td><td class=\"m\">["
+    o << "<tr><td class=\"m\"><code>" << text::html_escape(p.key) << "</code></td><td class=\"m\">["
       << p.text(p.lo) << ", " << p.text(p.hi) << "]" << (p.integer ? " whole" : "") << "</td><td>"
       << (std::isnan(r.default_values[i]) ? "-" : text::format_g(r.default_values[i], 6))
       << "</td><td><b>" << p.text(best.values[i]) << "</b></td></tr>\n";
@@ -157,18 +154,20 @@ void parameters_table(std::ostream& o, const TuningResult& r) {
 void scenario_section(std::ostream& o, const TuningResult& r, std::size_t i) {
   const ScenarioOutcome& d = r.compare_default[i];
   const ScenarioOutcome& t = r.compare_tuned[i];
-  o << "<h3>" << esc(d.name) << " (" << (r.compare_is_validation[i] ? "validation" : "tuning")
-    << ", <code>" << esc(d.scenario.string()) << "</code>)</h3>\n";
+  o << "<h3>" << text::html_escape(d.name) << " ("
+    << (r.compare_is_validation[i] ? "validation" : "tuning") << ", <code>"
+    << text::html_escape(d.scenario.string()) << "</code>)</h3>\n";
   for (const ScenarioOutcome* x : {&d, &t})
     if (x->failed)
       o << "<p class=\"worse\">" << (x == &d ? "default" : "tuned")
-        << " failed: " << esc(x->message) << "</p>\n";
+        << " failed: " << text::html_escape(x->message) << "</p>\n";
   o << "<div class=\"two\"><div><table><tr><th class=\"m\">statistic</th><th>default</th>"
        "<th>tuned</th><th>change</th></tr>\n";
   for (const Shown& s : shown_stats()) {
     const double a = outcome_stat(d, s.stat) * s.scale, b = outcome_stat(t, s.stat) * s.scale;
-    o << "<tr><td class=\"m\">" << esc(s.label) << " (" << s.unit << ")</td><td>" << show(a)
-      << "</td><td>" << show(b) << "</td>" << change_cells(a, b, wall_time(s.stat)) << "</tr>\n";
+    o << "<tr><td class=\"m\">" << text::html_escape(s.label) << " (" << s.unit << ")</td><td>"
+      << show(a) << "</td><td>" << show(b) << "</td>" << change_cells(a, b, wall_time(s.stat))
+      << "</tr>\n";
   }
   o << "</table></div><div>";
   bars(o, "bars-" + std::to_string(i), d, t);
@@ -181,32 +180,35 @@ std::string tuning_html(const TuningOptions& options, const TuningResult& r) {
   std::ostringstream o;
   const Evaluation& best = r.history.at(r.best);
   const std::string what = options.objective.text() + " of " + options.objective.method;
-  o << chart::page_start("Tuning: " + what) << "<h1>Tuning: " << esc(what) << "</h1>\n<p>";
+  o << chart::page_start("Tuning: " + what) << "<h1>Tuning: " << text::html_escape(what)
+    << "</h1>\n<p>";
   o << "Minimised: the "
     << (options.objective.aggregate == Objective::Aggregate::kMean ? "mean" : "maximum")
-    << " over the tuning scenarios of <code>" << esc(options.objective.statistic) << "</code>";
+    << " over the tuning scenarios of <code>" << text::html_escape(options.objective.statistic)
+    << "</code>";
   if (options.objective.time_penalty_per_ms > 0)
     o << " plus " << text::format_g(options.objective.time_penalty_per_ms, 6)
       << " per ms of the mean p50 image update time";
   o << ". Optimiser " << optimizer_name(options.optimizer) << ", budget " << options.budget << ", "
-    << r.history.size() << " evaluations (" << esc(r.optimizer.stop)
-    << "); base configuration <code>" << esc(options.base_config.string())
+    << r.history.size() << " evaluations (" << text::html_escape(r.optimizer.stop)
+    << "); base configuration <code>" << text::html_escape(options.base_config.string())
     << "</code>; scenario seeds" << (options.seed >= 0 ? " (--seed)" : "") << ": "
-    << esc(seeds_text(r.compare_default)) << ". Best: evaluation " << best.index << ", objective "
-    << text::format_g(best.objective, 6) << " (" << statistic_unit(options.objective.statistic).si
-    << ").</p>\n";
+    << text::html_escape(seeds_text(r.compare_default)) << ". Best: evaluation " << best.index
+    << ", objective " << text::format_g(best.objective, 6) << " ("
+    << statistic_unit(options.objective.statistic).si << ").</p>\n";
   parameters_table(o, r);
   o << "<h2>Search</h2>\n";
   search_chart(o, options, r);
   o << "<h2>Default against tuned</h2>\n<table><tr><th class=\"m\">scenario</th><th "
        "class=\"m\">role</th><th>"
-    << esc(options.objective.statistic) << " default</th><th>tuned</th><th>change</th></tr>\n";
+    << text::html_escape(options.objective.statistic)
+    << " default</th><th>tuned</th><th>change</th></tr>\n";
   for (std::size_t i = 0; i < r.compare_default.size(); ++i) {
     const double a = r.compare_default[i].objective_statistic,
                  b = r.compare_tuned[i].objective_statistic;
-    o << "<tr><td class=\"m\">" << esc(r.compare_default[i].name) << "</td><td class=\"m\">"
-      << (r.compare_is_validation[i] ? "validation" : "tuning") << "</td><td>" << show(a)
-      << "</td><td>" << show(b) << "</td>"
+    o << "<tr><td class=\"m\">" << text::html_escape(r.compare_default[i].name)
+      << "</td><td class=\"m\">" << (r.compare_is_validation[i] ? "validation" : "tuning")
+      << "</td><td>" << show(a) << "</td><td>" << show(b) << "</td>"
       << change_cells(a, b, wall_time(options.objective.statistic)) << "</tr>\n";
   }
   o << "</table>\n";

@@ -2,11 +2,11 @@
 // over time, the tracker's health over time.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <ostream>
 
 #include "arttrack/sim/internal/svg_chart.h"
 #include "arttrack/sim/internal/text_format.h"
+#include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/units.h"
 #include "report_sections.h"
 
@@ -15,9 +15,6 @@ namespace arttrack::sim::report {
 using chart::fixed;
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The worst over the scored end effectors of the translation error, m (NaN
 // if any is: a lost estimate).

@@ -7,12 +7,12 @@
 #include <sstream>
 
 #include "arttrack/sim/internal/text_format.h"
+#include "arttrack/tracker/internal/non_finite.h"
 
 namespace arttrack::sim::chart {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Average advance of a character of the 11 px tick and legend font, px:
 // enough to lay out legends and thin tick labels without measuring text.
 constexpr double kCharPx = 6.8;

@@ -11,14 +11,14 @@
 namespace arttrack::sim {
 namespace {
 
-[[noreturn]] void fail(const char* what, const std::string& field, double value) {
+[[noreturn]] void fail_field(const char* what, const std::string& field, double value) {
   std::ostringstream msg;
   msg << what << ": " << field << " (got " << value << ")";
   throw InputError(msg.str());
 }
 
 void require(bool ok, const char* what, const std::string& field, double value) {
-  if (!ok) fail(what, field, value);
+  if (!ok) fail_field(what, field, value);
 }
 
 bool is_probability(double p) { return p >= 0.0 && p <= 1.0; }

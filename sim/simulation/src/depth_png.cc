@@ -151,7 +151,7 @@ bool read_raw(const char* path, RawImage* img, PngError* err) {
   return true;
 }
 
-[[noreturn]] void fail(const fs::path& path, const std::string& what) {
+[[noreturn]] void fail_png(const fs::path& path, const std::string& what) {
   throw InputError(path.string() + ": " + what);
 }
 
@@ -164,7 +164,7 @@ long depth_mm(float z) {
 }  // namespace
 
 void write_depth_png_mm(const fs::path& path, const DepthImage& depth) {
-  if (depth.width <= 0 || depth.height <= 0) fail(path, "cannot write an empty depth image");
+  if (depth.width <= 0 || depth.height <= 0) fail_png(path, "cannot write an empty depth image");
   std::vector<unsigned char> bytes(size_t(depth.width) * depth.height * 2);
   std::vector<png_bytep> rows(depth.height);
   for (int v = 0; v < depth.height; ++v) {
@@ -178,21 +178,21 @@ void write_depth_png_mm(const fs::path& path, const DepthImage& depth) {
   PngError err;
   if (!write_raw(path.c_str(), depth.width, depth.height, 16, PNG_COLOR_TYPE_GRAY, rows.data(),
                  &err))
-    fail(path, std::string("cannot write depth PNG: ") + err.message);
+    fail_png(path, std::string("cannot write depth PNG: ") + err.message);
 }
 
 DepthImage read_depth_png_mm(const fs::path& path) {
-  if (!fs::is_regular_file(path)) fail(path, "depth PNG not found");
+  if (!fs::is_regular_file(path)) fail_png(path, "depth PNG not found");
   RawImage img;
   PngError err;
   if (!read_raw(path.c_str(), &img, &err))
-    fail(path, std::string("cannot read PNG: ") + err.message);
+    fail_png(path, std::string("cannot read PNG: ") + err.message);
   if (img.color_type != PNG_COLOR_TYPE_GRAY)
-    fail(path, "a depth PNG must be single-channel greyscale (no colour, no alpha)");
+    fail_png(path, "a depth PNG must be single-channel greyscale (no colour, no alpha)");
   // 8 bits of millimetres reach 0.255 m: such a file is a picture, not depth.
   if (img.bit_depth != 16)
-    fail(path, "a " + std::to_string(img.bit_depth) +
-                   "-bit PNG is not a depth image: depth PNGs are 16-bit millimetres");
+    fail_png(path, "a " + std::to_string(img.bit_depth) +
+                       "-bit PNG is not a depth image: depth PNGs are 16-bit millimetres");
   DepthImage depth(int(img.width), int(img.height));
   for (int v = 0; v < depth.height; ++v)
     for (int u = 0; u < depth.width; ++u) {
@@ -209,7 +209,7 @@ void quantise_depth_mm(DepthImage& image) {
 
 void write_depth_preview_png(const fs::path& path, const DepthImage& depth, double min_m,
                              double max_m) {
-  if (depth.width <= 0 || depth.height <= 0) fail(path, "cannot write an empty depth image");
+  if (depth.width <= 0 || depth.height <= 0) fail_png(path, "cannot write an empty depth image");
   if (min_m == 0 && max_m == 0) {
     min_m = INFINITY;
     max_m = -INFINITY;
@@ -233,7 +233,7 @@ void write_depth_preview_png(const fs::path& path, const DepthImage& depth, doub
   }
   PngError err;
   if (!write_raw(path.c_str(), depth.width, depth.height, 8, PNG_COLOR_TYPE_RGB, rows.data(), &err))
-    fail(path, std::string("cannot write preview PNG: ") + err.message);
+    fail_png(path, std::string("cannot write preview PNG: ") + err.message);
 }
 
 std::vector<std::uint8_t> encode_png_rgb(int width, int height, std::span<const std::uint8_t> rgb) {

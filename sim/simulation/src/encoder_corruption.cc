@@ -7,33 +7,32 @@
 #include <stdexcept>
 
 #include "arttrack/tracker/error.h"
+#include "validation_text.h"
 
 namespace arttrack::sim {
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw InputError("encoder corruption: " + what); }
-
-std::string got(double value) {
-  std::ostringstream s;
-  s << " (got " << value << ")";
-  return s.str();
+[[noreturn]] void fail_encoder_corruption(const std::string& what) {
+  throw InputError("encoder corruption: " + what);
 }
 
 void require_nonnegative(double value, const char* field) {
   if (!(value >= 0.0) || !std::isfinite(value))
-    fail(std::string(field) + " must be >= 0" + got(value));
+    fail_encoder_corruption(std::string(field) + " must be >= 0" + got(value));
 }
 
 }  // namespace
 
 void EncoderGroupCorruption::validate() const {
-  if (!std::isfinite(offset_rad)) fail("offset_rad must be finite" + got(offset_rad));
+  if (!std::isfinite(offset_rad))
+    fail_encoder_corruption("offset_rad must be finite" + got(offset_rad));
   if (!std::isfinite(step_amplitude_rad))
-    fail("step_amplitude_rad must be finite" + got(step_amplitude_rad));
+    fail_encoder_corruption("step_amplitude_rad must be finite" + got(step_amplitude_rad));
   if (!(step_period_s > 0.0) || !std::isfinite(step_period_s))
-    fail("step_period_s must be > 0" + got(step_period_s));
+    fail_encoder_corruption("step_period_s must be > 0" + got(step_period_s));
   if (!(step_ramp_time_s >= 0.0) || !(step_ramp_time_s <= 0.5 * step_period_s))
-    fail("step_ramp_time_s must be in [0, step_period_s / 2]" + got(step_ramp_time_s));
+    fail_encoder_corruption("step_ramp_time_s must be in [0, step_period_s / 2]" +
+                            got(step_ramp_time_s));
   require_nonnegative(compliance_rad_per_Nm, "compliance_rad_per_Nm");
   require_nonnegative(stretch_time_constant_s, "stretch_time_constant_s");
   require_nonnegative(noise_sigma_rad, "noise_sigma_rad");
@@ -76,15 +75,15 @@ EncoderCorruption::EncoderCorruption(std::vector<std::string> joint_names,
     for (const std::string& name : g.joints) {
       const auto it = std::find(joint_names_.begin(), joint_names_.end(), name);
       if (it == joint_names_.end())
-        fail("group " + std::to_string(gi) + ": unknown joint '" + name + "'");
+        fail_encoder_corruption("group " + std::to_string(gi) + ": unknown joint '" + name + "'");
       idx.push_back(std::size_t(it - joint_names_.begin()));
     }
     for (std::size_t j : idx) {
       JointCorruption& c = joints_[j];
       auto claim = [&](std::vector<bool>& taken, const char* what) {
         if (taken[j])
-          fail("group " + std::to_string(gi) + ": joint '" + joint_names_[j] + "' already has a " +
-               what + " from another group");
+          fail_encoder_corruption("group " + std::to_string(gi) + ": joint '" + joint_names_[j] +
+                                  "' already has a " + what + " from another group");
         taken[j] = true;
       };
       c.offset_rad += g.offset_rad;
@@ -122,7 +121,8 @@ void EncoderCorruption::corrupt(double t_s, double dt_s, std::span<const double>
         << ")";
     throw InputError(msg.str());
   }
-  if (!(dt_s >= 0.0) || !std::isfinite(dt_s)) fail("dt_s must be >= 0" + got(dt_s));
+  if (!(dt_s >= 0.0) || !std::isfinite(dt_s))
+    fail_encoder_corruption("dt_s must be >= 0" + got(dt_s));
   last_t_s_ = t_s;
   for (std::size_t j = 0; j < n; ++j) {
     const JointCorruption& c = joints_[j];

@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "arttrack/tracker/error.h"
+#include "validation_text.h"
 
 namespace arttrack::sim {
 namespace {
@@ -17,12 +18,6 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
   std::ostringstream msg;
   msg << "motion " << part << ": " << what;
   throw InputError(msg.str());
-}
-
-std::string got(double value) {
-  std::ostringstream s;
-  s << " (got " << value << ")";
-  return s.str();
 }
 
 void require_joints(std::string_view part, const std::vector<std::string>& joints) {
