@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 
+#include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/worker_pool.h"
 
@@ -391,6 +392,30 @@ TEST(ImageInformation, MotionFieldSeesNoInformationAlongAMotionThatMovesNoSurfac
   EXPECT_NEAR(field(1, 1), central(1, 1), 0.2 * central(1, 1));
 }
 
+// The motion field's and the central differences' information about
+// `dofs` in an 80x60 image of `model` at q that shows exactly what the
+// model renders there.
+struct InformationSeen {
+  Eigen::MatrixXd field, central;
+  int pixels_used = 0;
+};
+InformationSeen information_seen_as_rendered(const RobotModel& model, const Eigen::VectorXd& q,
+                                             const std::vector<int>& dofs) {
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
+  DepthRenderer renderer(model, camera);
+  DepthLikelihood likelihood(DepthModelParams{});
+  KinematicsState state(model);
+  forward_kinematics(model, q, state);
+  DepthImage observed;
+  renderer.render(state, observed);
+  likelihood.set_observation(observed);
+  ImageInformationParams field;
+  field.motion_field = true;
+  ImageInformation info(dofs, field);
+  info.compute(renderer, {q.data(), std::size_t(q.size())}, likelihood);
+  return {info.motion_field_information(), info.information_matrix(), info.pixels_used()};
+}
+
 // A cylinder turned about its own axis and a sphere about its centre move
 // no surface: the renders do not change (the renderer draws them exactly),
 // and the motion field gives no information about the turns. From the
@@ -409,27 +434,16 @@ TEST(ImageInformation, MotionFieldSeesNoInformationInRoundShapesTurnedAboutThems
   <link name="ball"><visual><geometry><sphere radius="0.1"/></geometry></visual></link>
   <joint name="roll_ball" type="continuous"><parent link="base_link"/><child link="ball"/>
     <origin xyz="0.05 0.2 0"/><axis xyz="1 1 0.5"/></joint>)");
-  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4);
-  DepthRenderer renderer(model, camera);
-  DepthModelParams params;
-  DepthLikelihood likelihood(params);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
   q[model.joint_index("spin")] = 0.3;
   q[model.joint_index("roll_ball")] = -0.2;
-  KinematicsState state(model);
-  forward_kinematics(model, q, state);
-  DepthImage observed;
-  renderer.render(state, observed);
-  likelihood.set_observation(observed);
-  ImageInformationParams field;
-  field.motion_field = true;
-  ImageInformation info({model.joint_index("spin"), model.joint_index("roll_ball"),
-                         model.joint_index("camera_offset_x")},
-                        field);
-  info.compute(renderer, {q.data(), std::size_t(q.size())}, likelihood);
-  ASSERT_GT(info.pixels_used(), 300);
-  const Eigen::Matrix3d I = info.motion_field_information();
-  const Eigen::Matrix3d central = info.information_matrix();
+  const InformationSeen seen =
+      information_seen_as_rendered(model, q,
+                                   {model.joint_index("spin"), model.joint_index("roll_ball"),
+                                    model.joint_index("camera_offset_x")});
+  ASSERT_GT(seen.pixels_used, 300);
+  const Eigen::Matrix3d I = seen.field;
+  const Eigen::Matrix3d central = seen.central;
   ASSERT_GT(I(2, 2), 1e3);
   EXPECT_EQ(central(0, 0), 0);  // the renders agree: nothing moved
   EXPECT_EQ(central(1, 1), 0);
@@ -439,6 +453,65 @@ TEST(ImageInformation, MotionFieldSeesNoInformationInRoundShapesTurnedAboutThems
   // half the central differences' information (47%; the chords gave 52%).
   EXPECT_GT(I(2, 2), 0.35 * central(2, 2));
   EXPECT_LT(I(2, 2), central(2, 2));
+}
+
+// A closed cylinder of `sides` flat facets along x (radius r, length l)
+// as OBJ text: what a robot maker's mesh of a round part is.
+std::string faceted_cylinder_obj(int sides, double r, double l) {
+  std::string obj;
+  char line[128];
+  for (int end = 0; end < 2; ++end)
+    for (int k = 0; k < sides; ++k) {
+      const double a = 2 * std::numbers::pi * k / sides;
+      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", (end - 0.5) * l, r * std::cos(a),
+                    r * std::sin(a));
+      obj += line;
+    }
+  std::snprintf(line, sizeof line, "v %.9g 0 0\nv %.9g 0 0\n", -0.5 * l, 0.5 * l);
+  obj += line;
+  const int first_centre = 2 * sides + 1;  // OBJ counts from 1
+  for (int k = 0; k < sides; ++k) {
+    const int a0 = k + 1, a1 = (k + 1) % sides + 1, b0 = a0 + sides, b1 = a1 + sides;
+    std::snprintf(line, sizeof line, "f %d %d %d\nf %d %d %d\nf %d %d %d\nf %d %d %d\n", a0, a1, b1,
+                  a0, b1, b0, first_centre, a1, a0, first_centre + 1, b0, b1);
+    obj += line;
+  }
+  return obj;
+}
+
+// The same for a mesh: a faceted roller turned about its own axis moves
+// its facets but not the round surface they stand for, and the motion field
+// takes each pixel's depth change from the mesh's smooth normals
+// (surface_normals.h). The renders at the turn's central differences see
+// the facets move: 175 per rad^2 with 96 facets (5 mm each, a third of a
+// pixel at 1 m), 2957 with 24, 5 with 400. The smooth normals give 1e-8 or
+// less; slopes between pixels (chords of the curve) gave 2890 whatever the
+// facets, and the facets' own normals about the central differences' (24
+// facets: 3230).
+TEST(ImageInformation, MotionFieldSeesLittleInformationInAFacetedRollerTurnedAboutItself) {
+  const test_support::ScratchDir dir("image_information_test");
+  dir.write("roller.obj", faceted_cylinder_obj(96, 0.08, 0.5));
+  const RobotModel model = RobotModel::from_urdf_string(R"(<robot name="mesh_roller">
+  <link name="base_link"/>
+  <link name="roller"><visual><geometry><mesh filename="roller.obj"/></geometry></visual></link>
+  <joint name="spin" type="continuous"><parent link="base_link"/><child link="roller"/>
+    <origin xyz="0 -0.05 0"/><axis xyz="1 0 0"/></joint>
+  <link name="camera_optical_frame"/>
+  <joint name="mount" type="fixed"><parent link="base_link"/><child link="camera_optical_frame"/>
+    <origin xyz="0 0 1" rpy="3.141592653589793 0 0"/></joint>
+</robot>)",
+                                                        dir.path().string());
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
+  q[model.joint_index("spin")] = 0.1;  // no facet faces the camera square on
+  const InformationSeen seen = information_seen_as_rendered(
+      model, q, {model.joint_index("spin"), model.joint_index("camera_offset_y")});
+  ASSERT_GT(seen.pixels_used, 300);
+  const Eigen::Matrix2d I = seen.field;
+  ASSERT_GT(I(1, 1), 1e3);
+  const Eigen::Matrix2d central = seen.central;  // the facets' own change
+  ASSERT_GT(central(0, 0), 0);
+  EXPECT_LT(I(0, 0), 1e-3 * central(0, 0));
+  EXPECT_GT(I(1, 1), 0.5 * central(1, 1));
 }
 
 // The motion field is taken at q itself, whatever the central differences

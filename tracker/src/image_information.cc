@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/surface_normals.h"
 #include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
@@ -13,6 +14,12 @@ namespace {
 // A shift counts in the model-error estimate when one image pins it to
 // within 3 mm (standard deviation).
 constexpr double kMaxShiftNoiseVar_m2 = 0.003 * 0.003;
+// A mesh's smooth surface (surface_normals.h): corners whose triangles turn
+// by more than this stay apart (a box's edges); the drawn surface (a
+// coarser level, up to 4 times the simplifier's bound of a few tenths of a
+// pixel, within a few millimetres of the model's mesh) is looked up this far.
+constexpr double kSurfaceCreaseAngleRad = 40 * 3.14159265358979323846 / 180;
+constexpr double kSurfaceNormalReachM = 0.006;
 
 }  // namespace
 
@@ -101,7 +108,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
   if (params_.motion_field) {
     field_gradients_.setZero(num_pixels, m);
-    motion_field_gradients(model, renderer.camera(), likelihood);
+    motion_field_gradients(model, renderer.camera(), likelihood, pool);
     field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
   }
   estimate_effective_pixel_fraction(likelihood.width());
@@ -113,7 +120,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
 // in the header), over the pixels the central differences kept.
 void ImageInformation::motion_field_gradients(const RobotModel& model,
                                               const CameraIntrinsics& camera,
-                                              const DepthLikelihood& likelihood) {
+                                              const DepthLikelihood& likelihood, WorkerPool* pool) {
   const int W = likelihood.width();
   const int L = int(shift_links_.size()), m = int(dofs_.size());
   if (motion_terms_.empty()) {
@@ -155,7 +162,9 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
     joint_axis_[std::size_t(j)] = R_camera_root * (T.linear() * model.link(j).axis);
     joint_origin_[std::size_t(j)] = R_camera_root * (T.translation() - T_root_camera.translation());
   }
-  for_each_labelled_pixel(camera, likelihood, true, [&](int p, int li, const Eigen::Vector3d& j) {
+  // Each pixel on its own (its row of field_gradients_ only), rows of the
+  // image spread over the pool's workers: the same numbers on any count.
+  auto pixel = [&](int p, int li, const Eigen::Vector3d& j) {
     const double r = base_.depth_m[std::size_t(p)];
     const int u = p % W, v = p / W;
     const Eigen::Vector3d X(r * (u + 0.5 - camera.cx) / camera.fx,
@@ -170,14 +179,21 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
       }
       field_gradients_(p, k) = float(g);
     }
-  });
+  };
+  auto rows = [&](int v0, int v1, int) {
+    for_each_labelled_pixel(camera, likelihood, true, pixel, v0 * W, v1 * W);
+  };
+  if (pool)
+    pool->parallel_for(camera.height, rows, 4);
+  else
+    rows(0, camera.height, 0);
 }
 
 // j = d r / d t at pixel p of the labelled render (link shifts, in the
 // header): (-fx r_u / r, -fy r_v / r, 1 + (x fx r_u + y fy r_v) / r), the
 // slopes between neighbours that show the same surface of the same link.
 Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsics& camera,
-                                                     double sigma, bool round_normals) const {
+                                                     double sigma, bool surface_normals) const {
   const int W = camera.width, H = camera.height;
   const int l = label_[std::size_t(p)];
   const int u = p % W, v = p / W;
@@ -203,18 +219,21 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
     return 0.0;
   };
   const double x = (u + 0.5 - camera.cx) / camera.fx, y = (v + 0.5 - camera.cy) / camera.fy;
-  // With round_normals, on a cylinder or sphere, drawn exactly, the
-  // surface's own normal n: a plane through the point moved by dX moves the
-  // depth along the ray (x, y, 1) by n . dX / n . (x, y, 1). Slopes between
-  // neighbours are chords of the curve, and a shape turned about its own
-  // axis then seemed to move (arm7's round base: the camera turned about it
-  // with joint 1 turned back). Beyond 76 degrees from facing the camera
-  // (the slopes' bound) the pixel says nothing: there the first order holds
-  // for a sliver of a pixel, and only the pixels whose depth stayed within
-  // the inlier band were kept.
+  // With surface_normals, the surface's own normal n: a plane through the
+  // point moved by dX moves the depth along the ray (x, y, 1) by n . dX /
+  // n . (x, y, 1). On a cylinder or sphere (drawn exactly) n is exact; on a
+  // mesh it is the smooth surface's the mesh stands for (surface_normals.h).
+  // Slopes between neighbours are chords of the curve, and a shape turned
+  // about its own axis then seemed to move (arm7's round base, and the
+  // sculpted arm7's mesh base: the camera turned about it with joint 1
+  // turned back). Beyond 76 degrees from facing the camera (the slopes'
+  // bound) the pixel says nothing: there the first order holds for a sliver
+  // of a pixel, and only the pixels whose depth stayed within the inlier
+  // band were kept.
   const Eigen::Vector3d ray(x, y, 1);
   Eigen::Vector3d n;
-  if (round_normals && round_surface_normal(shift_links_[std::size_t(l)], r * ray, n)) {
+  if (surface_normals && (round_surface_normal(shift_links_[std::size_t(l)], r * ray, n) ||
+                          surface_normal(l, r * ray, n))) {
     const double facing = n.dot(ray);
     return std::abs(facing) > 0.25 * ray.norm() ? Eigen::Vector3d(n / facing)
                                                 : Eigen::Vector3d::Zero();
@@ -227,12 +246,25 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
 void ImageInformation::place_round_shapes(const RobotModel& model) {
   const Eigen::Isometry3d T_camera_root =
       kinematics_.T_root_link[std::size_t(model.camera_link())].inverse();
+  for (std::size_t k = 0; k < shift_links_.size(); ++k)
+    T_link_camera_[k] =
+        (T_camera_root * kinematics_.T_root_link[std::size_t(shift_links_[k])]).inverse();
   for (int l = 0; l < model.num_links(); ++l) {
     int i = first_round_shape_[std::size_t(l)];
     for (const RoundShape& s : model.link(l).round_shapes)
       T_shape_camera_[std::size_t(i++)] =
           (T_camera_root * kinematics_.T_root_link[std::size_t(l)] * s.T_link_shape).inverse();
   }
+}
+
+bool ImageInformation::surface_normal(int shift, const Eigen::Vector3d& X_camera,
+                                      Eigen::Vector3d& n_camera) const {
+  const SurfaceNormals& surface = surface_normals_[std::size_t(shift)];
+  const Eigen::Isometry3d& T_link_camera = T_link_camera_[std::size_t(shift)];
+  Eigen::Vector3d n_link;
+  if (surface.empty() || !surface.normal_at(T_link_camera * X_camera, n_link)) return false;
+  n_camera = T_link_camera.linear().transpose() * n_link;
+  return true;
 }
 
 bool ImageInformation::round_surface_normal(int link, const Eigen::Vector3d& X_camera,
@@ -293,6 +325,11 @@ void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers)
       first_round_shape_[std::size_t(l) + 1] =
           first_round_shape_[std::size_t(l)] + int(model.link(l).round_shapes.size());
     T_shape_camera_.resize(std::size_t(first_round_shape_.back()));
+    T_link_camera_.resize(shift_links_.size());
+    surface_normals_.clear();
+    for (int l : shift_links_)
+      surface_normals_.emplace_back(model.link(l).mesh, model.link(l).round_shapes,
+                                    kSurfaceCreaseAngleRad, kSurfaceNormalReachM);
   }
   if (workers_model_ == &model && workers_camera_ == camera &&
       int(workers_.size()) == num_workers) {
@@ -443,7 +480,7 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   shift_information_.setZero(3 * L, 3 * L);
   shift_gradient_.setZero(3 * L);
   shift_pixels_.assign(std::size_t(L), 0);
-  // The slopes, not the round shapes' normals: with the normals the link
+  // The slopes, not the surfaces' normals: with the round shapes' normals the link
   // shifts' variance (link_shift_variance_m2) fell to nothing on the
   // realistic dual arm (1.8 mm -> 0.2 mm in 8 s, realistic/both.yaml, stop
   // 44; why is not understood), and the covariance with it.

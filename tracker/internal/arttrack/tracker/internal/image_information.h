@@ -43,7 +43,8 @@
 
 namespace arttrack {
 
-class WorkerPool;  // worker_pool.h
+class WorkerPool;      // worker_pool.h
+class SurfaceNormals;  // surface_normals.h
 
 struct ImageInformationParams {
   // Central-difference steps: radians for revolute DOFs, metres for prismatic ones.
@@ -88,11 +89,13 @@ class ImageInformation {
   // moves the pixel's link and not the camera, negated when it moves the
   // camera and not the link; the rendered depth at the pixel changes by
   // j . dX, j the link-shift vector below (from the rendered depth's
-  // slopes), over the same pixels; on a cylinder or sphere (RoundShape,
-  // drawn exactly) j = n / n . (x, y, 1) from the surface's normal n, and 0
-  // beyond 76 degrees from facing the camera: slopes between pixels are
-  // chords of the curve, and a shape turned about its own axis seemed to
-  // move (arm7's round base, docs/accuracy.md stop 44). It is one linear map
+  // slopes), over the same pixels; rather j = n / n . (x, y, 1) from the
+  // surface's normal n, and 0 beyond 76 degrees from facing the camera, on
+  // a cylinder or sphere (RoundShape, drawn exactly: its own normal) and on
+  // a mesh (the smooth surface it approximates, surface_normals.h): slopes
+  // between pixels are chords of the curve, and a shape turned about its
+  // own axis seemed to move (arm7's round base, docs/accuracy.md stop 44;
+  // the sculpted arm7's mesh base, stop 45). It is one linear map
   // for every DOF: a motion that moves no surface relative to the camera
   // changes no pixel.
   // Central differences are not: where one surface steps in front of
@@ -222,30 +225,40 @@ class ImageInformation {
   void render_labelled(WorkerPool* pool);
   void difference_column(int k, const DepthLikelihood& likelihood, Worker& w);
   void motion_field_gradients(const RobotModel& model, const CameraIntrinsics& camera,
-                              const DepthLikelihood& likelihood);
+                              const DepthLikelihood& likelihood, WorkerPool* pool);
   Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma,
-                                     bool round_normals) const;
+                                     bool surface_normals) const;
   // Every link's round shapes (RoundShape) seen from the camera at q
   // (place_round_shapes(), per compute()): the link's are
   // [first_round_shape_[l], first_round_shape_[l + 1]) (prepare_workers(),
   // with shift_links_, from the model).
   std::vector<int> first_round_shape_;
   std::vector<Eigen::Isometry3d> T_shape_camera_;
+  // Every link with geometry's mesh as the smooth surface it approximates
+  // (index as shift_links_; prepare_workers(), from the model), and the
+  // camera's pose in each such link's frame at q (place_round_shapes()).
+  std::vector<SurfaceNormals> surface_normals_;
+  std::vector<Eigen::Isometry3d> T_link_camera_;
   void place_round_shapes(const RobotModel& model);
   // The unit normal, in camera axes, of the round shape of `link` that
   // camera-frame point X lies on, at q; false when on none.
+  // (surface_normal(): the same for the link's mesh, `shift` its index in
+  // shift_links_.)
+  bool surface_normal(int shift, const Eigen::Vector3d& X_camera, Eigen::Vector3d& n_camera) const;
   bool round_surface_normal(int link, const Eigen::Vector3d& X_camera,
                             Eigen::Vector3d& n_camera) const;
   // Calls f(pixel, labelled link index, j / sigma) for every used pixel of
-  // the labelled render (j: depth_slope_vector).
+  // the labelled render (j: depth_slope_vector), in [begin, end) (row-major
+  // pixel indices; end -1: the whole image).
   template <class F>
   void for_each_labelled_pixel(const CameraIntrinsics& camera, const DepthLikelihood& likelihood,
-                               bool round_normals, F&& f) const {
-    for (int p = 0; p < camera.width * camera.height; ++p) {
+                               bool surface_normals, F&& f, int begin = 0, int end = -1) const {
+    if (end < 0) end = camera.width * camera.height;
+    for (int p = begin; p < end; ++p) {
       if (!used_[std::size_t(p)] || label_[std::size_t(p)] < 0) continue;
       const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
       f(p, label_[std::size_t(p)],
-        Eigen::Vector3d(depth_slope_vector(p, camera, sigma, round_normals) / sigma));
+        Eigen::Vector3d(depth_slope_vector(p, camera, sigma, surface_normals) / sigma));
     }
   }
   struct MotionTerm {
