@@ -1,6 +1,5 @@
 #include "arttrack/tracker/internal/surface_normals.h"
 
-#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -34,25 +33,11 @@ SurfaceNormals::SurfaceNormals(const TriangleMesh& mesh,
   }
   if (kept.triangles.empty()) return;
 
-  // One index per distinct position.
+  kept.join_equal_vertices();  // one index per position: an STL file repeats them
   const std::size_t num_vertices = kept.vertices_m.size();
-  std::vector<int> order(num_vertices);
-  std::iota(order.begin(), order.end(), 0);
-  auto less = [&](int a, int b) {
-    const Eigen::Vector3f &p = kept.vertices_m[std::size_t(a)],
-                          &q = kept.vertices_m[std::size_t(b)];
-    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<int> welded(num_vertices);
-  for (std::size_t i = 0; i < num_vertices; ++i)
-    welded[std::size_t(order[i])] = i > 0 && kept.vertices_m[std::size_t(order[i])] ==
-                                                 kept.vertices_m[std::size_t(order[i - 1])]
-                                        ? welded[std::size_t(order[i - 1])]
-                                        : order[i];
 
   // Each triangle's unit normal and its angle at each corner, and the
-  // triangles around each welded vertex.
+  // triangles around each vertex.
   const std::size_t num_triangles = kept.triangles.size();
   std::vector<Eigen::Vector3d> unit(num_triangles);
   std::vector<std::array<double, 3>> angle(num_triangles);
@@ -66,23 +51,22 @@ SurfaceNormals::SurfaceNormals(const TriangleMesh& mesh,
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
       angle[t][std::size_t(k)] = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      ++first[std::size_t(welded[std::size_t(tri[k])]) + 1];
+      ++first[std::size_t(tri[k]) + 1];
     }
   }
   std::partial_sum(first.begin(), first.end(), first.begin());
-  // Per welded vertex: (triangle, corner) of each triangle around it.
+  // Per vertex: (triangle, corner) of each triangle around it.
   std::vector<std::pair<int, int>> around(std::size_t(first.back()));
   std::vector<int> next(first.begin(), first.end() - 1);
   for (std::size_t t = 0; t < num_triangles; ++t)
     for (int k = 0; k < 3; ++k)
-      around[std::size_t(next[std::size_t(welded[std::size_t(kept.triangles[t][k])])]++)] = {int(t),
-                                                                                             k};
+      around[std::size_t(next[std::size_t(kept.triangles[t][k])]++)] = {int(t), k};
 
   const double cos_crease = std::cos(crease_angle_rad);
   corner_normals_.resize(num_triangles);
   for (std::size_t t = 0; t < num_triangles; ++t) {
     for (int k = 0; k < 3; ++k) {
-      const std::size_t v = std::size_t(welded[std::size_t(kept.triangles[t][k])]);
+      const std::size_t v = std::size_t(kept.triangles[t][k]);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (int i = first[v]; i < first[v + 1]; ++i) {
         const auto [g, corner] = around[std::size_t(i)];
