@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/surface_normals.h"
@@ -18,7 +19,7 @@ constexpr double kMaxShiftNoiseVar_m2 = 0.003 * 0.003;
 // by more than this stay apart (a box's edges); the drawn surface (a
 // coarser level, up to 4 times the simplifier's bound of a few tenths of a
 // pixel, within a few millimetres of the model's mesh) is looked up this far.
-constexpr double kSurfaceCreaseAngleRad = 40 * 3.14159265358979323846 / 180;
+constexpr double kSurfaceCreaseAngleRad = 40 * std::numbers::pi / 180;
 constexpr double kSurfaceNormalReachM = 0.006;
 
 }  // namespace
@@ -66,7 +67,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   }
 
   forward_kinematics(model, q_, kinematics_);
-  place_round_shapes(model);
+  place_surfaces(model);
   render_labelled(pool);
   // Pixels the robot at q covers and the image explains.
   for (int p = 0; p < num_pixels; ++p) {
@@ -243,7 +244,7 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
                          1 + (x * camera.fx * r_u + y * camera.fy * r_v) / r);
 }
 
-void ImageInformation::place_round_shapes(const RobotModel& model) {
+void ImageInformation::place_surfaces(const RobotModel& model) {
   const Eigen::Isometry3d T_camera_root =
       kinematics_.T_root_link[std::size_t(model.camera_link())].inverse();
   for (std::size_t k = 0; k < shift_links_.size(); ++k)
@@ -262,7 +263,7 @@ bool ImageInformation::surface_normal(int shift, const Eigen::Vector3d& X_camera
   const SurfaceNormals& surface = surface_normals_[std::size_t(shift)];
   const Eigen::Isometry3d& T_link_camera = T_link_camera_[std::size_t(shift)];
   Eigen::Vector3d n_link;
-  if (surface.empty() || !surface.normal_at(T_link_camera * X_camera, n_link)) return false;
+  if (!surface.normal_at(T_link_camera * X_camera, n_link)) return false;
   n_camera = T_link_camera.linear().transpose() * n_link;
   return true;
 }

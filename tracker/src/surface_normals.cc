@@ -1,6 +1,8 @@
 #include "arttrack/tracker/internal/surface_normals.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "triangle_grid.h"
@@ -8,7 +10,7 @@
 namespace arttrack {
 namespace {
 
-constexpr double kFlatAngleRad = 1e-3 * 3.14159265358979323846 / 180;
+constexpr double kFlatAngleRad = 1e-3 * std::numbers::pi / 180;
 
 }  // namespace
 
@@ -82,6 +84,9 @@ SurfaceNormals::SurfaceNormals(const TriangleMesh& mesh,
     for (const Eigen::Vector3d& n : corner_normals_[t])
       if (n.dot(unit[t]) < std::cos(kFlatAngleRad)) curved_.back() = true;
   }
+  // A mesh of flat faces only (a URDF box's) gives no normal anywhere: no
+  // grid, so its pixels cost no lookup.
+  if (std::find(curved_.begin(), curved_.end(), true) == curved_.end()) return;
   Eigen::Vector3d lo = kept.vertices_m[0].cast<double>(), hi = lo;
   for (const Eigen::Vector3f& p : kept.vertices_m) {
     lo = lo.cwiseMin(p.cast<double>());

@@ -229,17 +229,17 @@ class ImageInformation {
   Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma,
                                      bool surface_normals) const;
   // Every link's round shapes (RoundShape) seen from the camera at q
-  // (place_round_shapes(), per compute()): the link's are
+  // (place_surfaces(), per compute()): the link's are
   // [first_round_shape_[l], first_round_shape_[l + 1]) (prepare_workers(),
   // with shift_links_, from the model).
   std::vector<int> first_round_shape_;
   std::vector<Eigen::Isometry3d> T_shape_camera_;
   // Every link with geometry's mesh as the smooth surface it approximates
   // (index as shift_links_; prepare_workers(), from the model), and the
-  // camera's pose in each such link's frame at q (place_round_shapes()).
+  // camera's pose in each such link's frame at q (place_surfaces()).
   std::vector<SurfaceNormals> surface_normals_;
   std::vector<Eigen::Isometry3d> T_link_camera_;
-  void place_round_shapes(const RobotModel& model);
+  void place_surfaces(const RobotModel& model);
   // The unit normal, in camera axes, of the round shape of `link` that
   // camera-frame point X lies on, at q; false when on none.
   // (surface_normal(): the same for the link's mesh, `shift` its index in

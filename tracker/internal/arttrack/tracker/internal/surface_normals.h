@@ -55,7 +55,7 @@ class SurfaceNormals {
   bool normal_at(const Eigen::Vector3d& p_m, Eigen::Vector3d& normal) const;
 
  private:
-  std::unique_ptr<TriangleGrid> grid_;
+  std::unique_ptr<TriangleGrid> grid_;                          // null when no triangle is curved
   std::vector<std::array<Eigen::Vector3d, 3>> corner_normals_;  // per kept triangle
   std::vector<bool> curved_;                                    // per kept triangle
 };
