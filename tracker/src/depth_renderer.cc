@@ -354,15 +354,8 @@ DepthRenderer::Clusters DepthRenderer::make_clusters(const TriangleMesh& mesh,
                                                      const std::vector<RoundShape>& shapes) {
   constexpr std::size_t kMaxVertices = 16, kMaxTriangles = 16;
   std::vector<unsigned> indices;
-  indices.reserve(3 * mesh.triangles.size());
-  std::size_t next_shape = 0;
-  for (int i = 0; i < int(mesh.triangles.size()); ++i) {
-    if (next_shape < shapes.size() && i == shapes[next_shape].first_triangle) {
-      i += shapes[next_shape++].num_triangles - 1;
-      continue;
-    }
-    for (int c = 0; c < 3; ++c) indices.push_back(unsigned(mesh.triangles[std::size_t(i)][c]));
-  }
+  for (const Eigen::Vector3i& t : without_round_shapes(mesh, shapes).triangles)
+    for (int c = 0; c < 3; ++c) indices.push_back(unsigned(t[c]));
   Clusters out;
   if (indices.empty()) return out;
   const std::size_t bound = meshopt_buildMeshletsBound(indices.size(), kMaxVertices, kMaxTriangles);

@@ -532,6 +532,21 @@ int RobotModel::joint_index(const std::string& name) const {
   throw InputError("unknown joint '" + name + "' in robot model from " + source_);
 }
 
+TriangleMesh without_round_shapes(const TriangleMesh& mesh,
+                                  const std::vector<RoundShape>& round_shapes) {
+  TriangleMesh out;
+  out.vertices_m = mesh.vertices_m;
+  std::size_t next_shape = 0;
+  for (int t = 0; t < int(mesh.triangles.size()); ++t) {
+    if (next_shape < round_shapes.size() && t == round_shapes[next_shape].first_triangle) {
+      t += round_shapes[next_shape++].num_triangles - 1;
+      continue;
+    }
+    out.triangles.push_back(mesh.triangles[std::size_t(t)]);
+  }
+  return out;
+}
+
 int RobotModel::num_drawn_triangles(int level) const {
   int count = 0;
   for (const Link& link : links_) {
@@ -554,18 +569,8 @@ RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_
   auto simplify_link = [&](Link& link) {
     // The triangles drawn as triangles, simplified together; then each round
     // shape's tessellation (its vertices and triangles are its own) after them.
-    TriangleMesh drawn;
-    drawn.vertices_m = link.mesh.vertices_m;
-    std::size_t next_shape = 0;
-    for (int t = 0; t < int(link.mesh.triangles.size()); ++t) {
-      if (next_shape < link.round_shapes.size() &&
-          t == link.round_shapes[next_shape].first_triangle) {
-        t += link.round_shapes[next_shape++].num_triangles - 1;
-        continue;
-      }
-      drawn.triangles.push_back(link.mesh.triangles[std::size_t(t)]);
-    }
-    SimplifiedMesh simplified = simplify_mesh(drawn, max_error_m);
+    SimplifiedMesh simplified =
+        simplify_mesh(without_round_shapes(link.mesh, link.round_shapes), max_error_m);
     const double level_0_error_m = simplified.error_m;
     // Each level from the last one kept, within the error it may add: 2^k e
     // in all (the distances add up along the chain). A level that would

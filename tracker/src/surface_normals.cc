@@ -22,17 +22,7 @@ SurfaceNormals::~SurfaceNormals() = default;
 SurfaceNormals::SurfaceNormals(const TriangleMesh& mesh,
                                const std::vector<RoundShape>& round_shapes, double crease_angle_rad,
                                double limit_m) {
-  // The triangles kept: all but the round shapes'.
-  TriangleMesh kept;
-  kept.vertices_m = mesh.vertices_m;
-  std::size_t next_shape = 0;
-  for (int t = 0; t < int(mesh.triangles.size()); ++t) {
-    if (next_shape < round_shapes.size() && t == round_shapes[next_shape].first_triangle) {
-      t += round_shapes[next_shape++].num_triangles - 1;
-      continue;
-    }
-    kept.triangles.push_back(mesh.triangles[std::size_t(t)]);
-  }
+  TriangleMesh kept = without_round_shapes(mesh, round_shapes);
   if (kept.triangles.empty()) return;
 
   kept.join_equal_vertices();  // one index per position: an STL file repeats them

@@ -72,6 +72,11 @@ struct RoundShape {
   int first_triangle = 0, num_triangles = 0;
 };
 
+// `mesh`'s triangles but the round shapes' tessellations (drawn exactly, not
+// as triangles), in mesh order, over all of `mesh`'s vertices.
+TriangleMesh without_round_shapes(const TriangleMesh& mesh,
+                                  const std::vector<RoundShape>& round_shapes);
+
 // One link and the joint to its parent.
 struct Link {
   std::string name;
