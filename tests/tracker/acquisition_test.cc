@@ -85,15 +85,30 @@ TEST(Acquisition, SearchesTheEstimatedBiasesThenTheCameraWithAnnealedNoise) {
   EXPECT_FALSE(AcquisitionSetup(TrackerSetup(arm_model(), c, {"shoulder", "elbow"})).on);
 }
 
-// From encoders 14 degrees off, the first image's search finds the arm.
+// From encoders 14 degrees off, the first image's search finds the arm,
+// with the camera joints searched or held at their prior (the default): in
+// 18 of 20 seeds each way (measured), both joints within 1.5 degrees. One
+// seed is a lucky draw either way (seed 1 fails held, seed 12 searched).
 TEST(Acquisition, FirstImageFindsTheArmTheBiasedEncodersMiss) {
-  Fixture f;
-  f.acquisition.acquire_first(f.image, f.observed, f.prior_std(), 0.0, f.belief, f.health);
-  EXPECT_NEAR(f.belief.mean_a[std::size_t(f.shoulder())], kTrueShoulder, 1.5 * kRadPerDeg);
-  EXPECT_NEAR(f.belief.mean_a[std::size_t(f.elbow())], kTrueElbow, 1.5 * kRadPerDeg);
-  EXPECT_NEAR(f.belief.mean_b[std::size_t(f.shoulder())], kBias, 1.5 * kRadPerDeg);
-  EXPECT_EQ(f.health.acquisitions, 1);
-  EXPECT_EQ(f.acquisition.workspace().last_search_s, 0.0);
+  for (const bool search_camera : {false, true}) {
+    SCOPED_TRACE(search_camera ? "camera searched" : "camera held");
+    int found = 0;
+    for (unsigned long long seed = 1; seed <= 20; ++seed) {
+      TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+      c.seed = seed;
+      c.acquisition.search_camera = search_camera;
+      Fixture f(c);
+      f.acquisition.acquire_first(f.image, f.observed, f.prior_std(), 0.0, f.belief, f.health);
+      const auto near = [](double a, double b) { return std::abs(a - b) < 1.5 * kRadPerDeg; };
+      if (near(f.belief.mean_a[std::size_t(f.shoulder())], kTrueShoulder) &&
+          near(f.belief.mean_a[std::size_t(f.elbow())], kTrueElbow) &&
+          near(f.belief.mean_b[std::size_t(f.shoulder())], kBias))
+        ++found;
+      EXPECT_EQ(f.health.acquisitions, 1);
+      EXPECT_EQ(f.acquisition.workspace().last_search_s, 0.0);
+    }
+    EXPECT_GE(found, 17);
+  }
 }
 
 TEST(Acquisition, TheHealthChecksCountsAndThePeriodDecideTheSearch) {

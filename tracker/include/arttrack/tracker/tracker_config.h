@@ -181,15 +181,15 @@ struct TrackerConfig {
     // Whether the first image's search moves the six camera joints too.
     // false: the camera starts at its prior (mean and standard deviation)
     // and the images after the first move it. One image does not tell the
-    // camera's roll and sideways shift from both arms' biases: with noisy
-    // depth the search settled a camera 1-2 degrees of roll off in some
-    // runs, and the images after it, counted as evidence for that place,
-    // claimed 0.1 degrees. Held, the realistic files' camera offset was
-    // within 2 sigma 62-86% of the time instead of 50-79%, but an arm
-    // behind a board was lost in 2 of 6 sculpted/occlusion runs (0 of 6
-    // searched): not the default (docs/accuracy.md, "The camera held at
-    // the first image").
-    bool search_camera = true;
+    // camera's pose from the arms' biases: searched, the camera settled
+    // anywhere along that ridge, and the images after it, counted as
+    // evidence for that place, held it there with a standard deviation that
+    // did not cover it. Held, the camera offset is within 2 sigma 90-98% of
+    // the time on the exact-depth files where it was 70-86% searched, with
+    // no run lost on the occlusion files (docs/accuracy.md, "The camera held
+    // at the first image, again"; arm7's camera still drifts along its
+    // ridge, later).
+    bool search_camera = false;
   };
   Acquisition acquisition;
   // Health (TrackerEstimate::health): a rendered robot pixel is explained
