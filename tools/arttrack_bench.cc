@@ -21,11 +21,12 @@
 // Also scores the tracker's end-effector error against the ground truth at
 // the scenario's scored instants (all samples and converged ones).
 //
-// --evaluations N sets particles = ceil(N / blocks) (sampling_blocks(): by
-// default one per joint whose bias is estimated and one per camera-offset
-// joint) and min_evaluations 0; without it the configuration's particles,
-// at least particle_filter.min_evaluations per image. --resolution sets the
-// likelihood resolution (images are subsampled to it).
+// --evaluations N sets particles = ceil(N / blocks sampled per image)
+// (sampling_blocks(): by default one per joint whose bias is estimated and
+// one per camera-offset joint, of which particle_filter.
+// camera_blocks_per_image per image) and min_evaluations 0; without it the configuration's
+// particles, at least particle_filter.min_evaluations per image. --resolution sets the likelihood
+// resolution (images are subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
 // can and prints its resident memory (arttrack_bench_soak.h); fails when it
@@ -186,12 +187,15 @@ void run_bench(const BenchArgs& args) {
   config.validate(config.source);
   const std::vector<SamplingBlock> sampling = sampling_blocks(*robot, config);
   const int blocks = int(sampling.size());
+  // Full fusion samples particle_filter.camera_blocks_per_image of the
+  // camera blocks per image.
+  const int sampled_blocks = blocks_sampled_per_image(sampling, *robot, config);
   if (args.evaluations > 0) {
-    config.particle_filter.num_particles = (args.evaluations + blocks - 1) / blocks;
+    config.particle_filter.num_particles = (args.evaluations + sampled_blocks - 1) / sampled_blocks;
     config.min_evaluations = 0;
   }
   config.validate(config.source);
-  const int particles = particle_filter_params(config, blocks).num_particles;
+  const int particles = particle_filter_params(config, sampled_blocks).num_particles;
   if (args.soak_minutes > 0) {
     SoakOptions soak;
     soak.minutes = args.soak_minutes;
@@ -253,6 +257,7 @@ void run_bench(const BenchArgs& args) {
   j["resolution"] = resolution;
   j["particles"] = particles;
   j["blocks"] = blocks;
+  j["blocks_sampled_per_image"] = sampled_blocks;
   j["block_names"] = Json::array();
   for (const SamplingBlock& b : sampling) j["block_names"].push_back(b.name);
   j["triangles"] = {{"model", stats.model_triangles},
@@ -297,8 +302,8 @@ void run_bench(const BenchArgs& args) {
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "arttrack bench: " << scenario.name << ", " << result.duration_s
             << " s of stream, full fusion at " << resolution << ", " << particles << " particles x "
-            << blocks << " blocks = " << evaluations_per_image << " evaluations per image, "
-            << threads << " threads\n";
+            << sampled_blocks << " of " << blocks << " blocks = " << evaluations_per_image
+            << " evaluations per image, " << threads << " threads\n";
   std::cout << "  blocks           ";
   for (std::size_t b = 0; b < sampling.size(); ++b)
     std::cout << (b ? ", " : "") << sampling[b].name;
@@ -352,9 +357,10 @@ void register_bench(CLI::App& app) {
   const auto [cmd, args] = add_command(
       app, "bench", "Time the full-fusion tracker on a scenario's measurement stream", run_bench);
   add_scenario_argument(cmd, args->scenario, /*has_default=*/true);
-  cmd->add_option("--evaluations", args->evaluations,
-                  "Likelihood evaluations per image: particles = ceil(N / blocks) "
-                  "(default: the tracker configuration's particles)");
+  cmd->add_option(
+      "--evaluations", args->evaluations,
+      "Likelihood evaluations per image: particles = ceil(N / blocks sampled per image) "
+      "(default: the tracker configuration's particles)");
   cmd->add_option("--resolution", args->resolution,
                   "Likelihood resolution WIDTHxHEIGHT (default: the tracker configuration's)");
   cmd->add_option("--json", args->json_path, "Also write the figures to this JSON file");

@@ -268,6 +268,7 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     b(key("name", &C::Block::name), key("joints", &C::Block::joints));
   });
   f(key("particle_filter.min_evaluations", &C::min_evaluations),
+    key("particle_filter.camera_blocks_per_image", &C::camera_blocks_per_image),
     key("particle_filter.likelihood_exponent", &C::likelihood_exponent),
     key("particle_filter.seed", &C::seed), key("particle_filter.threads", &C::threads));
   f(key("uncertainty.image_information_scale", &C::image_information_scale),

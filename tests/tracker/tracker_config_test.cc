@@ -225,6 +225,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"particle_filter.threads", "0", "-1"},
     {"particle_filter.min_evaluations", "0", "-1"},
     {"particle_filter.min_evaluations", "1000000", "1000001"},
+    {"particle_filter.camera_blocks_per_image", "1", "0"},
+    {"particle_filter.camera_blocks_per_image", "6", "7"},
     {"particle_filter.threads", kMaxThreads, std::to_string(kMaxWorkerThreads + 1)},
     {"uncertainty.image_information_scale", "1e-6", "1e-7"},
     {"uncertainty.image_information_scale", "1", "1.1"},

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "../error_of.h"
 #include "planar_arm.h"
 
@@ -95,6 +97,34 @@ TEST(TrackerSetup, FullFusionSamplesAtLeastMinEvaluationsPerImage) {
   c.min_evaluations = 400;
   EXPECT_EQ(particle_filter_params(c, blocks).num_particles, 40);
   EXPECT_EQ(particle_filter_params(c, blocks).bandwidth_factor, 0);
+}
+
+// Full fusion samples camera_blocks_per_image of the 6 camera blocks per
+// image; the other methods every block. A block of a physical joint with a
+// camera joint is not a camera block.
+TEST(TrackerSetup, FullFusionSamplesCameraBlocksPerImage) {
+  const auto model = arm_model();
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  const std::vector<SamplingBlock> blocks = sampling_blocks(*model, c);
+  ASSERT_EQ(blocks.size(), 8u);
+  EXPECT_EQ(std::count_if(blocks.begin(), blocks.end(),
+                          [&](const SamplingBlock& b) { return is_camera_block(b, *model); }),
+            6);
+  EXPECT_EQ(blocks_sampled_per_image(blocks, *model, c), 8);  // 6: every one
+  c.camera_blocks_per_image = 2;
+  EXPECT_EQ(blocks_sampled_per_image(blocks, *model, c), 4);
+  c.min_evaluations = 400;
+  EXPECT_EQ(particle_filter_params(c, blocks_sampled_per_image(blocks, *model, c)).num_particles,
+            100);
+  c.method = TrackingMethod::kCameraOffsetOnly;
+  EXPECT_EQ(blocks_sampled_per_image(sampling_blocks(*model, c), *model, c), 6);
+  c.method = TrackingMethod::kFullFusion;
+  c.blocks = {{"arm_and_x", {"shoulder", "camera_offset_x"}}, {"roll", {"camera_offset_roll"}}};
+  const std::vector<SamplingBlock> custom = sampling_blocks(*model, c);
+  EXPECT_FALSE(is_camera_block(custom[0], *model));
+  EXPECT_TRUE(is_camera_block(custom[1], *model));
+  c.camera_blocks_per_image = 1;
+  EXPECT_EQ(blocks_sampled_per_image(custom, *model, c), 2);
 }
 
 }  // namespace

@@ -193,7 +193,10 @@ void CoordinateParticleFilter::run(std::span<const double> prior_mean,
     batch.dimension = n;
     batch.parents = parents_;
     evaluator.evaluate(batch, new_log_likelihood_, pool);
-    num_evaluations_ += L;
+    // A block held at its mean (proposal spread 0) draws nothing new.
+    if (std::any_of(block.coordinates.begin(), block.coordinates.end(),
+                    [&](int c) { return proposal_std[c] > 0; }))
+      num_evaluations_ += L;
 
     // Weight by the likelihood ratio: log w += log p(I | x new) - log p(I | x old).
     // An impossible particle stays impossible. The spread of the ratios over

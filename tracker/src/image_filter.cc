@@ -7,8 +7,10 @@ namespace {
 
 CoordinateParticleFilter make_filter(const TrackerSetup& setup) {
   const std::vector<SamplingBlock> blocks = sampling_blocks(*setup.model, setup.config);
-  return CoordinateParticleFilter(setup.n, blocks,
-                                  particle_filter_params(setup.config, int(blocks.size())));
+  return CoordinateParticleFilter(
+      setup.n, blocks,
+      particle_filter_params(setup.config,
+                             blocks_sampled_per_image(blocks, *setup.model, setup.config)));
 }
 
 }  // namespace

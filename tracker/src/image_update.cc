@@ -18,12 +18,34 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
       refinement_(setup, covariance_.setup().states),
       prior_mean_(std::size_t(setup.n), 0.0),
       prior_std_(std::size_t(setup.n), 0.0),
-      reopened_(std::size_t(setup.n), 0) {}
+      reopened_(std::size_t(setup.n), 0),
+      proposal_std_(std::size_t(setup.n), 0.0) {
+  const std::vector<SamplingBlock>& blocks = filter_.filter().blocks();
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (is_camera_block(blocks[b], *setup.model)) camera_blocks_.push_back(int(b));
+  camera_blocks_per_image_ =
+      setup.config.method == TrackingMethod::kFullFusion
+          ? std::min(int(camera_blocks_.size()), setup.config.camera_blocks_per_image)
+          : int(camera_blocks_.size());
+}
 
 ImageUpdate::~ImageUpdate() = default;
 
 CameraIntrinsics ImageUpdate::likelihood_camera(const CameraIntrinsics& camera) const {
   return subsampled_intrinsics(camera, filter_.likelihood().width(), filter_.likelihood().height());
+}
+
+std::span<const double> ImageUpdate::proposal_std_in_turn() {
+  const int count = int(camera_blocks_.size());
+  if (camera_blocks_per_image_ >= count) return prior_std_;
+  std::copy(prior_std_.begin(), prior_std_.end(), proposal_std_.begin());
+  const std::vector<SamplingBlock>& blocks = filter_.filter().blocks();
+  const int turn = images_seen_ * camera_blocks_per_image_ % count;
+  for (int k = camera_blocks_per_image_; k < count; ++k) {
+    const int b = camera_blocks_[std::size_t((turn + k) % count)];
+    for (int c : blocks[std::size_t(b)].coordinates) proposal_std_[std::size_t(c)] = 0;
+  }
+  return proposal_std_;
 }
 
 void ImageUpdate::prepare(const CameraIntrinsics& camera) {
@@ -48,7 +70,7 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
   if (acquisition_.on() && first) {
     search_ms = acquisition_.acquire_first(filter_, image, prior_std_, time_s, belief, health_);
   } else {
-    filter_.run(belief.mean_a, prior_std_, belief.mean_a, prior_std_);
+    filter_.run(belief.mean_a, prior_std_, belief.mean_a, proposal_std_in_turn());
     fold_angle_posteriors(filter_.filter().mean(), filter_.filter().variance(), belief);
   }
   HealthCheck& check = *health_check_;

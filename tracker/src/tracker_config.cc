@@ -149,6 +149,7 @@ void TrackerConfig::validate(const std::string& source) const {
   check("particle_filter.likelihood_exponent", likelihood_exponent, R::closed(1e-3, 1));
   check("particle_filter.threads", threads, R::closed(0, kMaxWorkerThreads));
   check("particle_filter.min_evaluations", min_evaluations, R::closed(0, 1000000));
+  check("particle_filter.camera_blocks_per_image", camera_blocks_per_image, R::closed(1, 6));
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     const std::string key = "particle_filter.blocks[" + std::to_string(i) + "]";
     if (blocks[i].name.empty()) fail_key(source, key + ".name", "is empty");
@@ -264,6 +265,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"bandwidth_factor", &c.particle_filter.bandwidth_factor},
                     {"block_moments_below_nats", &c.particle_filter.block_moments_below_nats},
                     {"min_evaluations", &c.min_evaluations},
+                    {"camera_blocks_per_image", &c.camera_blocks_per_image},
                     {"likelihood_exponent", &c.likelihood_exponent},
                     {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);

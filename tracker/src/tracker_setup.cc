@@ -104,6 +104,21 @@ JointFilterParams joint_filter_params(const RobotModel& model, const TrackerConf
   return o.over(defaults);
 }
 
+bool is_camera_block(const SamplingBlock& block, const RobotModel& model) {
+  return std::all_of(block.coordinates.begin(), block.coordinates.end(),
+                     [&](int j) { return model.is_virtual_joint(j); });
+}
+
+int blocks_sampled_per_image(const std::vector<SamplingBlock>& blocks, const RobotModel& model,
+                             const TrackerConfig& config) {
+  const int all = int(blocks.size());
+  if (config.method != TrackingMethod::kFullFusion) return all;
+  const int camera = int(std::count_if(blocks.begin(), blocks.end(), [&](const SamplingBlock& b) {
+    return is_camera_block(b, model);
+  }));
+  return all - camera + std::min(camera, config.camera_blocks_per_image);
+}
+
 CoordinateParticleFilterParams particle_filter_params(const TrackerConfig& config, int num_blocks) {
   CoordinateParticleFilterParams params = config.particle_filter;
   if (config.method != TrackingMethod::kFullFusion) {

@@ -255,7 +255,17 @@ struct TrackerStats {
 // InputError naming a block and its unknown joint.
 std::vector<SamplingBlock> sampling_blocks(const RobotModel& model, const TrackerConfig& config);
 
-// The particle filter's settings for `num_blocks` sampling blocks:
+// Whether every coordinate of `block` is a virtual camera joint of `model`.
+bool is_camera_block(const SamplingBlock& block, const RobotModel& model);
+
+// The blocks an image update samples: `blocks` (sampling_blocks()), of
+// which full fusion samples at most config.camera_blocks_per_image camera
+// blocks (is_camera_block()) per image.
+int blocks_sampled_per_image(const std::vector<SamplingBlock>& blocks, const RobotModel& model,
+                             const TrackerConfig& config);
+
+// The particle filter's settings for `num_blocks` sampling blocks sampled
+// per image (blocks_sampled_per_image()):
 // config.particle_filter, with full fusion's particles per block raised to
 // ceil(config.min_evaluations / num_blocks) when that is more, and no
 // bandwidth floor for the other methods.

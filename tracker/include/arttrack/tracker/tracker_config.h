@@ -110,6 +110,13 @@ struct TrackerConfig {
   // 260 evaluations; the dual arm's 20 blocks keep 20. 0: exactly
   // particle_filter.num_particles.
   int min_evaluations = 400;
+  // Full fusion: how many of the camera blocks (blocks of virtual camera
+  // joints only) an image update samples, in [1, 6]; the images take them
+  // in turn, and the others keep their prior mean and variance for that
+  // image (the refinement still moves every DOF). Each camera particle
+  // redraws the whole robot, so the camera blocks were 44% of a mesh
+  // robot's image update. min_evaluations counts the blocks sampled.
+  int camera_blocks_per_image = 6;
   // Sampling blocks: named lists of joint names. Empty: one block per
   // physical joint whose bias is estimated (every physical joint for
   // vision_only; a joint whose bias is not estimated, like a mimic joint,

@@ -64,6 +64,10 @@ class ImageUpdate {
  private:
   // `camera` subsampled to the likelihood's resolution.
   CameraIntrinsics likelihood_camera(const CameraIntrinsics& camera) const;
+  // The plain run's proposal spread: prior_std_, with the camera blocks
+  // whose turn it is not (particle_filter.camera_blocks_per_image) held at
+  // their mean (spread 0: they cost nothing, and keep their prior).
+  std::span<const double> proposal_std_in_turn();
 
   const TrackerSetup& setup_;
   ImageFilter filter_;
@@ -76,6 +80,12 @@ class ImageUpdate {
   // and the DOFs re-acquisition moved.
   std::vector<double> prior_mean_, prior_std_;
   std::vector<char> reopened_;
+  // The camera blocks (indices into the filter's blocks), how many an
+  // image samples (the n-th image from the (n m)-th on, cyclically), and
+  // the plain run's proposal spread.
+  std::vector<int> camera_blocks_;
+  int camera_blocks_per_image_ = 0;
+  std::vector<double> proposal_std_;
   int images_seen_ = 0;
   int geometry_builds_ = 0;
 };
