@@ -110,9 +110,10 @@ TEST(TrackerSetup, FullFusionSamplesCameraBlocksPerImage) {
   EXPECT_EQ(std::count_if(blocks.begin(), blocks.end(),
                           [&](const SamplingBlock& b) { return is_camera_block(b, *model); }),
             6);
-  EXPECT_EQ(blocks_sampled_per_image(blocks, *model, c), 8);  // 6: every one
+  EXPECT_EQ(blocks_sampled_per_image(blocks, *model, c), 4);  // the default 2
+  c.camera_blocks_per_image = 6;
+  EXPECT_EQ(blocks_sampled_per_image(blocks, *model, c), 8);
   c.camera_blocks_per_image = 2;
-  EXPECT_EQ(blocks_sampled_per_image(blocks, *model, c), 4);
   c.min_evaluations = 400;
   EXPECT_EQ(particle_filter_params(c, blocks_sampled_per_image(blocks, *model, c)).num_particles,
             100);

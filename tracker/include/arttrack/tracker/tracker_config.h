@@ -103,20 +103,21 @@ struct TrackerConfig {
   };
   Geometry geometry;
   CoordinateParticleFilterParams particle_filter;
-  // Full fusion samples at least this many particles per image over its
-  // blocks: particles per block max(particle_filter.num_particles,
-  // ceil(min_evaluations / blocks)) (particle_filter_params() in
-  // tracker.h). A 7-DoF arm has 13 blocks: 31 particles, where 20 would be
-  // 260 evaluations; the dual arm's 20 blocks keep 20. 0: exactly
-  // particle_filter.num_particles.
+  // Full fusion samples at least this many particles per image over the
+  // blocks it samples per image (blocks_sampled_per_image() in tracker.h):
+  // particles per block max(particle_filter.num_particles,
+  // ceil(min_evaluations / blocks)) (particle_filter_params()). A 7-DoF arm
+  // samples 7 joint blocks and 2 camera blocks: 45 particles; the dual arm
+  // 14 and 2: 25. 0: exactly particle_filter.num_particles.
   int min_evaluations = 400;
   // Full fusion: how many of the camera blocks (blocks of virtual camera
   // joints only) an image update samples, in [1, 6]; the images take them
   // in turn, and the others keep their prior mean and variance for that
   // image (the refinement still moves every DOF). Each camera particle
   // redraws the whole robot, so the camera blocks were 44% of a mesh
-  // robot's image update. min_evaluations counts the blocks sampled.
-  int camera_blocks_per_image = 6;
+  // robot's image update. min_evaluations counts the blocks sampled. 6:
+  // every block each image, the paper's.
+  int camera_blocks_per_image = 2;
   // Sampling blocks: named lists of joint names. Empty: one block per
   // physical joint whose bias is estimated (every physical joint for
   // vision_only; a joint whose bias is not estimated, like a mimic joint,
