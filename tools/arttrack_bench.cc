@@ -21,12 +21,13 @@
 // Also scores the tracker's end-effector error against the ground truth at
 // the scenario's scored instants (all samples and converged ones).
 //
-// --evaluations N sets particles = ceil(N / blocks sampled per image)
-// (sampling_blocks(): by default one per joint whose bias is estimated and
-// one per camera-offset joint, of which particle_filter.
-// camera_blocks_per_image per image) and min_evaluations 0; without it the configuration's
-// particles, at least particle_filter.min_evaluations per image. --resolution sets the likelihood
-// resolution (images are subsampled to it).
+// --evaluations N sets particles = ceil(N / blocks sampled per image) and
+// min_evaluations 0 (sampling_blocks(): by default one per joint whose bias
+// is estimated and one per camera-offset joint, of which
+// particle_filter.camera_blocks_per_image are sampled per image); without
+// it the configuration's particles, at least
+// particle_filter.min_evaluations per image. --resolution sets the
+// likelihood resolution (images are subsampled to it).
 //
 // --soak MINUTES: instead, feeds one tracker MINUTES of stream as fast as it
 // can and prints its resident memory (arttrack_bench_soak.h); fails when it

@@ -23,10 +23,10 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
   const std::vector<SamplingBlock>& blocks = filter_.filter().blocks();
   for (std::size_t b = 0; b < blocks.size(); ++b)
     if (is_camera_block(blocks[b], *setup.model)) camera_blocks_.push_back(int(b));
-  camera_blocks_per_image_ =
-      setup.config.method == TrackingMethod::kFullFusion
-          ? std::min(int(camera_blocks_.size()), setup.config.camera_blocks_per_image)
-          : int(camera_blocks_.size());
+  // The camera blocks among blocks_sampled_per_image(): the other blocks
+  // are sampled at every image.
+  camera_blocks_per_image_ = blocks_sampled_per_image(blocks, *setup.model, setup.config) -
+                             (int(blocks.size()) - int(camera_blocks_.size()));
 }
 
 ImageUpdate::~ImageUpdate() = default;

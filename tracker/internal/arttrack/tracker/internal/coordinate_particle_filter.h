@@ -150,10 +150,10 @@ class CoordinateParticleFilter {
   // Per coordinate: 1 when its block saw evidence in the last run, 0 when
   // it kept its prior (no evidence, or in no block).
   std::span<const unsigned char> informed() const { return informed_; }
-  // Likelihood evaluations (particles x blocks not held at their mean:
-  // proposal spread 0), resamplings, and blocks
-  // after which every particle was impossible (weights were then reset to
-  // uniform, i.e. that block's image evidence ignored).
+  // Likelihood evaluations (particles x blocks not held at their mean by a
+  // proposal spread of 0), resamplings, and blocks after which every
+  // particle was impossible (weights were then reset to uniform, i.e. that
+  // block's image evidence ignored).
   int num_evaluations() const { return num_evaluations_; }
   int num_resamplings() const { return num_resamplings_; }
   int num_degenerate_blocks() const { return num_degenerate_; }
