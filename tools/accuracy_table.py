@@ -3,7 +3,11 @@
 the table docs/accuracy.md shows: per scenario and method, runs, lost runs,
 converged translation error of the worst end effector (p50, p75, p99, mm),
 median time to converge, and 2-sigma consistency of angles, biases and
-camera offset.
+camera offset twice: over every sample (summary.json's "consistency", the
+first seconds' convergence included) and from converged_after_s on
+("converged_consistency"). The two differ: a filter can be too sure while
+it converges and too cautious after (docs/accuracy.md, "Coverage over
+time").
 
   tools/accuracy_table.py out/paper/*    (each argument: a run's --out folder)
   tools/accuracy_table.py --pool out/a out/b
@@ -12,7 +16,7 @@ camera offset.
       and lost runs summed; the converged percentiles over all their
       samples, from timeseries.csv, as the scorer takes them (the worst end
       effector per sample, linear interpolation); the median of the runs'
-      times to converge; consistency weighted by runs. A method is pooled
+      times to converge; both consistencies weighted by runs. A method is pooled
       over the folders that ran it.
 
 Exit status 1 if a folder has no readable summary.json (or, with --pool,
@@ -35,16 +39,24 @@ def pct(v):
 
 def print_header():
     print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
-          "median time to converge, s | within 2 sigma: angles / biases / camera |")
-    print("|---|---|---|---|---|---|---|")
+          "median time to converge, s | within 2 sigma, all samples: angles / biases / camera | "
+          "the same, converged |")
+    print("|---|---|---|---|---|---|---|---|")
 
 
-def print_row(scenario, method, runs, lost, p50, p75, p99, ttc, consistency):
-    """One table row: errors in m, ttc as text, consistency keyed as in summary.json."""
-    k = consistency
+def shares(k):
+    """Angles / biases / camera of a consistency keyed as in summary.json
+    (None: the summary has none, written before it had)."""
+    if k is None:
+        return "- / - / -"
+    return f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])}"
+
+
+def print_row(scenario, method, runs, lost, p50, p75, p99, ttc, consistency, converged):
+    """One table row: errors in m, ttc as text, the two consistencies."""
     print(f"| {scenario} | {method} | {runs} | {lost} | "
-          f"{mm(p50)} / {mm(p75)} / {mm(p99)} | {ttc} | "
-          f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])} |")
+          f"{mm(p50)} / {mm(p75)} / {mm(p99)} | {ttc} | {shares(consistency)} | "
+          f"{shares(converged)} |")
 
 
 def percentile(values, p):
@@ -99,7 +111,8 @@ def pool(folders):
         for name in names:  # each method over the folders that ran it
             runs = lost = 0
             samples, times = [], []
-            weighted = {"angles": 0.0, "biases": 0.0, "camera_offset": 0.0}
+            keys = ("angles", "biases", "camera_offset")
+            weighted = {(f, k): 0.0 for f in ("consistency", "converged_consistency") for k in keys}
             known = dict.fromkeys(weighted, 0)
             for _, s, series in members:
                 if name not in s["methods"]:
@@ -107,10 +120,10 @@ def pool(folders):
                 m = s["methods"][name]
                 runs += m["lost"]["of"]
                 lost += m["lost"]["runs"]
-                for k in weighted:
-                    if m["consistency"][k] is not None:
-                        weighted[k] += m["consistency"][k] * m["lost"]["of"]
-                        known[k] += m["lost"]["of"]
+                for f, k in weighted:
+                    if m.get(f) and m[f][k] is not None:
+                        weighted[f, k] += m[f][k] * m["lost"]["of"]
+                        known[f, k] += m["lost"]["of"]
                 for (method, _), (t, e) in series.items():
                     if method != name:
                         continue
@@ -121,8 +134,9 @@ def pool(folders):
             ttc = (f"{statistics.median(converged + [math.inf] * (len(times) - len(converged))):.1f}"
                    if len(converged) * 2 > len(times) else "never")
             p = [percentile(samples, q) if samples else None for q in (0.5, 0.75, 0.99)]
-            k = {key: weighted[key] / known[key] if known[key] else None for key in weighted}
-            print_row(scenario, name, runs, lost, *p, ttc, k)
+            k = [{key: weighted[f, key] / known[f, key] if known[f, key] else None for key in keys}
+                 for f in ("consistency", "converged_consistency")]
+            print_row(scenario, name, runs, lost, *p, ttc, *k)
 
 
 def main(folders):
@@ -154,7 +168,8 @@ def main(folders):
             if never and times:
                 ttc += f" ({never} never)"
             print_row(s["scenario"], name, m["lost"]["of"], m["lost"]["runs"], c["p50"],
-                      c["p75"], c["p99"], ttc, m["consistency"])
+                      c["p75"], c["p99"], ttc, m["consistency"],
+                      m.get("converged_consistency"))
     return status
 
 

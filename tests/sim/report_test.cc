@@ -362,8 +362,9 @@ TEST(Report, SeveralRunsPlotTheMedian) {
 // 12 s on in run 1 (lost), the left hand always 2 mm; encoders_only 40 mm on
 // both. full_fusion reports angle standard deviations of 1 mrad for errors
 // of 3 mrad (never within 2 sigma) and biases within them; encoders_only
-// reports no bias standard deviation (not estimated).
-ScenarioResult two_hands_result() {
+// reports no bias standard deviation (not estimated). From 10 s on,
+// full_fusion's angle standard deviation is angle_std_from_10s_rad.
+ScenarioResult two_hands_result(double angle_std_from_10s_rad = 0.001) {
   ScenarioResult r;
   r.scenario = "two_hands";
   r.duration_s = 20;
@@ -393,7 +394,7 @@ ScenarioResult two_hands_result() {
         x.end_effectors = {{fusion ? 0.002 : 0.04, 0.01}, {right, 0.01}};
         x.end_effector_in_view = {true, truth.time_s < 16};  // the right hand leaves at 16 s
         x.angle_error_rad = {0.003};
-        x.angle_std_rad = {fusion ? 0.001 : 0.01};
+        x.angle_std_rad = {fusion ? (truth.time_s < 10 ? 0.001 : angle_std_from_10s_rad) : 0.01};
         x.bias_error_rad = {0.0};
         x.bias_std_rad = {fusion ? 0.01 : 0.0};
         r.method_results[m].scores.add(x);
@@ -470,6 +471,29 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
   EXPECT_NE(html.find("<td>not estimated</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>0.0%</td>"), std::string::npos);
   EXPECT_NE(html.find("worst of left_ee, right_ee"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
+}
+
+// Consistency over all samples and from the converged window on: too sure
+// for the first 10 s (3 mrad off, 1 mrad claimed), honest after (10 mrad).
+TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
+  const ScenarioResult r = two_hands_result(0.01);
+  const MethodSummary& fusion = r.method("full_fusion")->summary;
+  EXPECT_NEAR(fusion.all.angle_coverage.fraction(), 21.0 / 41, 1e-12);  // 10, 10.5, ..., 20 s
+  EXPECT_EQ(fusion.converged.angle_coverage.fraction(), 1.0);
+
+  std::ostringstream table;
+  print_summary_table(table, r);
+  const std::string t = table.str();
+  EXPECT_NE(t.find("truth within 2 sigma, all samples"), std::string::npos) << t;
+  const std::size_t row = t.find("\nfull_fusion                51.2%");
+  ASSERT_NE(row, std::string::npos) << t;
+  EXPECT_NE(t.find("\n  from 10 s on            100.0%      100.0%", row), std::string::npos) << t;
+
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("within 2&sigma;, from 10.0&nbsp;s on"), std::string::npos);
+  EXPECT_NE(html.find("<td>51.2%</td><td>100.0%</td><td>not estimated</td><td>100.0%</td>"),
+            std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
 }
 

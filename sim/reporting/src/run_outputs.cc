@@ -341,7 +341,7 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   // Consistency and the camera.
   out << "\n";
   left("", 20);
-  text("truth within 2 sigma (all samples)", 36);
+  text("truth within 2 sigma, all samples", 36);
   text("camera frame error: mm", 26);
   text("deg", 16);
   text("model error", 14);
@@ -373,6 +373,15 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
             if (e.health.state != TrackingHealth::State::kNoImage)
               model_error.push_back(e.health.model_error_std_m);
     cell(percentiles(model_error).p50, mm, 14, 1);  // "-" when there is none
+    out << "\n";
+    // The same from the converged window on: all samples mix the first
+    // seconds' convergence, where a filter tends to be too sure, with the
+    // steady state (docs/accuracy.md, "Coverage over time").
+    const ErrorStats& c = m.summary.converged;
+    left("  " + after.str(), 20);
+    share(c.angle_coverage, 12);
+    share(c.bias_coverage, 12);
+    share(c.camera_offset_coverage, 12);
     out << "\n";
   }
   out << "(-: not estimated, or no truth; model error: the links' surface shift the depth\n"
