@@ -197,7 +197,8 @@ TEST(Report, EveryChartIsThere) {
   const std::string html = report_html(r);
   std::vector<std::string> ids = {"box-translation-all", "box-translation-converged",
                                   "box-rotation-all",    "box-rotation-converged",
-                                  "error-time",          "colours-0",
+                                  "error-time",          "consistency-time",
+                                  "consistency-legend",  "colours-0",
                                   "bias-legend",         "camera-legend"};
   for (const std::string& j : kJoints) ids.push_back("bias-" + j);
   for (const char* k : {"x", "y", "z", "roll", "pitch", "yaw"})
@@ -398,8 +399,11 @@ ScenarioResult two_hands_result(double angle_std_from_10s_rad = 0.001) {
         x.bias_error_rad = {0.0};
         x.bias_std_rad = {fusion ? 0.01 : 0.0};
         r.method_results[m].scores.add(x);
-        EstimateSample s;
-        s.angle_rad = s.bias_rad = s.angle_std_rad = s.bias_std_rad = Eigen::VectorXd::Zero(1);
+        EstimateSample s;  // the same errors and standard deviations
+        s.angle_rad = Eigen::VectorXd::Constant(1, x.angle_error_rad[0]);
+        s.angle_std_rad = Eigen::VectorXd::Constant(1, x.angle_std_rad[0]);
+        s.bias_rad = Eigen::VectorXd::Zero(1);
+        s.bias_std_rad = Eigen::VectorXd::Constant(1, x.bias_std_rad[0]);
         s.ee_error = x.end_effectors;
         run.methods[m].samples.push_back(s);
       }
@@ -492,6 +496,22 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
 
   const std::string html = report_html(r);
   EXPECT_NE(html.find("within 2&sigma;, from 10.0&nbsp;s on"), std::string::npos);
+  // Over time, in 5 s bins from the runs' samples: what the scorer counts.
+  const std::vector<ConsistencyBin> bins = consistency_over_time(r, "full_fusion", 5.0);
+  ASSERT_EQ(bins.size(), 4u);
+  Coverage pooled;
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    EXPECT_EQ(bins[b].from_s, 5.0 * double(b));
+    EXPECT_EQ(bins[b].angles.fraction(), b < 2 ? 0.0 : 1.0) << b;
+    EXPECT_EQ(bins[b].biases.fraction(), 1.0) << b;
+    EXPECT_EQ(bins[b].camera.estimated, 0u);  // no camera truth
+    pooled += bins[b].angles;
+  }
+  EXPECT_EQ(bins[3].angles.estimated, 2u * 11);  // 15, 15.5, ..., 20 s (the end in the last)
+  EXPECT_EQ(pooled.estimated, fusion.all.angle_coverage.estimated);
+  EXPECT_EQ(pooled.within, fusion.all.angle_coverage.within);
+  EXPECT_TRUE(consistency_over_time(r, "full_fusion", 0.0).empty());
+  EXPECT_NE(chart(html, "consistency-time"), "");
   EXPECT_NE(html.find("<td>51.2%</td><td>100.0%</td><td>not estimated</td><td>100.0%</td>"),
             std::string::npos);
   EXPECT_EQ(tag_problem(html), "");

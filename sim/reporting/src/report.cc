@@ -105,6 +105,7 @@ std::string report_html(const ScenarioResult& r) {
   report::box_section(o, r);
   report::error_time_section(o, r);
   report::health_section(o, r);
+  report::consistency_time_section(o, r);
   report::bias_section(o, r);
   report::camera_section(o, r);
   report::frames_section(o, r);

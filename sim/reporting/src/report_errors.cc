@@ -1,11 +1,13 @@
 // The run report's error charts: box plots per method, the translation error
-// over time, the tracker's health over time.
+// over time, the tracker's health over time, the consistency over time.
 #include <algorithm>
 #include <cmath>
 #include <ostream>
+#include <vector>
 
 #include "arttrack/sim/internal/svg_chart.h"
 #include "arttrack/sim/internal/text_format.h"
+#include "arttrack/sim/report.h"
 #include "arttrack/tracker/internal/non_finite.h"
 #include "arttrack/tracker/units.h"
 #include "report_sections.h"
@@ -206,4 +208,98 @@ void health_section(std::ostream& o, const ScenarioResult& r) {
   chart::line_chart(o, c);
 }
 
+// Whether a filter knows when it is wrong, over time: a share in the band
+// over the whole run can be a too-sure start averaged with a too-cautious
+// steady state (docs/accuracy.md, "Coverage over time").
+void consistency_time_section(std::ostream& o, const ScenarioResult& r) {
+  if (r.runs.empty()) return;
+  chart::LineChart c = time_chart(r, "consistency-time", 1160, 320, "truth within 2 sigma, %");
+  c.include_zero = true;
+  c.min_span = 100;
+  const double bin_s = std::max(0.25, r.duration_s / 40);
+  // One legend entry per method (its colour) and per quantity (its stroke):
+  // methods x quantities entries would not fit.
+  c.legend = false;
+  std::vector<chart::LegendEntry> entries;
+  for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
+    const std::size_t series_before = c.series.size();
+    const std::vector<ConsistencyBin> bins = consistency_over_time(r, r.methods[mi], bin_s);
+    struct Part {
+      const char* name;
+      Coverage ConsistencyBin::*field;
+      chart::Stroke stroke;
+    };
+    for (const Part& part :
+         {Part{"angles", &ConsistencyBin::angles, chart::Stroke::kSolid},
+          Part{"biases", &ConsistencyBin::biases, chart::Stroke::kDashed},
+          Part{"camera offset", &ConsistencyBin::camera, chart::Stroke::kDotted}}) {
+      chart::Series s;
+      s.name = r.methods[mi] + ": " + part.name;
+      s.colour = method_colour(r.methods[mi], mi);
+      s.stroke = part.stroke;
+      for (const ConsistencyBin& b : bins) {
+        const Coverage& cov = b.*part.field;
+        if (cov.estimated == 0) continue;
+        s.x.push_back(std::min(b.from_s + 0.5 * bin_s, r.duration_s));
+        s.y.push_back(100 * cov.fraction());
+      }
+      if (!s.x.empty()) c.series.push_back(std::move(s));
+    }
+    if (c.series.size() > series_before)
+      entries.push_back({r.methods[mi], method_colour(r.methods[mi], mi), chart::Mark::kSwatch});
+  }
+  if (c.series.empty()) return;
+  c.title = "Truth within 2 sigma over time, every run pooled, per " + fixed(bin_s, 2) + " s";
+  c.x_marks.emplace_back(r.scoring.converged_after_s, "converged window from here");
+  c.y_marks.emplace_back(95, "95%");
+  for (const auto& [name, stroke] :
+       {std::pair{"angles", chart::Stroke::kSolid}, std::pair{"biases", chart::Stroke::kDashed},
+        std::pair{"camera offset", chart::Stroke::kDotted}})
+    entries.push_back({name, "#555", chart::Mark::kLine, stroke});
+  o << "<h2>Consistency over time</h2>\n<p>The share of samples (every joint or virtual camera "
+       "joint) whose true value lies within two of the standard deviations the method reports, "
+       "per stretch of time. About 95% for an honest filter; below it the method claims more "
+       "certainty than it has, at 100% less. The tables give the same shares over all samples "
+       "and over the converged window.</p>\n";
+  chart::legend(o, "consistency-legend", entries);
+  chart::line_chart(o, c);
+}
+
 }  // namespace arttrack::sim::report
+
+namespace arttrack::sim {
+
+std::vector<ConsistencyBin> consistency_over_time(const ScenarioResult& r,
+                                                  const std::string& method, double bin_s) {
+  if (!(bin_s > 0)) return {};
+  const std::size_t bins =
+      std::size_t(std::max(1.0, std::ceil(r.duration_s / bin_s - 1e-9)));  // 20 / 0.5: 40
+  std::vector<ConsistencyBin> out(bins);
+  for (std::size_t b = 0; b < bins; ++b) out[b].from_s = double(b) * bin_s;
+  for (const RunResult& run : r.runs) {
+    const MethodRun* m = report::method_run(run, method);
+    if (!m) continue;
+    for (std::size_t i = 0; i < run.truth.size() && i < m->samples.size(); ++i) {
+      const TruthSample& truth = run.truth[i];
+      const EstimateSample& e = m->samples[i];
+      ConsistencyBin& bin =
+          out[std::min(bins - 1, std::size_t(std::max(0.0, truth.time_s / bin_s)))];
+      // As the scorer takes them (method_trackers.cc): estimate - truth
+      // against the reported standard deviation, 0 meaning not estimated.
+      if (e.angle_std_rad.size() == truth.angle_rad.size() &&
+          e.angle_rad.size() == truth.angle_rad.size())
+        for (Eigen::Index j = 0; j < truth.angle_rad.size(); ++j)
+          bin.angles.add(e.angle_rad[j] - truth.angle_rad[j], e.angle_std_rad[j]);
+      if (e.bias_std_rad.size() == truth.bias_rad.size() &&
+          e.bias_rad.size() == truth.bias_rad.size())
+        for (Eigen::Index j = 0; j < truth.bias_rad.size(); ++j)
+          bin.biases.add(e.bias_rad[j] - truth.bias_rad[j], e.bias_std_rad[j]);
+      if (truth.T_base_camera)
+        for (int k = 0; k < 6; ++k)
+          bin.camera.add(e.camera_offset[k] - truth.camera_offset[k], e.camera_offset_std[k]);
+    }
+  }
+  return out;
+}
+
+}  // namespace arttrack::sim

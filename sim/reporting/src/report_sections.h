@@ -46,6 +46,9 @@ void box_section(std::ostream& o, const ScenarioResult& r);
 void error_time_section(std::ostream& o, const ScenarioResult& r);
 void health_section(std::ostream& o, const ScenarioResult& r);
 
+// report_errors.cc: consistency_over_time (report.h) as a chart.
+void consistency_time_section(std::ostream& o, const ScenarioResult& r);
+
 // report_estimates.cc: full_fusion's encoder bias and every method's camera
 // offset over time, each against the simulator's truth.
 void bias_section(std::ostream& o, const ScenarioResult& r);
