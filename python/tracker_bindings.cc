@@ -450,6 +450,13 @@ void bind_tracker(py::module_& m) {
           "both in the estimated camera frame, from the DOFs' covariance through the "
           "kinematics' Jacobian (first order)."_doc)
       .def_property_readonly(
+          "ee_image_correction",
+          [](const TrackerEstimate& e) { return stack(e.ee_image_correction, 6, 1); },
+          "The end-effector fit's share of T_camera_ee, shape (n, 6, 1): per end effector, "
+          "the rigid motion in its own axes (translation m, then rotation vector rad) from "
+          "where the estimated angles' kinematics put it to the pose reported; 0 without "
+          "the fit (end_effector_fit)."_doc)
+      .def_property_readonly(
           "health", [](const TrackerEstimate& e) { return health_dict(e.health); },
           "How well the newest applied image agrees with the estimate, a dict: state "
           "('no_image', 'tracking', 'lost'), image_stamp_s, whole and chains (per kinematic "

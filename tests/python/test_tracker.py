@@ -46,6 +46,9 @@ def test_python_fed_tracker_converges(dataset):
     # The pose and its covariance per end effector.
     assert e.T_camera_ee.shape == (2, 4, 4) and e.T_camera_ee_covariance.shape == (2, 6, 6)
     assert np.allclose(e.T_camera_ee[:, 3], [0, 0, 0, 1])
+    # The end-effector fit's share: a few millimetres at most on this exact robot.
+    assert e.ee_image_correction.shape == (2, 6, 1)
+    assert np.linalg.norm(e.ee_image_correction[:, :3], axis=1).max() < 0.003
     cov = e.T_camera_ee_covariance
     assert np.allclose(cov, cov.transpose(0, 2, 1)) and (np.linalg.eigvalsh(cov) > -1e-12).all()
     # Left hand in the camera frame against the truth (ground_truth.csv), last row.

@@ -279,6 +279,11 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.model_error_unpinned_scale", &C::model_error_unpinned_scale));
   f(key("refinement.enabled", &C::refine_mean),
     key("refinement.min_pixels", &C::refinement_min_pixels));
+  f.nested("end_effector_fit.", &C::end_effector_fit, [](FieldList<C::EndEffectorFitConfig>& e) {
+    using E = C::EndEffectorFitConfig;
+    e(key("enabled", &E::enabled), key("time_constant_s", &E::time_constant_s),
+      key("max_std_m", &E::max_std_m));
+  });
   f.nested("acquisition.", &C::acquisition, [](FieldList<C::Acquisition>& a) {
     using A = C::Acquisition;
     a(key("passes", &A::passes), key("coarse_noise_std_m", &A::coarse_noise_std_m),

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
+#include <vector>
 
 #include "planar_arm.h"
 
@@ -23,7 +25,7 @@ TEST(EstimateReport, EncodersOnlyReportsTheReadingsWithTheBiasPriorsSpread) {
   belief.mean_a[0] = 7;  // not what encoders only reports
   const std::vector<double> readings{0.3, -0.2};
   TrackerEstimate e;
-  report.fill(belief, readings, 2.5, PosteriorCovariance(), e);
+  report.fill(belief, readings, 2.5, PosteriorCovariance(), {}, e);
   EXPECT_EQ(e.time_s, 2.5);
   EXPECT_EQ(e.joint_names, (std::vector<std::string>{"shoulder", "elbow"}));
   EXPECT_EQ(e.angle_rad[0], 0.3);
@@ -54,13 +56,38 @@ TEST(EstimateReport, EndEffectorCovarianceFollowsTheKinematics) {
   belief.var_a[std::size_t(elbow)] = 0.02 * 0.02;
   for (int j = setup.n_phys; j < setup.n; ++j) belief.var_a[std::size_t(j)] = 0;
   TrackerEstimate e;
-  report.fill(belief, std::vector<double>{0.0, 0.0}, 0.0, PosteriorCovariance(), e);
+  report.fill(belief, std::vector<double>{0.0, 0.0}, 0.0, PosteriorCovariance(), {}, e);
   EXPECT_DOUBLE_EQ(e.angle_std_rad[std::size_t(shoulder)], 0.01);
   ASSERT_EQ(e.T_camera_ee_covariance.size(), 1u);
   const Eigen::Matrix<double, 6, 6>& cov = e.T_camera_ee_covariance[0];
   const double var_s = 0.01 * 0.01, var_e = 0.02 * 0.02;
   EXPECT_NEAR((cov.topLeftCorner<3, 3>().trace()), 0.55 * 0.55 * var_s + 0.25 * 0.25 * var_e, 1e-9);
   EXPECT_NEAR((cov.bottomRightCorner<3, 3>().trace()), var_s + var_e, 1e-9);
+}
+
+// An end-effector fit's correction (end_effector_fit.h) moves the reported
+// pose by that rigid motion in the end effector's own axes, and is reported
+// as given; the covariance stays the joints'.
+TEST(EstimateReport, EndEffectorCorrectionMovesThePoseInItsOwnAxes) {
+  const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
+                           {"shoulder", "elbow"});
+  EstimateReport report(setup);
+  const JointBelief belief =
+      initial_joint_belief(*setup.filter_model, std::vector<double>{0.3, -0.2});
+  TrackerEstimate plain, corrected;
+  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), {}, plain);
+  EndEffectorCorrection c;
+  c << 0.004, -0.002, 0.003, 0.0, 0.02, 0.0;  // m, then rad about the tool's y
+  const std::vector<EndEffectorCorrection> corrections{c};
+  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), corrections,
+              corrected);
+  const Eigen::Isometry3d expected = plain.T_camera_ee[0] *
+                                     Eigen::Translation3d(0.004, -0.002, 0.003) *
+                                     Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitY());
+  EXPECT_TRUE(corrected.T_camera_ee[0].isApprox(expected, 1e-12));
+  EXPECT_EQ(corrected.ee_image_correction[0], c);
+  EXPECT_EQ(plain.ee_image_correction[0], EndEffectorCorrection::Zero());
+  EXPECT_EQ(corrected.T_camera_ee_covariance[0], plain.T_camera_ee_covariance[0]);
 }
 
 }  // namespace

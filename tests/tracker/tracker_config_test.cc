@@ -238,6 +238,10 @@ const std::vector<RangeRow> kRangeRows = {
     {"uncertainty.model_error_unpinned_scale", "10", "11"},
     {"refinement.min_pixels", "1", "0"},
     {"refinement.min_pixels", "10000000", "10000001"},
+    {"end_effector_fit.time_constant_s", "0.001", "0.0009"},
+    {"end_effector_fit.time_constant_s", "10000", "10001"},
+    {"end_effector_fit.max_std_m", "0.000001", "0"},
+    {"end_effector_fit.max_std_m", "1", "1.1"},
     {"acquisition.passes", "1", "0"},
     {"acquisition.passes", "10", "11"},
     {"acquisition.coarse_noise_std_m", "0.003", "0.0029"},  // depth_model.noise_std_m

@@ -8,6 +8,8 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "../error_of.h"
 #include "arttrack/tracker/depth_renderer.h"
@@ -134,6 +136,67 @@ TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
   EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], true_q1, 1 * kRadPerDeg);
   EXPECT_NEAR(e.bias_rad[model->joint_index("shoulder")], bias, 1 * kRadPerDeg);
   EXPECT_GT(tracker.stats().images_applied, 80);
+}
+
+// A planar arm with a round forearm and a ball of a hand (their slopes show
+// a sideways shift, which a box's flat face does not), its elbow
+// `elbow_x_m` nearer the camera than the base's plane: a shift no joint of
+// the planar arm can make.
+RobotModel round_arm(double elbow_x_m) {
+  std::string urdf = test_support::kArm;
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = urdf.find(from);
+    if (at == std::string::npos) throw std::logic_error("the planar arm has no " + from);
+    urdf.replace(at, from.size(), to);
+  };
+  replace(R"(<geometry><box size="0.04 0.08 0.25"/></geometry></visual></link>)",
+          R"(<geometry><cylinder radius="0.04" length="0.25"/></geometry></visual>
+    <visual><origin xyz="0 0 0.25"/><geometry><sphere radius="0.05"/></geometry></visual></link>)");
+  replace(R"(<origin xyz="0 0 0.3"/>)",
+          R"(<origin xyz=")" + std::to_string(elbow_x_m) + R"( 0 0.3"/>)");
+  return RobotModel::from_urdf_string(urdf, ".");
+}
+
+// The robot is not its URDF: the real elbow sits 8 mm nearer the camera.
+// The angles' kinematics leave the tool 8 mm off whatever the angles; the
+// end-effector fit puts it where the images show the forearm and hand, and
+// says by how much (ee_image_correction). The angles are the filter's
+// either way.
+TEST(TrackerTest, EndEffectorFitPutsTheToolWhereTheImagesShowIt) {
+  const RobotModel real = round_arm(0.008);
+  auto nominal = std::make_shared<const RobotModel>(round_arm(0.0));
+  const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(160, 120, 60 * kRadPerDeg);
+  const double q0 = 0.4, q1 = -0.6;
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(real.num_joints());
+  q[real.joint_index("shoulder")] = q0;
+  q[real.joint_index("elbow")] = q1;
+  KinematicsState state(real);
+  forward_kinematics(real, q, state);
+  DepthImage image;
+  DepthRenderer(real, camera).render(state, image);
+  const Eigen::Vector3d tool_m = T_camera_link(real, state, real.link_index("tool")).translation();
+
+  auto track = [&](bool fit) {
+    TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+    config.depth_model.width = 160;
+    config.depth_model.height = 120;
+    config.end_effector_fit.enabled = fit;
+    Tracker tracker(nominal, config, {"shoulder", "elbow"});
+    for (int k = 0; k <= 2000; ++k) {
+      const double t = 0.001 * k;
+      tracker.add_joint_measurement(t, std::vector<double>{q0, q1});
+      if (k % 33 == 0) tracker.add_depth_image(t, image, camera);
+    }
+    return tracker.estimate();
+  };
+  const TrackerEstimate fitted = track(true), plain = track(false);
+  EXPECT_GT((plain.T_camera_ee[0].translation() - tool_m).norm(), 0.006);
+  EXPECT_LT((fitted.T_camera_ee[0].translation() - tool_m).norm(), 0.002);
+  ASSERT_EQ(fitted.ee_image_correction.size(), 1u);
+  EXPECT_NEAR(fitted.ee_image_correction[0].head<3>().norm(), 0.008, 0.002);
+  EXPECT_EQ(plain.ee_image_correction[0].norm(), 0.0);
+  EXPECT_EQ(fitted.angle_rad, plain.angle_rad);
+  EXPECT_EQ(fitted.angle_std_rad, plain.angle_std_rad);
 }
 
 // The same input, with the image delivered on time or late: the buffer

@@ -10,7 +10,8 @@ EstimateReport::EstimateReport(const TrackerSetup& setup)
     : setup_(setup), kinematics_(*setup.model), q_(Eigen::VectorXd::Zero(setup.n)) {}
 
 void EstimateReport::fill(const JointBelief& belief, std::span<const double> readings_rad,
-                          double time_s, const PosteriorCovariance& cov, TrackerEstimate& e) {
+                          double time_s, const PosteriorCovariance& cov,
+                          std::span<const EndEffectorCorrection> corrections, TrackerEstimate& e) {
   const TrackerSetup& s = setup_;
   const RobotModel& model = *s.model;
   e.time_s = time_s;
@@ -101,6 +102,11 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
             angle_cov(a, b);
   }
   for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
+  e.ee_image_correction.assign(s.ee_links.size(), EndEffectorCorrection::Zero());
+  for (std::size_t k = 0; k < corrections.size() && k < s.ee_links.size(); ++k) {
+    e.ee_image_correction[k] = corrections[k];
+    e.T_camera_ee[k] = e.T_camera_ee[k] * correction_transform(corrections[k]);
+  }
 }
 
 }  // namespace arttrack

@@ -114,6 +114,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   }
   estimate_effective_pixel_fraction(likelihood.width());
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
+  if (!rigid_fits_.empty()) compute_rigid_fits(renderer.camera(), likelihood);
   return information_;
 }
 
@@ -498,6 +499,53 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
       shift_gradient_.segment<3>(3 * a) += double(residuals_[p]) * j;
       ++shift_pixels_[std::size_t(a)];
       for (int b : shift_above_[std::size_t(l)]) shift_information_.block<3, 3>(3 * a, 3 * b) += jj;
+    }
+  });
+}
+
+void ImageInformation::set_rigid_fit_links(const RobotModel& model, std::vector<int> links) {
+  const std::vector<int>& with_geometry = model.links_with_geometry();
+  rigid_fit_shift_.clear();
+  for (int link : links) {
+    const auto it = std::find(with_geometry.begin(), with_geometry.end(), link);
+    if (it == with_geometry.end())
+      throw InputError("rigid fit: link " + std::to_string(link) + " has no geometry");
+    rigid_fit_shift_.push_back(int(it - with_geometry.begin()));  // shift_links_'s order
+  }
+  rigid_fits_.assign(links.size(), RigidFit{});
+  rigid_fits_of_label_.clear();
+}
+
+void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
+                                          const DepthLikelihood& likelihood) {
+  if (rigid_fits_of_label_.empty()) {  // shift_above_ is the model's (prepare_workers)
+    rigid_fits_of_label_.resize(shift_links_.size());
+    for (std::size_t l = 0; l < shift_above_.size(); ++l)
+      for (std::size_t f = 0; f < rigid_fit_shift_.size(); ++f)
+        if (std::find(shift_above_[l].begin(), shift_above_[l].end(), rigid_fit_shift_[f]) !=
+            shift_above_[l].end())
+          rigid_fits_of_label_[l].push_back(int(f));
+  }
+  for (std::size_t f = 0; f < rigid_fits_.size(); ++f) {
+    rigid_fits_[f] = RigidFit{};
+    rigid_fits_[f].origin_m =
+        T_link_camera_[std::size_t(rigid_fit_shift_[f])].inverse().translation();
+  }
+  const int W = camera.width;
+  for_each_labelled_pixel(camera, likelihood, false, [&](int p, int l, const Eigen::Vector3d& j) {
+    const std::vector<int>& fits = rigid_fits_of_label_[std::size_t(l)];
+    if (fits.empty()) return;
+    const double r = base_.depth_m[std::size_t(p)];
+    const int u = p % W, v = p / W;
+    const Eigen::Vector3d X(r * (u + 0.5 - camera.cx) / camera.fx,
+                            r * (v + 0.5 - camera.cy) / camera.fy, r);
+    for (int f : fits) {
+      RigidFit& fit = rigid_fits_[std::size_t(f)];
+      Eigen::Matrix<double, 6, 1> g;
+      g << j, (X - fit.origin_m).cross(j);
+      fit.information.noalias() += g * g.transpose();
+      fit.gradient += double(residuals_[p]) * g;
+      ++fit.pixels;
     }
   });
 }

@@ -16,10 +16,14 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
       acquisition_(setup),
       covariance_(setup, filter_.filter().blocks()),
       refinement_(setup, covariance_.setup().states),
+      end_effector_fit_(setup),
       prior_mean_(std::size_t(setup.n), 0.0),
       prior_std_(std::size_t(setup.n), 0.0),
+      mean_fitted_(std::size_t(setup.n), 0.0),
       reopened_(std::size_t(setup.n), 0),
       proposal_std_(std::size_t(setup.n), 0.0) {
+  if (end_effector_fit_.on())
+    covariance_.set_rigid_fit_links(*setup.model, end_effector_fit_.fit_links());
   const std::vector<SamplingBlock>& blocks = filter_.filter().blocks();
   for (std::size_t b = 0; b < blocks.size(); ++b)
     if (is_camera_block(blocks[b], *setup.model)) camera_blocks_.push_back(int(b));
@@ -83,13 +87,18 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
     }
   }
   DepthRenderer& renderer = filter_.geometry().renderer();
-  if (covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a, renderer, likelihood,
-                              &filter_.pool()) &&
-      refinement_.on())
+  std::copy(belief.mean_a.begin(), belief.mean_a.end(), mean_fitted_.begin());
+  const bool informed = covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a,
+                                                renderer, likelihood, &filter_.pool());
+  if (informed && refinement_.on())
     health_.refinements_accepted +=
         refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,
                            prior_std_, filter_, belief);
   covariance_.end_image(time_s, health_);
+  // Not at the first image: its search has just placed the arms.
+  if (informed && !first)
+    end_effector_fit_.update(time_s, covariance_.information().rigid_fits(), mean_fitted_,
+                             belief.mean_a);
   check.update(belief.mean_a, image, stamp_s, renderer, health_);
   return search_ms;
 }

@@ -163,6 +163,8 @@ void TrackerConfig::validate(const std::string& source) const {
   check("uncertainty.model_error_min_std_m", model_error_min_std_m, R::closed(0, 0.1));
   check("uncertainty.model_error_unpinned_scale", model_error_unpinned_scale, R::closed(1, 10));
   check("refinement.min_pixels", refinement_min_pixels, R::closed(1, 1e7));
+  check("end_effector_fit.time_constant_s", end_effector_fit.time_constant_s, R::closed(1e-3, 1e4));
+  check("end_effector_fit.max_std_m", end_effector_fit.max_std_m, R::closed(1e-6, 1));
 
   const Acquisition& a = acquisition;
   check("acquisition.passes", a.passes, R::closed(1, 10));
@@ -285,6 +287,11 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
   read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels}});
+  TrackerConfig::EndEffectorFitConfig& fit = c.end_effector_fit;
+  const ConfigNode end_effector_fit = root.child("end_effector_fit");
+  fit.enabled = end_effector_fit.get<bool>("enabled", fit.enabled);
+  read_numbers(end_effector_fit,
+               {{"time_constant_s", &fit.time_constant_s}, {"max_std_m", &fit.max_std_m}});
 
   TrackerConfig::Acquisition& a = c.acquisition;
   const ConfigNode acquisition = root.child("acquisition");

@@ -52,6 +52,13 @@
 //   image_information.h), not the particle filter's collapsed moments; each
 //   image counts as many independent pixels as its residuals' correlation
 //   and size say it is worth (uncertainty.discount_correlated_residuals).
+// - End-effector fit (end_effector_fit.enabled; full fusion). The robot is
+//   not its URDF: the angles that fit every link's pixels leave the hand a
+//   few millimetres and degrees from where its own pixels put it. After
+//   each image, a rigid motion of each end effector's end link (with the
+//   links below it) is fitted to the residuals; averaged over time, it
+//   corrects the end effectors' reported poses (ee_image_correction). The
+//   angles, biases and their covariance are the filter's, unchanged.
 // - An optional floor on the moment-matched variance
 //   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //
@@ -155,6 +162,12 @@ struct TrackerEstimate {
   // kinematics' Jacobian (first order; the biases' and camera offsets' full
   // covariance after the first image, posterior_covariance.h).
   std::vector<Eigen::Matrix<double, 6, 6>> T_camera_ee_covariance;
+  // The end-effector fit's share of T_camera_ee ("End-effector fit" above):
+  // per end effector, the rigid motion in its own axes (translation m, then
+  // rotation vector rad) from where the estimated angles' kinematics put it
+  // to the pose reported. Zero without the fit. How far the URDF's
+  // kinematics are from the hand the camera sees.
+  std::vector<Eigen::Matrix<double, 6, 1>> ee_image_correction;
   TrackingHealth health;
 };
 

@@ -164,6 +164,18 @@ struct TrackerConfig {
   // A DOF takes part in the step when at least this many explained pixels
   // depend on it.
   int refinement_min_pixels = 30;
+  // Full fusion: each end effector's pose where the images show its end
+  // link (the nearest link with geometry at or above it), not only where
+  // the joint estimate's kinematics put it (tracker.h, "End-effector fit";
+  // end_effector_fit.h). Each image's rigid fit of that link counts when
+  // its translation's standard deviation is below max_std_m; the fits are
+  // averaged over time_constant_s.
+  struct EndEffectorFitConfig {
+    bool enabled = true;
+    double time_constant_s = 1.0;
+    double max_std_m = 0.002;
+  };
+  EndEffectorFitConfig end_effector_fit;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the
   // encoders' configuration, at the first image, periodically and when the
   // health check says the estimate is lost. Full fusion only.

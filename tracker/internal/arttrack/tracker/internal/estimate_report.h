@@ -3,6 +3,11 @@
 // offset, the end effectors' poses in the camera frame and their 6x6
 // covariances.
 //
+// The end-effector poses: the kinematics' at the estimate, times the
+// end-effector fit's correction (end_effector_fit.h) where there is one;
+// TrackerEstimate::ee_image_correction says by how much. Their covariances
+// are the joints' alone.
+//
 // The standard deviations: for encoders_only, the reading's noise and the
 // bias prior's stationary variance (the bias it does not estimate);
 // otherwise the joint filters' angle variance, but never below the
@@ -21,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "arttrack/tracker/internal/end_effector_fit.h"
 #include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
@@ -36,8 +42,10 @@ class EstimateReport {
   // The estimate at time_s of `belief` (DOF order), with the newest encoder
   // readings (physical DOFs; what encoders_only reports) and the reported
   // covariance (not started: none yet). Leaves e.health alone.
+  // `corrections`: per end effector, the end-effector fit's (none: empty).
   void fill(const JointBelief& belief, std::span<const double> readings_rad, double time_s,
-            const PosteriorCovariance& covariance, TrackerEstimate& e);
+            const PosteriorCovariance& covariance,
+            std::span<const EndEffectorCorrection> corrections, TrackerEstimate& e);
 
  private:
   const TrackerSetup& setup_;

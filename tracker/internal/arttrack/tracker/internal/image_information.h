@@ -182,6 +182,30 @@ class ImageInformation {
   // whether this image pinned it (and so counted it).
   double link_shift_variance_m2(std::vector<char>* pinned = nullptr, int min_pixels = 20) const;
 
+  // Rigid fits (the end-effector fit, end_effector_fit.h): for each link
+  // given to set_rigid_fit_links() (links with geometry), the normal
+  // equations of a small rigid motion of that link and every link below it
+  // (a hand with its fingers): a translation t and a rotation w about the
+  // link's origin o, in camera axes. A pixel's surface point X then moves
+  // by t + w x (X - o) and its rendered depth by j . (t + w x (X - o)) (j
+  // the link-shift vector above, from the slopes), so its row is
+  // g = (j, (X - o) x j) / sigma; over the used pixels of those links,
+  // information G^T G and gradient G^T u (u the normalised residuals): the
+  // fit is information^-1 gradient, in m and rad, its noise covariance
+  // information^-1 when the pixels' noise is the likelihood's. Computed by
+  // compute() whether or not params.link_shifts is on.
+  struct RigidFit {
+    Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> gradient = Eigen::Matrix<double, 6, 1>::Zero();
+    Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();  // o, camera axes, at q
+    int pixels = 0;
+  };
+  // `links`: model link indices, each with geometry (InputError otherwise);
+  // repeats allowed. Before the first compute().
+  void set_rigid_fit_links(const RobotModel& model, std::vector<int> links);
+  // The last compute()'s, in set_rigid_fit_links() order.
+  const std::vector<RigidFit>& rigid_fits() const { return rigid_fits_; }
+
  private:
   struct Worker;  // one worker's renderer and scratch images
   std::vector<int> dofs_;
@@ -220,6 +244,12 @@ class ImageInformation {
   Eigen::MatrixXd shift_cross_, shift_information_, field_shift_cross_;
   Eigen::VectorXd shift_gradient_, pixel_gradient_;
   double residual_sum_sq_ = 0;  // of the used pixels' residuals u
+  // Rigid fits: per fit its link's shift_links_ index; per shift link
+  // (label), the fits whose subtree it belongs to.
+  std::vector<int> rigid_fit_shift_;
+  std::vector<std::vector<int>> rigid_fits_of_label_;
+  std::vector<RigidFit> rigid_fits_;
+  void compute_rigid_fits(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
 
   void prepare_workers(DepthRenderer& renderer, int num_workers);
   void render_labelled(WorkerPool* pool);

@@ -20,6 +20,7 @@
 
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/internal/acquisition.h"
+#include "arttrack/tracker/internal/end_effector_fit.h"
 #include "arttrack/tracker/internal/image_filter.h"
 #include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/posterior_covariance.h"
@@ -57,6 +58,10 @@ class ImageUpdate {
   // After apply(): what the tracker publishes and counts.
   const TrackingHealth& health() const { return health_; }
   const PosteriorCovariance& covariance() const { return covariance_.covariance(); }
+  // Per end effector, the end-effector fit's correction (end_effector_fit.h).
+  const std::vector<EndEffectorCorrection>& end_effector_corrections() const {
+    return end_effector_fit_.corrections();
+  }
   const ImageFilter& filter() const { return filter_; }
   const RenderGeometry& geometry() const { return filter_.geometry(); }
   int geometry_builds() const { return geometry_builds_; }
@@ -76,9 +81,12 @@ class ImageUpdate {
   Acquisition acquisition_;
   ReportedCovariance covariance_;
   Refinement refinement_;
+  EndEffectorFit end_effector_fit_;
   // Per image: the prior's angle means and standard deviations (DOF order),
   // and the DOFs re-acquisition moved.
   std::vector<double> prior_mean_, prior_std_;
+  // The mean the image's information is computed at (before the refinement).
+  std::vector<double> mean_fitted_;
   std::vector<char> reopened_;
   // The camera blocks (indices into the filter's blocks), how many an
   // image samples (the n-th image from the (n m)-th on, cyclically), and

@@ -74,6 +74,10 @@ class ReportedCovariance {
                    const DepthLikelihood& likelihood, WorkerPool* pool = nullptr);
   // After begin_image(): the image's information, and what it knows.
   const ImageInformation& information() const { return information_; }
+  // The rigid fits begin_image() computes too (ImageInformation::set_rigid_fit_links).
+  void set_rigid_fit_links(const RobotModel& model, std::vector<int> links) {
+    information_.set_rigid_fit_links(model, std::move(links));
+  }
   // The information end_image() folds in (the motion field's).
   const Eigen::MatrixXd& information_matrix() const {
     return information_.motion_field_information();

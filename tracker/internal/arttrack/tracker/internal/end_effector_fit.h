@@ -1,0 +1,83 @@
+// The end effectors where the images show them (docs/method.md,
+// "End-effector fit"). The real robot is not its URDF: links a few
+// millimetres longer or shorter, shapes a few percent bigger. The joint
+// angles that best fit every link's pixels then leave the hand where the
+// arm's links put it, not where the hand's own pixels do; the nominal
+// kinematics at the estimate put the end effector a few millimetres and
+// degrees off (realistic/both: the left hand's rotation 2.7 degrees).
+//
+// After each image (full fusion), the end link's rigid fit
+// (ImageInformation::rigid_fits(): a translation and a rotation of the
+// nearest link with geometry at or above the end effector, with every
+// link below it, fitted to the image's residuals at the particle filter's
+// mean) moves the end effector's pose from where that mean's kinematics
+// put it; what that is relative to the pose at the image's final mean
+// (after the refinement) is the image's correction, in end-effector axes.
+// Images whose fit's translation has a standard deviation above
+// max_std_m (the hand hidden, edge-on, a few pixels) are skipped. The
+// corrections are averaged over time_constant_s (exponentially, each
+// image's weight 1 - exp(-dt / time_constant_s)), and held while no image
+// shows the hand: the kinematic error they stand for persists. The
+// estimate's end-effector poses are the kinematics' at the estimate times
+// the correction (EstimateReport). The joint estimate, its covariance and
+// the other methods are unchanged.
+//
+// Setup: the end effectors' fit links, from the TrackerSetup. Workspace:
+// the kinematics and the corrections. Internal to the tracker
+// (tracker/internal: not installed). Not thread-safe: the image thread's.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "arttrack/tracker/internal/image_information.h"
+#include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/kinematics.h"
+
+namespace arttrack {
+
+// A rigid motion in end-effector axes: translation (m), then rotation
+// vector (rad). The corrected pose is T_camera_ee * exp(correction).
+using EndEffectorCorrection = Eigen::Matrix<double, 6, 1>;
+
+// exp of a correction: the rigid motion it stands for.
+Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c);
+
+class EndEffectorFit {
+ public:
+  explicit EndEffectorFit(const TrackerSetup& setup);
+
+  // Full fusion with TrackerConfig::end_effector_fit, and some end effector
+  // at or below a link with geometry.
+  bool on() const { return on_; }
+  // The links to fit (ImageInformation::set_rigid_fit_links), one per
+  // fitted end effector.
+  const std::vector<int>& fit_links() const { return fit_links_; }
+
+  // After an image at time_s: `fits` the image's rigid fits (fit_links()
+  // order) at `mean_fitted`, `mean_final` the image's final mean (both
+  // every DOF).
+  void update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
+              std::span<const double> mean_fitted, std::span<const double> mean_final);
+
+  // Per end effector (TrackerConfig::end_effectors order): the averaged
+  // correction (0 until an image shows it, and for an end effector with no
+  // link with geometry at or above it).
+  const std::vector<EndEffectorCorrection>& corrections() const { return corrections_; }
+
+ private:
+  const TrackerSetup& setup_;
+  bool on_ = false;
+  double time_constant_s_ = 1, max_var_m2_ = 0;
+  std::vector<int> fit_links_;  // per fitted end effector
+  std::vector<int> fitted_ee_;  // per fitted end effector: its index among the end effectors
+  std::vector<EndEffectorCorrection> corrections_;
+  double last_time_s_ = 0;
+  bool started_ = false;
+  KinematicsState kinematics_;
+  Eigen::VectorXd q_;
+};
+
+}  // namespace arttrack

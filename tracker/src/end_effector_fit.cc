@@ -1,0 +1,91 @@
+#include "arttrack/tracker/internal/end_effector_fit.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace arttrack {
+namespace {
+
+// The nearest link with geometry at or above `link`, -1 when none.
+int fit_link_of(const RobotModel& model, int link) {
+  const std::vector<int>& with_geometry = model.links_with_geometry();
+  for (int a = link; a >= 0; a = model.link(a).parent)
+    if (std::find(with_geometry.begin(), with_geometry.end(), a) != with_geometry.end()) return a;
+  return -1;
+}
+
+Eigen::Matrix3d rotation_of(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  return angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix()
+                   : Eigen::Matrix3d::Identity();
+}
+
+}  // namespace
+
+Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = rotation_of(c.tail<3>());
+  T.translation() = c.head<3>();
+  return T;
+}
+
+EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
+    : setup_(setup),
+      corrections_(setup.ee_links.size(), EndEffectorCorrection::Zero()),
+      kinematics_(*setup.model),
+      q_(Eigen::VectorXd::Zero(setup.n)) {
+  const TrackerConfig& c = setup.config;
+  if (c.method != TrackingMethod::kFullFusion || !c.end_effector_fit.enabled) return;
+  time_constant_s_ = c.end_effector_fit.time_constant_s;
+  max_var_m2_ = c.end_effector_fit.max_std_m * c.end_effector_fit.max_std_m;
+  for (std::size_t e = 0; e < setup.ee_links.size(); ++e) {
+    const int link = fit_link_of(*setup.model, setup.ee_links[e]);
+    if (link < 0) continue;
+    fit_links_.push_back(link);
+    fitted_ee_.push_back(int(e));
+  }
+  on_ = !fit_links_.empty();
+}
+
+void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
+                            std::span<const double> mean_fitted,
+                            std::span<const double> mean_final) {
+  if (!on_) return;
+  const double dt = started_ ? std::max(0.0, time_s - last_time_s_) : 0.0;
+  started_ = true;
+  last_time_s_ = time_s;
+  const double weight = 1 - std::exp(-dt / time_constant_s_);
+  if (!(weight > 0)) return;
+  const RobotModel& model = *setup_.model;
+  for (std::size_t f = 0; f < fit_links_.size() && f < fits.size(); ++f) {
+    const ImageInformation::RigidFit& fit = fits[f];
+    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> normal(fit.information);
+    if (fit.pixels == 0 || normal.info() != Eigen::Success || !(normal.vectorD().array() > 0).all())
+      continue;
+    const Eigen::Matrix<double, 6, 6> noise =
+        normal.solve(Eigen::Matrix<double, 6, 6>::Identity());  // m^2, rad^2
+    if (!(noise.diagonal().head<3>().maxCoeff() < max_var_m2_))
+      continue;  // the image barely shows it
+    const Eigen::Matrix<double, 6, 1> x = normal.solve(fit.gradient);
+    // The image moves the fitted link's subtree by X -> R (X - o) + o + t.
+    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+    motion.linear() = rotation_of(x.tail<3>());
+    motion.translation() = fit.origin_m + x.head<3>() - motion.linear() * fit.origin_m;
+    const int ee = setup_.ee_links[std::size_t(fitted_ee_[f])];
+    for (int j = 0; j < setup_.n; ++j) q_[j] = mean_fitted[std::size_t(j)];
+    forward_kinematics(model, q_, kinematics_);
+    const Eigen::Isometry3d seen = motion * T_camera_link(model, kinematics_, ee);
+    for (int j = 0; j < setup_.n; ++j) q_[j] = mean_final[std::size_t(j)];
+    forward_kinematics(model, q_, kinematics_);
+    const Eigen::Isometry3d relative = T_camera_link(model, kinematics_, ee).inverse() * seen;
+    EndEffectorCorrection sample;
+    const Eigen::AngleAxisd turn(relative.linear());
+    sample << relative.translation(), turn.angle() * turn.axis();
+    EndEffectorCorrection& c = corrections_[std::size_t(fitted_ee_[f])];
+    c += weight * (sample - c);
+  }
+}
+
+}  // namespace arttrack
