@@ -8,12 +8,17 @@
 namespace arttrack {
 namespace {
 
-// The nearest link with geometry at or above `link`, -1 when none.
+// The nearest link with geometry at or above `link`, -1 when none or when
+// the camera hangs below it (moving it would move the camera: that is the
+// camera offset's to correct).
 int fit_link_of(const RobotModel& model, int link) {
   const std::vector<int>& with_geometry = model.links_with_geometry();
-  for (int a = link; a >= 0; a = model.link(a).parent)
-    if (std::find(with_geometry.begin(), with_geometry.end(), a) != with_geometry.end()) return a;
-  return -1;
+  int found = -1;
+  for (int a = link; a >= 0 && found < 0; a = model.link(a).parent)
+    if (std::find(with_geometry.begin(), with_geometry.end(), a) != with_geometry.end()) found = a;
+  for (int a = model.camera_link(); a >= 0 && found >= 0; a = model.link(a).parent)
+    if (a == found) return -1;
+  return found;
 }
 
 Eigen::Matrix3d rotation_of(const Eigen::Vector3d& w) {

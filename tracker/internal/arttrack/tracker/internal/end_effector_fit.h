@@ -50,7 +50,7 @@ class EndEffectorFit {
   explicit EndEffectorFit(const TrackerSetup& setup);
 
   // Full fusion with TrackerConfig::end_effector_fit, and some end effector
-  // at or below a link with geometry.
+  // at or below a link with geometry that the camera does not hang from.
   bool on() const { return on_; }
   // The links to fit (ImageInformation::set_rigid_fit_links), one per
   // fitted end effector.
