@@ -52,6 +52,8 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
     fitted_ee_.push_back(int(e));
   }
   on_ = !fit_links_.empty();
+  motions_.assign(fit_links_.size(), Eigen::Isometry3d::Identity());
+  seen_.assign(fit_links_.size(), false);
 }
 
 void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
@@ -63,8 +65,12 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
   last_time_s_ = time_s;
   const double weight = 1 - std::exp(-dt / time_constant_s_);
   if (!(weight > 0)) return;
-  const RobotModel& model = *setup_.model;
-  for (std::size_t f = 0; f < fit_links_.size() && f < fits.size(); ++f) {
+  // Each fit the image determines: the rigid motion it moves its subtree
+  // by, X -> R (X - o) + o + t.
+  bool any = false;
+  for (std::size_t f = 0; f < fit_links_.size(); ++f) {
+    seen_[f] = false;
+    if (f >= fits.size()) continue;
     const ImageInformation::RigidFit& fit = fits[f];
     const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> normal(fit.information);
     if (fit.pixels == 0 || normal.info() != Eigen::Success || !(normal.vectorD().array() > 0).all())
@@ -74,21 +80,31 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     if (!(noise.diagonal().head<3>().maxCoeff() < max_var_m2_))
       continue;  // the image barely shows it
     const Eigen::Matrix<double, 6, 1> x = normal.solve(fit.gradient);
-    // The image moves the fitted link's subtree by X -> R (X - o) + o + t.
-    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d& motion = motions_[f];
+    motion.setIdentity();
     motion.linear() = rotation_of(x.tail<3>());
     motion.translation() = fit.origin_m + x.head<3>() - motion.linear() * fit.origin_m;
-    const int ee = setup_.ee_links[std::size_t(fitted_ee_[f])];
-    for (int j = 0; j < setup_.n; ++j) q_[j] = mean_fitted[std::size_t(j)];
-    forward_kinematics(model, q_, kinematics_);
-    const Eigen::Isometry3d seen = motion * T_camera_link(model, kinematics_, ee);
-    for (int j = 0; j < setup_.n; ++j) q_[j] = mean_final[std::size_t(j)];
-    forward_kinematics(model, q_, kinematics_);
-    const Eigen::Isometry3d relative = T_camera_link(model, kinematics_, ee).inverse() * seen;
+    seen_[f] = any = true;
+  }
+  if (!any) return;
+  // Where the fitted mean's kinematics put each end effector, moved as the
+  // image shows it; then relative to the final mean's (one kinematics each).
+  const RobotModel& model = *setup_.model;
+  for (int j = 0; j < setup_.n; ++j) q_[j] = mean_fitted[std::size_t(j)];
+  forward_kinematics(model, q_, kinematics_);
+  for (std::size_t f = 0; f < fit_links_.size(); ++f)
+    if (seen_[f])
+      motions_[f] = motions_[f] * T_camera_link(model, kinematics_, setup_.ee_links[ee_of(f)]);
+  for (int j = 0; j < setup_.n; ++j) q_[j] = mean_final[std::size_t(j)];
+  forward_kinematics(model, q_, kinematics_);
+  for (std::size_t f = 0; f < fit_links_.size(); ++f) {
+    if (!seen_[f]) continue;
+    const Eigen::Isometry3d relative =
+        T_camera_link(model, kinematics_, setup_.ee_links[ee_of(f)]).inverse() * motions_[f];
     EndEffectorCorrection sample;
     const Eigen::AngleAxisd turn(relative.linear());
     sample << relative.translation(), turn.angle() * turn.axis();
-    EndEffectorCorrection& c = corrections_[std::size_t(fitted_ee_[f])];
+    EndEffectorCorrection& c = corrections_[ee_of(f)];
     c += weight * (sample - c);
   }
 }

@@ -167,10 +167,7 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
   // Each pixel on its own (its row of field_gradients_ only), rows of the
   // image spread over the pool's workers: the same numbers on any count.
   auto pixel = [&](int p, int li, const Eigen::Vector3d& j) {
-    const double r = base_.depth_m[std::size_t(p)];
-    const int u = p % W, v = p / W;
-    const Eigen::Vector3d X(r * (u + 0.5 - camera.cx) / camera.fx,
-                            r * (v + 0.5 - camera.cy) / camera.fy, r);
+    const Eigen::Vector3d X = rendered_point(p, camera);
     for (int k = 0; k < m; ++k) {
       double g = 0;
       for (const MotionTerm& t : motion_terms_[std::size_t(k) * L + li]) {
@@ -189,6 +186,12 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
     pool->parallel_for(camera.height, rows, 4);
   else
     rows(0, camera.height, 0);
+}
+
+Eigen::Vector3d ImageInformation::rendered_point(int p, const CameraIntrinsics& camera) const {
+  const double r = base_.depth_m[std::size_t(p)];
+  const int u = p % camera.width, v = p / camera.width;
+  return {r * (u + 0.5 - camera.cx) / camera.fx, r * (v + 0.5 - camera.cy) / camera.fy, r};
 }
 
 // j = d r / d t at pixel p of the labelled render (link shifts, in the
@@ -531,14 +534,10 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
     rigid_fits_[f].origin_m =
         T_link_camera_[std::size_t(rigid_fit_shift_[f])].inverse().translation();
   }
-  const int W = camera.width;
   for_each_labelled_pixel(camera, likelihood, false, [&](int p, int l, const Eigen::Vector3d& j) {
     const std::vector<int>& fits = rigid_fits_of_label_[std::size_t(l)];
     if (fits.empty()) return;
-    const double r = base_.depth_m[std::size_t(p)];
-    const int u = p % W, v = p / W;
-    const Eigen::Vector3d X(r * (u + 0.5 - camera.cx) / camera.fx,
-                            r * (v + 0.5 - camera.cy) / camera.fy, r);
+    const Eigen::Vector3d X = rendered_point(p, camera);
     for (int f : fits) {
       RigidFit& fit = rigid_fits_[std::size_t(f)];
       Eigen::Matrix<double, 6, 1> g;

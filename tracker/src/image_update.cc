@@ -87,7 +87,8 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
     }
   }
   DepthRenderer& renderer = filter_.geometry().renderer();
-  std::copy(belief.mean_a.begin(), belief.mean_a.end(), mean_fitted_.begin());
+  if (end_effector_fit_.on())
+    std::copy(belief.mean_a.begin(), belief.mean_a.end(), mean_fitted_.begin());
   const bool informed = covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a,
                                                 renderer, likelihood, &filter_.pool());
   if (informed && refinement_.on())

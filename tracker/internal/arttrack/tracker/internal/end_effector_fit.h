@@ -31,6 +31,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "arttrack/tracker/internal/image_information.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
@@ -74,6 +75,11 @@ class EndEffectorFit {
   std::vector<int> fit_links_;  // per fitted end effector
   std::vector<int> fitted_ee_;  // per fitted end effector: its index among the end effectors
   std::vector<EndEffectorCorrection> corrections_;
+  // Per fitted end effector, the last image's: whether it determined the
+  // fit, and the motion (then the end effector's pose) it says.
+  std::vector<char> seen_;
+  std::vector<Eigen::Isometry3d> motions_;
+  std::size_t ee_of(std::size_t f) const { return std::size_t(fitted_ee_[f]); }
   double last_time_s_ = 0;
   bool started_ = false;
   KinematicsState kinematics_;

@@ -256,6 +256,9 @@ class ImageInformation {
   void difference_column(int k, const DepthLikelihood& likelihood, Worker& w);
   void motion_field_gradients(const RobotModel& model, const CameraIntrinsics& camera,
                               const DepthLikelihood& likelihood, WorkerPool* pool);
+  // The rendered surface point at pixel p (the base render's depth along
+  // the pixel centre's ray), camera axes.
+  Eigen::Vector3d rendered_point(int p, const CameraIntrinsics& camera) const;
   Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma,
                                      bool surface_normals) const;
   // Every link's round shapes (RoundShape) seen from the camera at q
