@@ -7,7 +7,8 @@ camera offset twice: over every sample (summary.json's "consistency", the
 first seconds' convergence included) and from converged_after_s on
 ("converged_consistency"). The two differ: a filter can be too sure while
 it converges and too cautious after (docs/accuracy.md, "Coverage over
-time").
+time"). Last, the same two of the end-effector poses' position and rotation
+components against their reported covariance.
 
   tools/accuracy_table.py out/paper/*    (each argument: a run's --out folder)
   tools/accuracy_table.py --pool out/a out/b
@@ -40,8 +41,9 @@ def pct(v):
 def print_header():
     print("| scenario | method | runs | lost | converged p50 / p75 / p99, mm | "
           "median time to converge, s | within 2 sigma, all samples: angles / biases / camera | "
-          "the same, converged |")
-    print("|---|---|---|---|---|---|---|---|")
+          "the same, converged | end effectors within 2 sigma, position / rotation: all samples, "
+          "converged |")
+    print("|---|---|---|---|---|---|---|---|---|")
 
 
 def shares(k):
@@ -52,11 +54,18 @@ def shares(k):
     return f"{pct(k['angles'])} / {pct(k['biases'])} / {pct(k['camera_offset'])}"
 
 
+def end_effector_shares(k):
+    """Position / rotation of a consistency (None or no such keys: "-")."""
+    k = k or {}
+    return f"{pct(k.get('end_effector_position'))} / {pct(k.get('end_effector_rotation'))}"
+
+
 def print_row(scenario, method, runs, lost, p50, p75, p99, ttc, consistency, converged):
     """One table row: errors in m, ttc as text, the two consistencies."""
     print(f"| {scenario} | {method} | {runs} | {lost} | "
           f"{mm(p50)} / {mm(p75)} / {mm(p99)} | {ttc} | {shares(consistency)} | "
-          f"{shares(converged)} |")
+          f"{shares(converged)} | {end_effector_shares(consistency)}, "
+          f"{end_effector_shares(converged)} |")
 
 
 def percentile(values, p):
@@ -111,7 +120,8 @@ def pool(folders):
         for name in names:  # each method over the folders that ran it
             runs = lost = 0
             samples, times = [], []
-            keys = ("angles", "biases", "camera_offset")
+            keys = ("angles", "biases", "camera_offset", "end_effector_position",
+                    "end_effector_rotation")
             weighted = {(f, k): 0.0 for f in ("consistency", "converged_consistency") for k in keys}
             known = dict.fromkeys(weighted, 0)
             for _, s, series in members:
@@ -121,7 +131,7 @@ def pool(folders):
                 runs += m["lost"]["of"]
                 lost += m["lost"]["runs"]
                 for f, k in weighted:
-                    if m.get(f) and m[f][k] is not None:
+                    if m.get(f) and m[f].get(k) is not None:
                         weighted[f, k] += m[f][k] * m["lost"]["of"]
                         known[f, k] += m["lost"]["of"]
                 for (method, _), (t, e) in series.items():

@@ -19,10 +19,11 @@ python3 "$tool" a >plain.txt 2>out.txt || fail "accuracy_table.py a failed:"
 python3 "$tool" --pool a >pooled.txt 2>out.txt || fail "accuracy_table.py --pool a failed:"
 cmp -s plain.txt pooled.txt || { diff plain.txt pooled.txt >out.txt; fail "--pool of one folder differs from its summary:"; }
 grep -q "| full_fusion | 2 |" plain.txt || { cp plain.txt out.txt; fail "no full_fusion row of 2 runs:"; }
-# Eight columns: consistency over all samples and from converged_after_s on.
-[ "$(awk -F'|' '/\| full_fusion \|/ { print NF }' plain.txt)" = 10 ] &&
-  grep -q "| full_fusion | 2 |.*% / .*% | .*% / .*% |$" plain.txt ||
-  { cp plain.txt out.txt; fail "the full_fusion row has not both consistencies:"; }
+# Nine columns: consistency over all samples and from converged_after_s on,
+# then the end effectors' (position / rotation, all samples and converged).
+[ "$(awk -F'|' '/\| full_fusion \|/ { print NF }' plain.txt)" = 11 ] &&
+  grep -q "| full_fusion | 2 |.*% / .*% | .*% / .*% | .*% / .*%, .*% / .*% |$" plain.txt ||
+  { cp plain.txt out.txt; fail "the full_fusion row has not both consistencies and the end effectors':"; }
 python3 "$tool" --pool a b >both.txt 2>out.txt || fail "accuracy_table.py --pool a b failed:"
 [ "$(grep -c '| 4 |' both.txt)" = 2 ] || { cp both.txt out.txt; fail "--pool a b: not one row of 4 runs per method:"; }
 timeout 300 "$arttrack" run "$scenario" --methods encoders_only,full_fusion --runs 1 \

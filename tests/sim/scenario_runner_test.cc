@@ -131,6 +131,14 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
   EXPECT_NEAR(enc.all.angle_coverage.fraction(), 1.0, 1e-12);
   EXPECT_GT(fusion.all.bias_coverage.estimated, 0u);
   EXPECT_GT(fusion.all.camera_offset_coverage.estimated, 0u);
+  // Every sample's end-effector pose has a covariance: three position and
+  // three rotation components per sample and end effector.
+  for (const MethodSummary* m : {&enc, &fusion}) {
+    EXPECT_EQ(m->all.end_effector_position_coverage.estimated,
+              3 * m->all.translation_m.count * m->end_effectors.size());
+    EXPECT_EQ(m->all.end_effector_rotation_coverage.estimated,
+              m->all.end_effector_position_coverage.estimated);
+  }
   EXPECT_GT(enc.all.translation_m.p50, 0.03);  // centimetres
   EXPECT_LT(fusion.converged.translation_m.p50, 0.2 * enc.converged.translation_m.p50);
   EXPECT_LT(fusion.converged.translation_m.p50, 0.015);

@@ -19,19 +19,27 @@ using test_support::expect_error_naming;
 
 constexpr double kPi = std::numbers::pi;
 
+// A random pose and a random unit axis.
+Eigen::Vector3d random_axis(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+}
+Eigen::Isometry3d random_pose(std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(n(rng), random_axis(rng)).toRotationMatrix();
+  T.translation() << n(rng), n(rng), n(rng);
+  return T;
+}
+
 TEST(PoseError, TranslationAndAngleAgainstConstruction) {
   std::mt19937_64 rng(1);
-  std::normal_distribution<double> n(0.0, 1.0);
   for (double angle : {0.0, 1e-9, 1e-6, 1e-3, 0.5, 2.0, 3.0, kPi - 1e-7, kPi}) {
     for (int trial = 0; trial < 5; ++trial) {
-      Eigen::Isometry3d T_est = Eigen::Isometry3d::Identity();
-      T_est.linear() =
-          Eigen::AngleAxisd(n(rng), Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized())
-              .toRotationMatrix();
-      T_est.translation() << n(rng), n(rng), n(rng);
+      const Eigen::Isometry3d T_est = random_pose(rng);
       // The truth: the estimate rotated by `angle` about a random axis in its
       // own frame, and shifted by a known vector in the camera frame.
-      const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+      const Eigen::Vector3d axis = random_axis(rng);
       const Eigen::Vector3d shift(0.003, -0.004, 0.012);  // 13 mm
       Eigen::Isometry3d T_true = T_est * Eigen::AngleAxisd(angle, axis);
       T_true.translation() = T_est.translation() + shift;
@@ -45,6 +53,26 @@ TEST(PoseError, TranslationAndAngleAgainstConstruction) {
       // Symmetric.
       EXPECT_NEAR(pose_error(T_true, T_est).rotation_rad, e.rotation_rad, 1e-12);
     }
+  }
+}
+
+TEST(PoseError, VectorIsTheEstimateMinusTheTruthInTheCameraAxes) {
+  std::mt19937_64 rng(2);
+  for (double angle : {0.0, 1e-9, 1e-4, 0.3, 2.5, kPi - 1e-6}) {
+    const Eigen::Isometry3d T_true = random_pose(rng);
+    // The estimate: the truth turned by a known rotation vector in the
+    // camera frame (left), and shifted by a known vector.
+    const Eigen::Vector3d axis = random_axis(rng);
+    const Eigen::Vector3d shift(0.002, 0.0, -0.005);
+    Eigen::Isometry3d T_est = T_true;
+    T_est.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * T_true.linear();
+    T_est.translation() += shift;
+    const PoseErrorVector v = pose_error_vector(T_est, T_true);
+    EXPECT_TRUE(v.head<3>().isApprox(shift, 1e-12)) << v.transpose();
+    EXPECT_NEAR((v.tail<3>() - angle * axis).norm(), 0.0, std::max(1e-12, 1e-7 * angle)) << angle;
+    EXPECT_NEAR(v.tail<3>().norm(), pose_error(T_est, T_true).rotation_rad, 1e-12);
+    // The other way round: the opposite error.
+    EXPECT_TRUE((pose_error_vector(T_true, T_est) + v).isZero(1e-9)) << angle;
   }
 }
 
@@ -454,6 +482,51 @@ TEST(Scoring, ConsistencyCountsTheTruthWithinTwoReportedSigmas) {
   EXPECT_TRUE(std::isnan(b.all.angle_coverage.fraction()));
   EXPECT_TRUE(b.all.joint_angle_coverage.empty());
   EXPECT_EQ(b.all.camera_translation_m.count, 0u);
+}
+
+TEST(Scoring, EndEffectorConsistencyCountsEachPoseComponent) {
+  // Two end effectors. Left: position errors 1, 0, 0 mm against sds 1 mm
+  // (within), rotation 0.03 rad on x against 0.01 (outside). Right: position
+  // x error 3 mm against 1 mm (outside) in the first 50 samples, 0 after;
+  // rotation within.
+  ErrorTrace t(0, 2);
+  for (int i = 0; i < 100; ++i) {
+    ScoredSample x;
+    x.time_s = 0.1 * i;
+    x.end_effectors = {{0.001, 0.03}, {i < 50 ? 0.003 : 0.0, 0.0}};
+    x.end_effector_error = {0.001, 0, 0, 0.03, 0, 0, i < 50 ? 0.003 : 0.0, 0, 0, 0, 0, 0};
+    x.end_effector_std = {0.001, 0.001, 0.001, 0.01, 0.01, 0.01,
+                          0.001, 0.001, 0.001, 0.01, 0.01, 0.01};
+    t.add(x);
+  }
+  MethodScores m("m", {}, {"left_ee", "right_ee"});
+  m.add_run(t);
+  ScoringOptions opt;
+  opt.converged_after_s = 5.0;
+  const MethodSummary s = m.summary(opt);
+  // Both end effectors pooled: 600 position components, 50 outside.
+  EXPECT_EQ(s.all.end_effector_position_coverage.estimated, 600u);
+  EXPECT_EQ(s.all.end_effector_position_coverage.within, 550u);
+  EXPECT_EQ(s.all.end_effector_rotation_coverage.within, 500u);  // left x never
+  EXPECT_DOUBLE_EQ(s.converged.end_effector_position_coverage.fraction(), 1.0);
+  // Each end effector alone.
+  ASSERT_EQ(s.end_effectors.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.end_effectors[0].all.end_effector_position_coverage.fraction(), 1.0);
+  EXPECT_DOUBLE_EQ(s.end_effectors[0].all.end_effector_rotation_coverage.fraction(), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.end_effectors[1].all.end_effector_position_coverage.fraction(),
+                   1.0 - 50.0 / 300.0);
+  EXPECT_DOUBLE_EQ(s.end_effectors[1].all.end_effector_rotation_coverage.fraction(), 1.0);
+  // Six values per end effector, in every sample or none.
+  ScoredSample bad;
+  bad.time_s = 20;
+  bad.end_effectors = {{0, 0}, {0, 0}};
+  bad.end_effector_error = {0, 0, 0, 0, 0, 0};
+  bad.end_effector_std = {1, 1, 1, 1, 1, 1};
+  expect_error_naming([&] { t.add(bad); },
+                      "end-effector pose errors (6 per end effector) have 6 values, expected 12");
+  bad.end_effector_error.clear();
+  bad.end_effector_std.clear();
+  expect_error_naming([&] { t.add(bad); }, "for every sample");
 }
 
 TEST(Scoring, CameraOffsetOfInvertsTheVirtualJoints) {

@@ -36,6 +36,20 @@ PoseError pose_error(const Eigen::Isometry3d& T_cam_ee_est,
   return e;
 }
 
+PoseErrorVector pose_error_vector(const Eigen::Isometry3d& T_cam_ee_est,
+                                  const Eigen::Isometry3d& T_cam_ee_true) {
+  PoseErrorVector v;
+  v.head<3>() = T_cam_ee_est.translation() - T_cam_ee_true.translation();
+  // Through the quaternion, as pose_error: accurate near 0; the angle in
+  // [0, pi] whatever the quaternion's sign.
+  Eigen::Quaterniond q(T_cam_ee_est.linear() * T_cam_ee_true.linear().transpose());
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  const double s = q.vec().norm();
+  const double angle = 2.0 * std::atan2(s, q.w());
+  v.tail<3>() = s > 0 ? Eigen::Vector3d(q.vec() * (angle / s)) : Eigen::Vector3d(2.0 * q.vec());
+  return v;
+}
+
 double quantile_sorted(std::span<const double> sorted, double q) {
   if (sorted.empty()) return kNaN;
   const double h = double(sorted.size() - 1) * std::clamp(q, 0.0, 1.0);
@@ -82,10 +96,14 @@ void ErrorTrace::add(const ScoredSample& x) {
     std::size_t expected;
     Part part;
   };
-  const Optional parts[] = {
-      {&x.angle_error_rad, num_joints_, kAngleError},  {&x.bias_error_rad, num_joints_, kBiasError},
-      {&x.angle_std_rad, num_joints_, kAngleStd},      {&x.bias_std_rad, num_joints_, kBiasStd},
-      {&x.camera_offset_error, 6, kCameraOffsetError}, {&x.camera_offset_std, 6, kCameraOffsetStd}};
+  const Optional parts[] = {{&x.angle_error_rad, num_joints_, kAngleError},
+                            {&x.bias_error_rad, num_joints_, kBiasError},
+                            {&x.angle_std_rad, num_joints_, kAngleStd},
+                            {&x.bias_std_rad, num_joints_, kBiasStd},
+                            {&x.camera_offset_error, 6, kCameraOffsetError},
+                            {&x.camera_offset_std, 6, kCameraOffsetStd},
+                            {&x.end_effector_error, 6 * num_end_effectors_, kEndEffectorError},
+                            {&x.end_effector_std, 6 * num_end_effectors_, kEndEffectorStd}};
   unsigned present = x.camera ? unsigned(kCamera) : 0u;
   if (!x.end_effector_in_view.empty()) {
     if (x.end_effector_in_view.size() != num_end_effectors_)
@@ -96,15 +114,21 @@ void ErrorTrace::add(const ScoredSample& x) {
   for (const Optional& o : parts) {
     if (o.values->empty()) continue;
     if (o.values->size() != o.expected)
-      fail(std::string(o.expected == 6 ? "camera offset values" : "per-joint errors") + " have " +
-           std::to_string(o.values->size()) + " values, expected " + std::to_string(o.expected));
+      fail(std::string(o.part == kCameraOffsetError || o.part == kCameraOffsetStd
+                           ? "camera offset values"
+                       : o.part == kEndEffectorError || o.part == kEndEffectorStd
+                           ? "end-effector pose errors (6 per end effector)"
+                           : "per-joint errors") +
+           " have " + std::to_string(o.values->size()) + " values, expected " +
+           std::to_string(o.expected));
     present |= o.part;
   }
   if (parts_ == kUnknown) parts_ = present;
   if (present != parts_)
     fail(
-        "per-joint angle/bias errors, standard deviations, camera errors and whether the end "
-        "effectors are in view must be given for every sample of a run or for none");
+        "per-joint angle/bias errors, standard deviations, camera errors, end-effector pose "
+        "errors and whether the end effectors are in view must be given for every sample of a "
+        "run or for none");
 
   time_s_.push_back(x.time_s);
   // The worst of the end effectors; a NaN (a lost estimate) is the worst.
@@ -126,6 +150,8 @@ void ErrorTrace::add(const ScoredSample& x) {
   append(bias_std_rad_, x.bias_std_rad);
   append(camera_offset_error_, x.camera_offset_error);
   append(camera_offset_std_, x.camera_offset_std);
+  append(ee_error_, x.end_effector_error);
+  append(ee_std_, x.end_effector_std);
   if (x.camera) {
     camera_translation_m_.push_back(x.camera->translation_m);
     camera_rotation_rad_.push_back(x.camera->rotation_rad);
@@ -164,9 +190,20 @@ ErrorTrace ErrorTrace::end_effector(std::size_t e) const {
   t.ee_translation_m_ = t.translation_m_;
   t.ee_rotation_rad_ = t.rotation_rad_;
   if (has_in_view()) {
-    t.parts_ = kInView;
+    t.parts_ |= kInView;
     for (std::size_t i = 0; i < size(); ++i) t.in_view_.push_back(end_effector_in_view(i, e));
   }
+  const auto copy_components = [&](Part part, const std::vector<double>& from,
+                                   std::vector<double>& to) {
+    if (!has(part)) return;
+    t.parts_ |= part;
+    for (std::size_t i = 0; i < size(); ++i) {
+      const auto first = from.begin() + std::ptrdiff_t((i * num_end_effectors_ + e) * 6);
+      to.insert(to.end(), first, first + 6);
+    }
+  };
+  copy_components(kEndEffectorError, ee_error_, t.ee_error_);
+  copy_components(kEndEffectorStd, ee_std_, t.ee_std_);
   return t;
 }
 
@@ -360,6 +397,7 @@ ErrorStats stats_from(const std::vector<ErrorTrace>& runs, std::size_t num_joint
     const bool angle_cov_known = run.has_angle_errors() && run.has_angle_std();
     const bool bias_cov_known = run.has_bias_errors() && run.has_bias_std();
     const bool camera_cov_known = run.has_camera_offset_errors() && run.has_camera_offset_std();
+    const bool ee_cov_known = run.has_end_effector_errors() && run.has_end_effector_std();
     for (std::size_t i = 0; i < run.size(); ++i) {
       if (run.time_s()[i] < from_s) continue;
       trans.push_back(run.translation_m()[i]);
@@ -377,6 +415,11 @@ ErrorStats stats_from(const std::vector<ErrorTrace>& runs, std::size_t num_joint
       if (camera_cov_known)
         for (std::size_t k = 0; k < 6; ++k)
           s.camera_offset_coverage.add(run.camera_offset_error(i, k), run.camera_offset_std(i, k));
+      if (ee_cov_known)
+        for (std::size_t e = 0; e < run.num_end_effectors(); ++e)
+          for (std::size_t k = 0; k < 6; ++k)
+            (k < 3 ? s.end_effector_position_coverage : s.end_effector_rotation_coverage)
+                .add(run.end_effector_error(i, e, k), run.end_effector_std(i, e, k));
     }
     any_angle |= run.has_angle_errors();
     any_bias |= run.has_bias_errors();

@@ -87,7 +87,9 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
     << significant(r.scoring.lost_after_s) << "&nbsp;s from "
     << fixed(r.scoring.converged_after_s, 1)
     << "&nbsp;s on. <em>Within 2&sigma;</em>: the share of samples (every joint or virtual camera "
-       "joint) whose true value lies within two of the standard deviations the method reports; "
+       "joint; each position and rotation component of every scored end effector's pose, against "
+       "the standard deviations of its reported covariance) whose true value lies within two of "
+       "the standard deviations the method reports; "
        "about 95% for an honest filter, far less for an overconfident one, 100% for one too "
        "cautious. Over all samples, and from the converged window on: a filter can be too sure "
        "while it converges and too cautious after. The "
@@ -96,13 +98,14 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
        "(the nominal model at the estimated angles and camera offset) against the true one, "
        "relative to the robot base.</p>\n";
   o << "<table><tr><th class=\"m\" rowspan=\"2\">method</th><th rowspan=\"2\">lost runs</th>"
-       "<th colspan=\"3\">within 2&sigma;, all samples</th><th colspan=\"3\">within 2&sigma;, "
+       "<th colspan=\"5\">within 2&sigma;, all samples</th><th colspan=\"5\">within 2&sigma;, "
        "from "
     << fixed(r.scoring.converged_after_s, 1)
     << "&nbsp;s on</th><th colspan=\"2\">camera frame, mm</th><th colspan=\"2\">camera frame, "
-       "deg</th></tr><tr><th>angles</th><th>biases</th><th>camera offset</th><th>angles</th>"
-       "<th>biases</th><th>camera offset</th><th>p50</th><th>p99</th><th>p50</th><th>p99</th>"
-       "</tr>\n";
+       "deg</th></tr><tr><th>angles</th><th>biases</th><th>camera offset</th><th>end-effector "
+       "position</th><th>end-effector rotation</th><th>angles</th><th>biases</th><th>camera "
+       "offset</th><th>end-effector position</th><th>end-effector rotation</th><th>p50</th>"
+       "<th>p99</th><th>p50</th><th>p99</th></tr>\n";
   for (const MethodResult& m : r.method_results) {
     const ErrorStats& s = m.summary.all;
     const ErrorStats& c = m.summary.converged;
@@ -110,8 +113,12 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
       << m.summary.lost_runs() << " of " << m.summary.num_runs << "</td><td>"
       << coverage_cell(s.angle_coverage) << "</td><td>" << coverage_cell(s.bias_coverage)
       << "</td><td>" << coverage_cell(s.camera_offset_coverage) << "</td><td>"
+      << coverage_cell(s.end_effector_position_coverage) << "</td><td>"
+      << coverage_cell(s.end_effector_rotation_coverage) << "</td><td>"
       << coverage_cell(c.angle_coverage) << "</td><td>" << coverage_cell(c.bias_coverage)
       << "</td><td>" << coverage_cell(c.camera_offset_coverage) << "</td><td>"
+      << coverage_cell(c.end_effector_position_coverage) << "</td><td>"
+      << coverage_cell(c.end_effector_rotation_coverage) << "</td><td>"
       << fixed(s.camera_translation_m.p50 * kMm, 2) << "</td><td>"
       << fixed(s.camera_translation_m.p99 * kMm, 2) << "</td><td>"
       << fixed(s.camera_rotation_rad.p50 * kDegPerRad, 3) << "</td><td>"

@@ -56,7 +56,9 @@ Json coverage(const Coverage& c) { return number(c.fraction()); }
 Json consistency_json(const ErrorStats& s) {
   return Json{{"angles", coverage(s.angle_coverage)},
               {"biases", coverage(s.bias_coverage)},
-              {"camera_offset", coverage(s.camera_offset_coverage)}};
+              {"camera_offset", coverage(s.camera_offset_coverage)},
+              {"end_effector_position", coverage(s.end_effector_position_coverage)},
+              {"end_effector_rotation", coverage(s.end_effector_rotation_coverage)}};
 }
 
 Json camera_json(const MethodSummary& m) {
@@ -342,6 +344,7 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   out << "\n";
   left("", 20);
   text("truth within 2 sigma, all samples", 36);
+  text("end effectors", 24);
   text("camera frame error: mm", 26);
   text("deg", 16);
   text("model error", 14);
@@ -350,6 +353,8 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
   text("angles", 12);
   text("biases", 12);
   text("camera", 12);
+  text("position", 12);
+  text("rotation", 12);
   for (int k = 0; k < 2; ++k) text("p50", 10), text("p99", k ? 8 : 14);
   text("p50 mm", 14);
   out << "\n";
@@ -359,6 +364,8 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     share(s.angle_coverage, 12);
     share(s.bias_coverage, 12);
     share(s.camera_offset_coverage, 12);
+    share(s.end_effector_position_coverage, 12);
+    share(s.end_effector_rotation_coverage, 12);
     cell(s.camera_translation_m.p50, mm, 10, 1);
     cell(s.camera_translation_m.p99, mm, 14, 1);
     cell(s.camera_rotation_rad.p50, deg, 10, 2);
@@ -382,10 +389,13 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     share(c.angle_coverage, 12);
     share(c.bias_coverage, 12);
     share(c.camera_offset_coverage, 12);
+    share(c.end_effector_position_coverage, 12);
+    share(c.end_effector_rotation_coverage, 12);
     out << "\n";
   }
-  out << "(-: not estimated, or no truth; model error: the links' surface shift the depth\n"
-         "residuals show, uncertainty.model_error)\n";
+  out << "(-: not estimated, or no truth; end effectors: each position and rotation component\n"
+         "of the reported pose against its reported sd; model error: the links' surface shift the\n"
+         "depth residuals show, uncertainty.model_error)\n";
 
   // Which runs are lost.
   for (const MethodResult& m : r.method_results) {

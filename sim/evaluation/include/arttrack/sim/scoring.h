@@ -47,6 +47,14 @@ struct PoseError {
 // (acos of the trace loses half the digits near 0).
 PoseError pose_error(const Eigen::Isometry3d& T_cam_ee_est, const Eigen::Isometry3d& T_cam_ee_true);
 
+// The same error as the six components TrackerEstimate::T_camera_ee_covariance
+// describes, in the camera frame's axes: position, estimate - truth (m), then
+// the rotation vector of R_est R_true^T (rad; its norm is
+// pose_error().rotation_rad).
+using PoseErrorVector = Eigen::Matrix<double, 6, 1>;
+PoseErrorVector pose_error_vector(const Eigen::Isometry3d& T_cam_ee_est,
+                                  const Eigen::Isometry3d& T_cam_ee_true);
+
 // The q-quantile (q in [0, 1]) of ascending `sorted` values by linear
 // interpolation between order statistics, numpy's default ('linear',
 // Hyndman-Fan type 7): h = (n - 1) q, x[floor h] + (h - floor h)
@@ -115,6 +123,11 @@ struct ScoredSample {
   // Virtual camera joints (CameraOffset order): estimate - truth, and the
   // reported standard deviation.
   std::vector<double> camera_offset_error, camera_offset_std;
+  // Per end effector, six values each (end effector after end effector):
+  // its pose_error_vector, and the standard deviations the method reports
+  // for those components (the square roots of the diagonal of
+  // TrackerEstimate::T_camera_ee_covariance).
+  std::vector<double> end_effector_error, end_effector_std;
   // Per end effector: whether its true origin was in the camera's view
   // (in_camera_view); empty: not known. No image can correct an arm out of
   // view, so a lost span says how much of it was.
@@ -188,6 +201,17 @@ class ErrorTrace {
   double camera_offset_std(std::size_t i, std::size_t k) const {
     return camera_offset_std_[i * 6 + k];
   }
+  // Component k (0..5, PoseErrorVector order) of end effector e's error at
+  // sample i, and its reported standard deviation (only if
+  // has_end_effector_errors() and has_end_effector_std()).
+  bool has_end_effector_errors() const { return has(kEndEffectorError); }
+  bool has_end_effector_std() const { return has(kEndEffectorStd); }
+  double end_effector_error(std::size_t i, std::size_t e, std::size_t k) const {
+    return ee_error_[(i * num_end_effectors_ + e) * 6 + k];
+  }
+  double end_effector_std(std::size_t i, std::size_t e, std::size_t k) const {
+    return ee_std_[(i * num_end_effectors_ + e) * 6 + k];
+  }
   // Whether end effector e was in view at sample i (only if has_in_view()).
   bool has_in_view() const { return has(kInView); }
   bool end_effector_in_view(std::size_t i, std::size_t e) const {
@@ -204,6 +228,8 @@ class ErrorTrace {
     kCameraOffsetError = 32,
     kCameraOffsetStd = 64,
     kInView = 128,
+    kEndEffectorError = 256,
+    kEndEffectorStd = 512,
   };
   bool has(Part p) const { return parts_ != kUnknown && (parts_ & p); }
   static constexpr unsigned kUnknown = ~0u;
@@ -215,6 +241,7 @@ class ErrorTrace {
   std::vector<double> angle_std_rad_, bias_std_rad_;        // sample-major
   std::vector<double> camera_translation_m_, camera_rotation_rad_;
   std::vector<double> camera_offset_error_, camera_offset_std_;  // sample-major
+  std::vector<double> ee_error_, ee_std_;                        // sample-major, 6 per EE
   std::vector<bool> in_view_;                                    // sample-major
   unsigned parts_ = kUnknown;  // Part bits, fixed by the first sample
 };
@@ -315,6 +342,12 @@ struct ErrorStats {
   // standard deviations, over all joints (all six virtual joints), and per
   // joint (empty without standard deviations or truth).
   Coverage angle_coverage, bias_coverage, camera_offset_coverage;
+  // The same of the end-effector poses (ScoredSample::end_effector_error):
+  // the three position components, and the three rotation components, over
+  // the end effectors of the traces (one end effector's alone in its
+  // EndEffectorSummary). What a program that gates a grasp on the reported
+  // pose uncertainty relies on.
+  Coverage end_effector_position_coverage, end_effector_rotation_coverage;
   std::vector<Coverage> joint_angle_coverage, joint_bias_coverage;
 };
 
