@@ -163,6 +163,30 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
   std::stringstream csv;
   write_timeseries_csv(csv, r);
   EXPECT_EQ(std::count(std::istreambuf_iterator<char>(csv), {}, '\n'), 1 + 2 * 121);
+  // Per end effector, its error's six components (their norms are the
+  // scored errors), their reported standard deviations and the fit's
+  // correction (full fusion's only).
+  const TimeseriesTable table = timeseries_table(r);
+  const auto column = [&](const std::string& name) -> const TimeseriesColumn& {
+    for (const TimeseriesColumn& c : table.columns)
+      if (c.name == name) return c;
+    ADD_FAILURE() << "no column " << name;
+    return table.columns.front();
+  };
+  const TimeseriesColumn& method = column("method");
+  double largest_correction_m[2] = {0, 0};
+  for (std::size_t row = 0; row < table.rows; ++row) {
+    const Eigen::Vector3d error(column("left_ee_err_x_m").numbers[row],
+                                column("left_ee_err_y_m").numbers[row],
+                                column("left_ee_err_z_m").numbers[row]);
+    EXPECT_NEAR(error.norm(), column("translation_m_left_ee").numbers[row], 1e-12);
+    EXPECT_GT(column("left_ee_std_rz_rad").numbers[row], 0);
+    largest_correction_m[method.text[row] == "full_fusion"] =
+        std::max(largest_correction_m[method.text[row] == "full_fusion"],
+                 std::abs(column("left_ee_correction_x_m").numbers[row]));
+  }
+  EXPECT_EQ(largest_correction_m[0], 0.0);  // encoders only
+  EXPECT_GT(largest_correction_m[1], 0.0);
   const std::string json = summary_json(r);
   for (const char* key :
        {"\"scenario\": \"bias\"", "\"converged_translation_m\"", "\"convergence_time_s\"",

@@ -169,14 +169,17 @@ EstimateSample score_estimate(const TrackerEstimate& est, const TruthSample& tru
   for (std::size_t e = 0; e < ne; ++e)
     s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
   scored.end_effectors = s.ee_error;
-  if (est.T_camera_ee_covariance.size() == ne)
-    for (std::size_t e = 0; e < ne; ++e) {
-      const PoseErrorVector error = pose_error_vector(est.T_camera_ee[e], truth.T_camera_ee[e]);
-      const PoseErrorVector std =
-          est.T_camera_ee_covariance[e].diagonal().cwiseMax(0.0).cwiseSqrt();
-      scored.end_effector_error.insert(scored.end_effector_error.end(), error.begin(), error.end());
-      scored.end_effector_std.insert(scored.end_effector_std.end(), std.begin(), std.end());
-    }
+  for (std::size_t e = 0; e < ne; ++e) {
+    s.ee_error_vector.push_back(pose_error_vector(est.T_camera_ee[e], truth.T_camera_ee[e]));
+    s.ee_correction.push_back(e < est.ee_image_correction.size()
+                                  ? est.ee_image_correction[e]
+                                  : Eigen::Matrix<double, 6, 1>::Zero());
+    if (est.T_camera_ee_covariance.size() != ne) continue;
+    s.ee_std.push_back(est.T_camera_ee_covariance[e].diagonal().cwiseMax(0.0).cwiseSqrt());
+    const PoseErrorVector &error = s.ee_error_vector.back(), &std = s.ee_std.back();
+    scored.end_effector_error.insert(scored.end_effector_error.end(), error.begin(), error.end());
+    scored.end_effector_std.insert(scored.end_effector_std.end(), std.begin(), std.end());
+  }
   auto per_joint = [nj](const Eigen::VectorXd& v) {
     return std::vector<double>(v.data(), v.data() + nj);
   };

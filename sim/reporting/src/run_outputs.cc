@@ -218,6 +218,11 @@ TimeseriesTable timeseries_table(const ScenarioResult& r) {
                            "health_abandoned_fraction", "health_weakest_part_explained_fraction",
                            "health_unconfirmed_chains", "health_model_error_std_m"})
     add(name);
+  static constexpr const char* kPoseComponents[6] = {"x_m",    "y_m",    "z_m",
+                                                     "rx_rad", "ry_rad", "rz_rad"};
+  for (const std::string& e : r.end_effectors)
+    for (const char* part : {"_err_", "_std_", "_correction_"})
+      for (const char* component : kPoseComponents) add(e + part + component);
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const RunResult& run : r.runs) {
@@ -242,6 +247,12 @@ TimeseriesTable timeseries_table(const ScenarioResult& r) {
         put(s.health.whole.explained_fraction), put(s.health.whole.contradicted_fraction),
             put(s.health.whole.abandoned_fraction), put(s.health.weakest_part_explained_fraction()),
             put(s.health.unconfirmed_chains()), put(s.health.model_error_std_m);
+        for (std::size_t e = 0; e < r.end_effectors.size(); ++e) {
+          const auto put6 = [&](const auto& v, std::size_t i) {
+            for (int k = 0; k < 6; ++k) put(i < v.size() ? v[i][k] : nan);
+          };
+          put6(s.ee_error_vector, e), put6(s.ee_std, e), put6(s.ee_correction, e);
+        }
       }
     }
   }

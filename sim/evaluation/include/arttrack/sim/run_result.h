@@ -89,6 +89,13 @@ struct EstimateSample {
   // Scored end effectors in the ESTIMATED camera frame, and their errors.
   std::vector<Eigen::Isometry3d> T_camera_ee;
   std::vector<PoseError> ee_error;
+  // Per scored end effector: its error as pose_error_vector (camera axes),
+  // the standard deviations the method reports for those six components
+  // (empty without a covariance), and the end-effector fit's share of the
+  // pose (TrackerEstimate::ee_image_correction: its own axes, zero without
+  // the fit).
+  std::vector<PoseErrorVector> ee_error_vector, ee_std;
+  std::vector<Eigen::Matrix<double, 6, 1>> ee_correction;
   // The estimated camera frame against TruthSample::T_base_camera (NaN
   // without camera truth).
   PoseError camera_error{std::numeric_limits<double>::quiet_NaN(),

@@ -75,12 +75,20 @@ std::string summary_json(const ScenarioResult& result);
 // One header line, then one row per (run, scored instant, method), in run,
 // time and method order. Columns: time_s, run, method, camera_frame (0/1),
 // occluded_fraction, per end effector E: translation_m_E, rotation_rad_E;
-// per joint J: J_true_rad, J_est_rad, J_true_bias_rad, J_est_bias_rad; then
-// the estimated camera offset cam_x_m, cam_y_m, cam_z_m, cam_roll_rad,
-// cam_pitch_rad, cam_yaw_rad; the camera frame's errors camera_translation_m,
-// camera_rotation_rad; the true camera offset cam_true_x_m ...
-// cam_true_yaw_rad (TruthSample::camera_offset). Full double precision; NaN
-// as "nan" (also where there is no camera truth).
+// per joint J: J_true_rad, J_est_rad, J_std_rad, J_true_bias_rad,
+// J_est_bias_rad, J_bias_std_rad; then the estimated camera offset cam_x_m,
+// cam_y_m, cam_z_m, cam_roll_rad, cam_pitch_rad, cam_yaw_rad and its
+// standard deviations cam_x_std_m ... cam_yaw_std_rad; the camera frame's
+// errors camera_translation_m, camera_rotation_rad; the true camera offset
+// cam_true_x_m ... cam_true_yaw_rad (TruthSample::camera_offset); the health
+// (health_state, health_explained_fraction, health_contradicted_fraction,
+// health_abandoned_fraction, health_weakest_part_explained_fraction,
+// health_unconfirmed_chains, health_model_error_std_m); then per end
+// effector E, six components each (x_m, y_m, z_m, rx_rad, ry_rad, rz_rad):
+// E_err_* (pose_error_vector, camera axes), E_std_* (the standard deviations
+// the method reports for them) and E_correction_* (the end-effector fit's
+// share of the pose, in its own axes). Full double precision; NaN as "nan"
+// (also where there is no camera truth or no covariance).
 void write_timeseries_csv(std::ostream& out, const ScenarioResult& result);
 
 // timeseries.csv as columns, in its order and with its names: what
