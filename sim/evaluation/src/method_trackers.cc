@@ -166,10 +166,8 @@ EstimateSample score_estimate(const TrackerEstimate& est, const TruthSample& tru
   s.health = est.health;
   scored = ScoredSample{};
   scored.time_s = truth.time_s;
-  for (std::size_t e = 0; e < ne; ++e)
-    s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
-  scored.end_effectors = s.ee_error;
   for (std::size_t e = 0; e < ne; ++e) {
+    s.ee_error.push_back(pose_error(est.T_camera_ee[e], truth.T_camera_ee[e]));
     s.ee_error_vector.push_back(pose_error_vector(est.T_camera_ee[e], truth.T_camera_ee[e]));
     s.ee_correction.push_back(e < est.ee_image_correction.size()
                                   ? est.ee_image_correction[e]
@@ -180,6 +178,7 @@ EstimateSample score_estimate(const TrackerEstimate& est, const TruthSample& tru
     scored.end_effector_error.insert(scored.end_effector_error.end(), error.begin(), error.end());
     scored.end_effector_std.insert(scored.end_effector_std.end(), std.begin(), std.end());
   }
+  scored.end_effectors = s.ee_error;
   auto per_joint = [nj](const Eigen::VectorXd& v) {
     return std::vector<double>(v.data(), v.data() + nj);
   };

@@ -95,15 +95,20 @@ void ErrorTrace::add(const ScoredSample& x) {
     const std::vector<double>* values;
     std::size_t expected;
     Part part;
+    const char* what;  // for the error message
   };
-  const Optional parts[] = {{&x.angle_error_rad, num_joints_, kAngleError},
-                            {&x.bias_error_rad, num_joints_, kBiasError},
-                            {&x.angle_std_rad, num_joints_, kAngleStd},
-                            {&x.bias_std_rad, num_joints_, kBiasStd},
-                            {&x.camera_offset_error, 6, kCameraOffsetError},
-                            {&x.camera_offset_std, 6, kCameraOffsetStd},
-                            {&x.end_effector_error, 6 * num_end_effectors_, kEndEffectorError},
-                            {&x.end_effector_std, 6 * num_end_effectors_, kEndEffectorStd}};
+  const char* const kJoints = "per-joint errors";
+  const char* const kCameraOffset = "camera offset values";
+  const char* const kEndEffectors = "end-effector pose errors (6 per end effector)";
+  const Optional parts[] = {
+      {&x.angle_error_rad, num_joints_, kAngleError, kJoints},
+      {&x.bias_error_rad, num_joints_, kBiasError, kJoints},
+      {&x.angle_std_rad, num_joints_, kAngleStd, kJoints},
+      {&x.bias_std_rad, num_joints_, kBiasStd, kJoints},
+      {&x.camera_offset_error, 6, kCameraOffsetError, kCameraOffset},
+      {&x.camera_offset_std, 6, kCameraOffsetStd, kCameraOffset},
+      {&x.end_effector_error, 6 * num_end_effectors_, kEndEffectorError, kEndEffectors},
+      {&x.end_effector_std, 6 * num_end_effectors_, kEndEffectorStd, kEndEffectors}};
   unsigned present = x.camera ? unsigned(kCamera) : 0u;
   if (!x.end_effector_in_view.empty()) {
     if (x.end_effector_in_view.size() != num_end_effectors_)
@@ -114,13 +119,8 @@ void ErrorTrace::add(const ScoredSample& x) {
   for (const Optional& o : parts) {
     if (o.values->empty()) continue;
     if (o.values->size() != o.expected)
-      fail(std::string(o.part == kCameraOffsetError || o.part == kCameraOffsetStd
-                           ? "camera offset values"
-                       : o.part == kEndEffectorError || o.part == kEndEffectorStd
-                           ? "end-effector pose errors (6 per end effector)"
-                           : "per-joint errors") +
-           " have " + std::to_string(o.values->size()) + " values, expected " +
-           std::to_string(o.expected));
+      fail(std::string(o.what) + " have " + std::to_string(o.values->size()) +
+           " values, expected " + std::to_string(o.expected));
     present |= o.part;
   }
   if (parts_ == kUnknown) parts_ = present;
