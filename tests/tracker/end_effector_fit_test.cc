@@ -26,7 +26,7 @@ TEST(EndEffectorFit, FitsTheNearestLinkWithGeometryTheCameraDoesNotHangFrom) {
   const EndEffectorFit fit(setup);
   EXPECT_TRUE(fit.on());
   EXPECT_EQ(fit.fit_links(), std::vector<int>{setup.model->link_index("lower")});
-  EXPECT_EQ(fit.corrections().size(), 2u);
+  EXPECT_EQ(fit.estimates().size(), 2u);
 }
 
 TEST(EndEffectorFit, OnlyFullFusionWithTheOptionFits) {
@@ -57,11 +57,13 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
   ImageInformation::RigidFit vague = seen;
   vague.information = Eigen::Matrix<double, 6, 6>::Identity() * 1e4;  // sd 1 cm
   vague.gradient.head<3>() = Eigen::Vector3d(0.05, 0, 0) * 1e4;
-  fit.update(0.0, {seen}, mean, mean);  // starts the clock: no weight yet
-  fit.update(1.0, {seen}, mean, mean);
-  const std::vector<EndEffectorCorrection> after_one = fit.corrections();
-  fit.update(2.0, {vague}, mean, mean);
-  EXPECT_EQ(fit.corrections()[0], after_one[0]);
+  fit.update(0.0, {seen}, mean, mean, 0.0);  // starts the clock: no weight yet
+  EXPECT_EQ(fit.estimates()[0].weight, 0.0);
+  fit.update(1.0, {seen}, mean, mean, 0.0);
+  std::vector<EndEffectorCorrection> after_one;
+  for (const EndEffectorFitEstimate& e : fit.estimates()) after_one.push_back(e.correction);
+  fit.update(2.0, {vague}, mean, mean, 0.0);
+  EXPECT_EQ(fit.estimates()[0].correction, after_one[0]);
 
   KinematicsState state(*setup.model);
   forward_kinematics(*setup.model, Eigen::VectorXd::Zero(setup.n), state);
@@ -71,6 +73,68 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
       (1 - std::exp(-1.0)) * R_camera_tool.transpose() * Eigen::Vector3d(0, 0, 0.003);
   EXPECT_LT((after_one[0].head<3>() - expected).norm(), 1e-9);
   EXPECT_LT(after_one[0].tail<3>().norm(), 1e-12);
+}
+
+// The corrected position's uncertainty (end_effector_fit.h): the fits'
+// exponentially weighted scatter about their average, over the fits' total
+// weight, plus the shape error's shift in every direction, in the tool's
+// axes. Fits alternating between two places 2 mm apart along the camera's
+// x: by hand, West's weighted variance; a fit too vague to count changes
+// nothing; the same fit every image shrinks the scatter, not the shape
+// error.
+TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
+  const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
+                           {"shoulder", "elbow"});
+  EndEffectorFit fit(setup);
+  const std::vector<double> mean(std::size_t(setup.n), 0.0);
+  KinematicsState state(*setup.model);
+  forward_kinematics(*setup.model, Eigen::VectorXd::Zero(setup.n), state);
+  const Eigen::Matrix3d R =
+      T_camera_link(*setup.model, state, setup.model->link_index("tool")).linear();
+
+  auto fit_at = [](double x_m) {
+    ImageInformation::RigidFit f;
+    f.information = Eigen::Matrix<double, 6, 6>::Identity() * 1e8;  // sd 0.1 mm
+    f.gradient.head<3>() = Eigen::Vector3d(x_m, 0, 0) * 1e8;
+    f.pixels = 100;
+    return f;
+  };
+  const double shape_std_m = 0.0015, dt_s = 0.1, w = 1 - std::exp(-dt_s);  // time constant 1 s
+  fit.update(0.0, {fit_at(0.001)}, mean, mean, shape_std_m);               // starts the clock
+  EXPECT_EQ(fit.estimates()[0].weight, 0.0);
+  Eigen::Vector3d average = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double weight = 0;
+  for (int k = 1; k <= 20; ++k) {
+    const Eigen::Vector3d sample = R.transpose() * Eigen::Vector3d(k % 2 ? 0.002 : 0.0, 0, 0);
+    fit.update(k * dt_s, {fit_at(k % 2 ? 0.002 : 0.0)}, mean, mean, shape_std_m);
+    const Eigen::Vector3d deviation = sample - average;
+    scatter = (1 - w) * (scatter + w * deviation * deviation.transpose());
+    average += w * deviation;
+    weight += w * (1 - weight);
+  }
+  const EndEffectorFitEstimate after = fit.estimates()[0];
+  EXPECT_NEAR(after.weight, weight, 1e-12);
+  EXPECT_NEAR(after.weight, 1 - std::exp(-20 * dt_s), 1e-12);
+  const Eigen::Matrix3d expected =
+      scatter / weight + shape_std_m * shape_std_m * Eigen::Matrix3d::Identity();
+  EXPECT_LT((after.position_covariance_m2 - expected).norm(), 1e-12);
+  // About the alternation's variance (1 mm)^2 along the camera's x, the
+  // shape error's elsewhere.
+  const Eigen::Matrix3d camera_axes = R * after.position_covariance_m2 * R.transpose();
+  EXPECT_NEAR(camera_axes(0, 0), 1e-6 + shape_std_m * shape_std_m, 0.5e-6);
+  EXPECT_NEAR(camera_axes(1, 1), shape_std_m * shape_std_m, 1e-12);
+
+  ImageInformation::RigidFit vague = fit_at(0.05);
+  vague.information *= 1e-4;  // sd 1 cm: above max_std_m
+  fit.update(2.1, {vague}, mean, mean, shape_std_m);
+  EXPECT_EQ(fit.estimates()[0].weight, after.weight);
+  EXPECT_EQ(fit.estimates()[0].position_covariance_m2, after.position_covariance_m2);
+
+  for (int k = 22; k <= 120; ++k) fit.update(k * dt_s, {fit_at(0.001)}, mean, mean, shape_std_m);
+  const Eigen::Matrix3d settled = R * fit.estimates()[0].position_covariance_m2 * R.transpose();
+  EXPECT_LT(settled(0, 0) - shape_std_m * shape_std_m, 0.01e-6);
+  EXPECT_GE(settled(0, 0), shape_std_m * shape_std_m);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "planar_arm.h"
@@ -65,22 +66,30 @@ TEST(EstimateReport, EndEffectorCovarianceFollowsTheKinematics) {
   EXPECT_NEAR((cov.bottomRightCorner<3, 3>().trace()), var_s + var_e, 1e-9);
 }
 
-// An end-effector fit's correction (end_effector_fit.h) moves the reported
-// pose by that rigid motion in the end effector's own axes, and is reported
-// as given; the covariance stays the joints'.
-TEST(EstimateReport, EndEffectorCorrectionMovesThePoseInItsOwnAxes) {
+// Full fusion's report on the planar arm at (0.3, -0.2), before any image,
+// with the end-effector fits `fits`.
+TrackerEstimate full_fusion_estimate(std::span<const EndEffectorFitEstimate> fits) {
   const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
                            {"shoulder", "elbow"});
   EstimateReport report(setup);
   const JointBelief belief =
       initial_joint_belief(*setup.filter_model, std::vector<double>{0.3, -0.2});
-  TrackerEstimate plain, corrected;
-  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), {}, plain);
+  TrackerEstimate e;
+  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), fits, e);
+  return e;
+}
+
+// An end-effector fit's correction (end_effector_fit.h) moves the reported
+// pose by that rigid motion in the end effector's own axes, and is reported
+// as given; with no weight (no image showed it) the covariance stays the
+// joints'.
+TEST(EstimateReport, EndEffectorCorrectionMovesThePoseInItsOwnAxes) {
+  const TrackerEstimate plain = full_fusion_estimate({});
   EndEffectorCorrection c;
   c << 0.004, -0.002, 0.003, 0.0, 0.02, 0.0;  // m, then rad about the tool's y
-  const std::vector<EndEffectorCorrection> corrections{c};
-  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), corrections,
-              corrected);
+  std::vector<EndEffectorFitEstimate> fits(1);
+  fits[0].correction = c;
+  const TrackerEstimate corrected = full_fusion_estimate(fits);
   const Eigen::Isometry3d expected = plain.T_camera_ee[0] *
                                      Eigen::Translation3d(0.004, -0.002, 0.003) *
                                      Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitY());
@@ -88,6 +97,29 @@ TEST(EstimateReport, EndEffectorCorrectionMovesThePoseInItsOwnAxes) {
   EXPECT_EQ(corrected.ee_image_correction[0], c);
   EXPECT_EQ(plain.ee_image_correction[0], EndEffectorCorrection::Zero());
   EXPECT_EQ(corrected.T_camera_ee_covariance[0], plain.T_camera_ee_covariance[0]);
+}
+
+// With weight a the reported position is (1 - a) the kinematics' and a the
+// fits': its covariance (1 - a)^2 C + a^2 R F R^T (F in the tool's axes,
+// R the kinematics' rotation), the cross terms (1 - a) C's, the rotation's
+// C's.
+TEST(EstimateReport, EndEffectorFitWeighsThePositionCovariance) {
+  const TrackerEstimate plain = full_fusion_estimate({});
+  std::vector<EndEffectorFitEstimate> fits(1);
+  fits[0].weight = 0.75;
+  fits[0].position_covariance_m2 = Eigen::Vector3d(4e-6, 1e-6, 9e-6).asDiagonal();
+  fits[0].position_covariance_m2(0, 1) = fits[0].position_covariance_m2(1, 0) = 1e-6;
+  const TrackerEstimate fitted = full_fusion_estimate(fits);
+  const Eigen::Matrix<double, 6, 6>& C = plain.T_camera_ee_covariance[0];
+  const Eigen::Matrix<double, 6, 6>& got = fitted.T_camera_ee_covariance[0];
+  const Eigen::Matrix3d R = plain.T_camera_ee[0].linear();
+  const Eigen::Matrix3d position = 0.25 * 0.25 * C.topLeftCorner<3, 3>() +
+                                   0.75 * 0.75 * R * fits[0].position_covariance_m2 * R.transpose();
+  EXPECT_LT((got.topLeftCorner<3, 3>() - position).norm(), 1e-18);
+  EXPECT_LT((got.topRightCorner<3, 3>() - 0.25 * C.topRightCorner<3, 3>()).norm(), 1e-18);
+  EXPECT_LT((got.bottomLeftCorner<3, 3>() - 0.25 * C.bottomLeftCorner<3, 3>()).norm(), 1e-18);
+  EXPECT_EQ((got.bottomRightCorner<3, 3>()), (C.bottomRightCorner<3, 3>()));
+  EXPECT_GT((C.topLeftCorner<3, 3>().trace()), 0);  // the arm's joints are uncertain
 }
 
 }  // namespace

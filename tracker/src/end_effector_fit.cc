@@ -38,7 +38,8 @@ Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c) {
 
 EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
     : setup_(setup),
-      corrections_(setup.ee_links.size(), EndEffectorCorrection::Zero()),
+      estimates_(setup.ee_links.size()),
+      scatter_m2_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)) {
   const TrackerConfig& c = setup.config;
@@ -57,8 +58,8 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
 }
 
 void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
-                            std::span<const double> mean_fitted,
-                            std::span<const double> mean_final) {
+                            std::span<const double> mean_fitted, std::span<const double> mean_final,
+                            double model_error_std_m) {
   if (!on_) return;
   const double dt = started_ ? std::max(0.0, time_s - last_time_s_) : 0.0;
   started_ = true;
@@ -104,8 +105,16 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     EndEffectorCorrection sample;
     const Eigen::AngleAxisd turn(relative.linear());
     sample << relative.translation(), turn.angle() * turn.axis();
-    EndEffectorCorrection& c = corrections_[ee_of(f)];
-    c += weight * (sample - c);
+    EndEffectorFitEstimate& e = estimates_[ee_of(f)];
+    // The exponentially weighted scatter about the average (West's update:
+    // the deviation from the average before this sample), then the average.
+    const Eigen::Vector3d deviation = (sample - e.correction).head<3>();
+    Eigen::Matrix3d& scatter = scatter_m2_[ee_of(f)];
+    scatter = (1 - weight) * (scatter + weight * deviation * deviation.transpose());
+    e.correction += weight * (sample - e.correction);
+    e.weight += weight * (1 - e.weight);
+    e.position_covariance_m2 =
+        scatter / e.weight + model_error_std_m * model_error_std_m * Eigen::Matrix3d::Identity();
   }
 }
 

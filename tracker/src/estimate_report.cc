@@ -11,7 +11,7 @@ EstimateReport::EstimateReport(const TrackerSetup& setup)
 
 void EstimateReport::fill(const JointBelief& belief, std::span<const double> readings_rad,
                           double time_s, const PosteriorCovariance& cov,
-                          std::span<const EndEffectorCorrection> corrections, TrackerEstimate& e) {
+                          std::span<const EndEffectorFitEstimate> fits, TrackerEstimate& e) {
   const TrackerSetup& s = setup_;
   const RobotModel& model = *s.model;
   e.time_s = time_s;
@@ -103,9 +103,24 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
   }
   for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
   e.ee_image_correction.assign(s.ee_links.size(), EndEffectorCorrection::Zero());
-  for (std::size_t k = 0; k < corrections.size() && k < s.ee_links.size(); ++k) {
-    e.ee_image_correction[k] = corrections[k];
-    e.T_camera_ee[k] = e.T_camera_ee[k] * correction_transform(corrections[k]);
+  for (std::size_t k = 0; k < fits.size() && k < s.ee_links.size(); ++k) {
+    const EndEffectorFitEstimate& fit = fits[k];
+    e.ee_image_correction[k] = fit.correction;
+    // The reported position is (1 - a) of the kinematics' plus a of the
+    // fits' (a their weight), the two errors independent: the position
+    // block (1 - a)^2 C + a^2 F, its cross terms (1 - a) C; the rotation's
+    // stays the kinematics' (the hand's shape error turns the fit by
+    // what no pixel noise says).
+    const double a = fit.weight;
+    if (a > 0) {
+      const Eigen::Matrix3d R = e.T_camera_ee[k].linear();
+      Eigen::Matrix<double, 6, 6>& C = e.T_camera_ee_covariance[k];
+      C.topLeftCorner<3, 3>() = (1 - a) * (1 - a) * C.topLeftCorner<3, 3>() +
+                                a * a * (R * fit.position_covariance_m2 * R.transpose());
+      C.topRightCorner<3, 3>() *= 1 - a;
+      C.bottomLeftCorner<3, 3>() *= 1 - a;
+    }
+    e.T_camera_ee[k] = e.T_camera_ee[k] * correction_transform(fit.correction);
   }
 }
 

@@ -99,7 +99,7 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
   // Not at the first image: its search has just placed the arms.
   if (informed && !first)
     end_effector_fit_.update(time_s, covariance_.information().rigid_fits(), mean_fitted_,
-                             belief.mean_a);
+                             belief.mean_a, covariance_.model_error_std_m());
   check.update(belief.mean_a, image, stamp_s, renderer, health_);
   return search_ms;
 }

@@ -91,6 +91,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   model_error_started_ = true;
   health.model_error_std_m = std::sqrt(model_error_var_m2_);
   const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
+  model_error_std_m_ = std_m;
   consider_cross_ = information_.motion_field_shift_cross_information();
   consider_cross_ *= std_m;
   // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm

@@ -85,7 +85,7 @@ struct Tracker::Impl {
   // The image thread's health and covariance, as estimate() reads them.
   TrackingHealth published_health;
   PosteriorCovariance published_covariance;
-  std::vector<EndEffectorCorrection> published_corrections;
+  std::vector<EndEffectorFitEstimate> published_fits;
 
   // The image update (use_images; one update at a time), and the encoder
   // readings at the image's time (DOF order) its searches start from.
@@ -126,7 +126,7 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
   if (setup.use_images) {
     images = std::make_unique<ImageUpdate>(setup);
     published_covariance = images->covariance();
-    published_corrections = images->end_effector_corrections();
+    published_fits = images->end_effector_fits();
     if (setup.config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
 }
@@ -207,7 +207,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   if (setup.config.asynchronous) lock.lock();
   published_health = images->health();
   published_covariance = images->covariance();
-  published_corrections = images->end_effector_corrections();
+  published_fits = images->end_effector_fits();
 
   // Re-filter the joint readings after the image (paper Sec. IV-C).
   const auto refilter_start = Clock::now();
@@ -425,8 +425,7 @@ TrackerEstimate Tracker::estimate() const {
   std::lock_guard lock(s.mutex);
   if (!s.initialized) throw InputError("tracker estimate asked for before any joint measurement");
   TrackerEstimate e;
-  s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance,
-                s.published_corrections, e);
+  s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance, s.published_fits, e);
   e.health = s.published_health;
   return e;
 }

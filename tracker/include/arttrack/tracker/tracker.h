@@ -57,8 +57,10 @@
 //   few millimetres and degrees from where its own pixels put it. After
 //   each image, a rigid motion of each end effector's end link (with the
 //   links below it) is fitted to the residuals; averaged over time, it
-//   corrects the end effectors' reported poses (ee_image_correction). The
-//   angles, biases and their covariance are the filter's, unchanged.
+//   corrects the end effectors' reported poses (ee_image_correction), and
+//   their positions' covariance is the fits' (their scatter about the
+//   average, plus the links' shape error), not the angles'. The angles,
+//   biases and their covariance are the filter's, unchanged.
 // - An optional floor on the moment-matched variance
 //   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //
@@ -160,7 +162,9 @@ struct TrackerEstimate {
   // Their uncertainty: covariance of (position m, rotation vector rad, both
   // in the estimated camera frame), from the DOFs' covariance through the
   // kinematics' Jacobian (first order; the biases' and camera offsets' full
-  // covariance after the first image, posterior_covariance.h).
+  // covariance after the first image, posterior_covariance.h); with the
+  // end-effector fit, the position's is the fits' where they have a say
+  // (their scatter and the links' shape error, "End-effector fit" above).
   std::vector<Eigen::Matrix<double, 6, 6>> T_camera_ee_covariance;
   // The end-effector fit's share of T_camera_ee ("End-effector fit" above):
   // per end effector, the rigid motion in its own axes (translation m, then

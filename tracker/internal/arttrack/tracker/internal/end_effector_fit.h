@@ -22,6 +22,19 @@
 // the correction (EstimateReport). The joint estimate, its covariance and
 // the other methods are unchanged.
 //
+// The corrected position is as uncertain as the fits it averages, not as
+// the angles (whose kinematics it replaces): the fits' scatter about their
+// average (exponentially weighted like the corrections, in end-effector
+// axes, and not divided by the images' count: neighbouring images' errors
+// are the same error), plus the hand's own shape error, a shift of its
+// surface by the links' model-error standard deviation in every direction
+// (ReportedCovariance::model_error_std_m(), a consider parameter: the rigid
+// fit's translation takes a shift up whole). The fits' own noise model,
+// information^-1, is not used: over pixels as correlated as an exact
+// render's it says 1-1.6 mm where the fits scatter by 0.15-0.4 mm
+// (docs/accuracy.md, stop 52). EstimateReport weighs the result against
+// the kinematics' by the fits' total weight.
+//
 // Setup: the end effectors' fit links, from the TrackerSetup. Workspace:
 // the kinematics and the corrections. Internal to the tracker
 // (tracker/internal: not installed). Not thread-safe: the image thread's.
@@ -46,6 +59,19 @@ using EndEffectorCorrection = Eigen::Matrix<double, 6, 1>;
 // exp of a correction: the rigid motion it stands for.
 Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c);
 
+// What the fits say about one end effector.
+struct EndEffectorFitEstimate {
+  EndEffectorCorrection correction = EndEffectorCorrection::Zero();
+  // The fits' total weight in the correction, in [0, 1): 1 - prod(1 - w)
+  // over the images that showed it (the rest, 1 - weight, is 0: the
+  // kinematics' own pose).
+  double weight = 0;
+  // The covariance of the fits' end-effector position, m^2, in the end
+  // effector's own axes (at the kinematics' pose): the scatter plus the
+  // shape error (above; 0 while weight is 0).
+  Eigen::Matrix3d position_covariance_m2 = Eigen::Matrix3d::Zero();
+};
+
 class EndEffectorFit {
  public:
   explicit EndEffectorFit(const TrackerSetup& setup);
@@ -59,14 +85,16 @@ class EndEffectorFit {
 
   // After an image at time_s: `fits` the image's rigid fits (fit_links()
   // order) at `mean_fitted`, `mean_final` the image's final mean (both
-  // every DOF).
+  // every DOF); `model_error_std_m` the links' shape error (above).
   void update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
-              std::span<const double> mean_fitted, std::span<const double> mean_final);
+              std::span<const double> mean_fitted, std::span<const double> mean_final,
+              double model_error_std_m);
 
   // Per end effector (TrackerConfig::end_effectors order): the averaged
-  // correction (0 until an image shows it, and for an end effector with no
-  // link with geometry at or above it).
-  const std::vector<EndEffectorCorrection>& corrections() const { return corrections_; }
+  // correction and its uncertainty (a zero correction of weight 0 until an
+  // image shows it, and for an end effector with no link with geometry at
+  // or above it).
+  const std::vector<EndEffectorFitEstimate>& estimates() const { return estimates_; }
 
  private:
   const TrackerSetup& setup_;
@@ -74,7 +102,10 @@ class EndEffectorFit {
   double time_constant_s_ = 1, max_var_m2_ = 0;
   std::vector<int> fit_links_;  // per fitted end effector
   std::vector<int> fitted_ee_;  // per fitted end effector: its index among the end effectors
-  std::vector<EndEffectorCorrection> corrections_;
+  std::vector<EndEffectorFitEstimate> estimates_;
+  // Per end effector, the fits' translations' weighted scatter about the
+  // correction, m^2 (weight times their average's).
+  std::vector<Eigen::Matrix3d> scatter_m2_;
   // Per fitted end effector, the last image's: whether it determined the
   // fit, and the motion (then the end effector's pose) it says.
   std::vector<char> seen_;

@@ -6,7 +6,8 @@
 // The end-effector poses: the kinematics' at the estimate, times the
 // end-effector fit's correction (end_effector_fit.h) where there is one;
 // TrackerEstimate::ee_image_correction says by how much. Their covariances
-// are the joints' alone.
+// are the joints' through the kinematics, the position's weighed against
+// the fits' where the fit has a say (end_effector_fit.h).
 //
 // The standard deviations: for encoders_only, the reading's noise and the
 // bias prior's stationary variance (the bias it does not estimate);
@@ -42,10 +43,10 @@ class EstimateReport {
   // The estimate at time_s of `belief` (DOF order), with the newest encoder
   // readings (physical DOFs; what encoders_only reports) and the reported
   // covariance (not started: none yet). Leaves e.health alone.
-  // `corrections`: per end effector, the end-effector fit's (none: empty).
+  // `fits`: per end effector, the end-effector fit's (none: empty).
   void fill(const JointBelief& belief, std::span<const double> readings_rad, double time_s,
-            const PosteriorCovariance& covariance,
-            std::span<const EndEffectorCorrection> corrections, TrackerEstimate& e);
+            const PosteriorCovariance& covariance, std::span<const EndEffectorFitEstimate> fits,
+            TrackerEstimate& e);
 
  private:
   const TrackerSetup& setup_;

@@ -58,9 +58,10 @@ class ImageUpdate {
   // After apply(): what the tracker publishes and counts.
   const TrackingHealth& health() const { return health_; }
   const PosteriorCovariance& covariance() const { return covariance_.covariance(); }
-  // Per end effector, the end-effector fit's correction (end_effector_fit.h).
-  const std::vector<EndEffectorCorrection>& end_effector_corrections() const {
-    return end_effector_fit_.corrections();
+  // Per end effector, the end-effector fit's correction and its
+  // uncertainty (end_effector_fit.h).
+  const std::vector<EndEffectorFitEstimate>& end_effector_fits() const {
+    return end_effector_fit_.estimates();
   }
   const ImageFilter& filter() const { return filter_; }
   const RenderGeometry& geometry() const { return filter_.geometry(); }

@@ -90,6 +90,12 @@ class ReportedCovariance {
   // reports (model_error_std_m). No-op without states.
   void end_image(double time_s, TrackingHealth& health);
 
+  // The standard deviation of a link's shift the last end_image() took, m
+  // (the running estimate, at least model_error_min_std_m; 0 without
+  // model_error). The end-effector fit's uncertainty uses it too
+  // (end_effector_fit.h).
+  double model_error_std_m() const { return model_error_std_m_; }
+
  private:
   const ReportedCovarianceSetup setup_;
   PosteriorCovariance covariance_;
@@ -98,6 +104,7 @@ class ReportedCovariance {
   // uncertainty.model_error: the link shifts' variance averaged over images.
   double model_error_var_m2_ = 0, model_error_time_s_ = 0;
   bool model_error_started_ = false;
+  double model_error_std_m_ = 0;
   Eigen::MatrixXd consider_cross_, widened_cross_;
   std::vector<char> pinned_;  // per link shift column: the last image pinned it
 };
