@@ -9,6 +9,7 @@
 #include <png.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <sstream>
 
 #include "../scratch_dir.h"
+#include "arttrack/sim/method_trackers.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
 #include "png_rgb.h"
@@ -359,6 +361,20 @@ TEST(Report, SeveralRunsPlotTheMedian) {
   EXPECT_NE(chart(html, "error-time").find("median over 3 runs"), std::string::npos);
 }
 
+// The frame of the two-hand results below: 20 s, two runs (`seeds`),
+// encoders_only and full_fusion, one joint, left_ee and right_ee; no
+// samples.
+ScenarioResult two_hands_frame(const std::string& scenario, std::vector<std::uint64_t> seeds) {
+  ScenarioResult r;
+  r.scenario = scenario;
+  r.duration_s = 20;
+  r.seeds = std::move(seeds);
+  r.methods = {"encoders_only", "full_fusion"};
+  r.joint_names = {"j"};
+  r.end_effectors = {"left_ee", "right_ee"};
+  return r;
+}
+
 // Two hands, two runs of 20 s: full_fusion's right hand is 300 mm off from
 // 12 s on in run 1 (lost), the left hand always 2 mm; encoders_only 40 mm on
 // both. full_fusion reports angle standard deviations of 1 mrad for errors
@@ -366,13 +382,7 @@ TEST(Report, SeveralRunsPlotTheMedian) {
 // reports no bias standard deviation (not estimated). From 10 s on,
 // full_fusion's angle standard deviation is angle_std_from_10s_rad.
 ScenarioResult two_hands_result(double angle_std_from_10s_rad = 0.001) {
-  ScenarioResult r;
-  r.scenario = "two_hands";
-  r.duration_s = 20;
-  r.seeds = {11, 22};
-  r.methods = {"encoders_only", "full_fusion"};
-  r.joint_names = {"j"};
-  r.end_effectors = {"left_ee", "right_ee"};
+  ScenarioResult r = two_hands_frame("two_hands", {11, 22});
   for (const std::string& m : r.methods)
     r.method_results.push_back({m, MethodScores(m, r.joint_names, r.end_effectors), {}, {}});
   for (int k = 0; k < 2; ++k) {
@@ -517,6 +527,133 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
   EXPECT_NE(html.find("<td>51.2%</td><td>100.0%</td><td>not estimated</td><td>not estimated</td>"
                       "<td>not estimated</td><td>100.0%</td>"),
             std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
+}
+
+// Two hands, two runs of 20 s, each estimate scored by score_estimate as a
+// run scores it. full_fusion's pose errors spread 2 mm and 10 mrad per
+// component; it reports half that before 10 s (too sure) and that after,
+// and 0 (not estimated) for the right hand's z position. encoders_only
+// reports no pose covariance.
+ScenarioResult scored_poses_result() {
+  ScenarioResult r = two_hands_frame("scored_poses", {5, 6});
+  std::vector<MethodScores> scores;
+  for (const std::string& m : r.methods) scores.emplace_back(m, r.joint_names, r.end_effectors);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  for (int k = 0; k < 2; ++k) {
+    RunResult run;
+    run.run = k;
+    run.seed = r.seeds[k];
+    for (const std::string& m : r.methods) run.methods.push_back({m, {}, {}, {}, {}});
+    for (MethodScores& s : scores) s.begin_run();
+    for (int i = 0; i <= 40; ++i) {
+      TruthSample truth;
+      truth.time_s = 0.5 * i;
+      truth.angle_rad = truth.bias_rad = Eigen::VectorXd::Zero(1);
+      for (int e = 0; e < 2; ++e) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translate(Eigen::Vector3d(e ? 0.2 : -0.2, 0.1, 0.8));
+        T.rotate(Eigen::AngleAxisd(0.3 + 0.05 * i, Eigen::Vector3d(1, 2, 3).normalized()));
+        truth.T_camera_ee.push_back(T);
+      }
+      for (std::size_t m = 0; m < r.methods.size(); ++m) {
+        TrackerEstimate est;
+        est.angle_rad = est.bias_rad = est.bias_std_rad = Eigen::VectorXd::Zero(1);
+        est.angle_std_rad = Eigen::VectorXd::Constant(1, 0.01);
+        for (int e = 0; e < 2; ++e) {
+          PoseErrorVector error, sd;
+          for (int c = 0; c < 6; ++c) error[c] = (c < 3 ? 0.002 : 0.01) * normal(rng);
+          sd << 0.002, 0.002, e == 1 ? 0.0 : 0.002, 0.01, 0.01, 0.01;
+          if (truth.time_s < 10) sd *= 0.5;
+          Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+          T.translation() = truth.T_camera_ee[e].translation() + error.head<3>();
+          T.linear() = Eigen::AngleAxisd(error.tail<3>().norm(), error.tail<3>().normalized())
+                           .toRotationMatrix() *
+                       truth.T_camera_ee[e].linear();
+          est.T_camera_ee.push_back(T);
+          if (r.methods[m] == "full_fusion")
+            est.T_camera_ee_covariance.push_back(sd.cwiseAbs2().asDiagonal());
+        }
+        ScoredSample scored;
+        run.methods[m].samples.push_back(score_estimate(est, truth, nullptr, true, true, scored));
+        scores[m].add(scored);
+      }
+      run.truth.push_back(truth);
+    }
+    r.runs.push_back(run);
+  }
+  summarise_methods(r, scores, true);
+  return r;
+}
+
+// The end-effector poses over time: the bins count what the scorer's
+// ErrorStats count (pooled over the end effectors), and the chart draws
+// them as its legend says.
+TEST(Report, ConsistencyOverTimeCountsTheEndEffectorPosesAsTheScorerDoes) {
+  const ScenarioResult r = scored_poses_result();
+  const MethodSummary& fusion = r.method("full_fusion")->summary;
+  ASSERT_EQ(r.scoring.converged_after_s, 10.0);
+  const std::vector<ConsistencyBin> bins = consistency_over_time(r, "full_fusion", 5.0);
+  ASSERT_EQ(bins.size(), 4u);
+  Coverage position, rotation, converged_position, converged_rotation;
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    position += bins[b].end_effector_position;
+    rotation += bins[b].end_effector_rotation;
+    if (bins[b].from_s >= r.scoring.converged_after_s) {
+      converged_position += bins[b].end_effector_position;
+      converged_rotation += bins[b].end_effector_rotation;
+    }
+    // Too sure before 10 s (within 2 claimed sigma: within 1 true), honest after.
+    for (const Coverage* c : {&bins[b].end_effector_position, &bins[b].end_effector_rotation}) {
+      if (b < 2)
+        EXPECT_LT(c->fraction(), 0.85) << b;
+      else
+        EXPECT_GT(c->fraction(), 0.85) << b;
+    }
+  }
+  // Every sample of both runs and both hands: three position components but
+  // the right hand's z, three rotation components.
+  EXPECT_EQ(position.estimated, 2u * 41 * (3 + 2));
+  EXPECT_EQ(rotation.estimated, 2u * 41 * 6);
+  const auto expect_same = [](const Coverage& bins, const Coverage& scorer, const char* what) {
+    EXPECT_EQ(bins.estimated, scorer.estimated) << what;
+    EXPECT_EQ(bins.within, scorer.within) << what;
+  };
+  expect_same(position, fusion.all.end_effector_position_coverage, "position");
+  expect_same(rotation, fusion.all.end_effector_rotation_coverage, "rotation");
+  expect_same(converged_position, fusion.converged.end_effector_position_coverage,
+              "converged position");
+  expect_same(converged_rotation, fusion.converged.end_effector_rotation_coverage,
+              "converged rotation");
+  // No covariance reported: nothing counted, here or by the scorer.
+  EXPECT_EQ(r.method("encoders_only")->summary.all.end_effector_position_coverage.estimated, 0u);
+  for (const ConsistencyBin& b : consistency_over_time(r, "encoders_only", 5.0)) {
+    EXPECT_EQ(b.end_effector_position.estimated, 0u);
+    EXPECT_EQ(b.end_effector_rotation.estimated, 0u);
+  }
+
+  // full_fusion's two lines, in the strokes the legend gives them.
+  const std::string html = report_html(r);
+  const std::string lines = chart(html, "consistency-time");
+  const std::string legend = chart(html, "consistency-legend");
+  for (const char* dash : {"8 3 1.5 3", "8 3 1.5 3 1.5 3"}) {
+    const std::string attribute = std::string("stroke-dasharray=\"") + dash + "\"";
+    EXPECT_EQ(count(lines, attribute), 1u) << dash;
+    EXPECT_EQ(count(legend, attribute), 1u) << dash;
+  }
+  // The legend's sample of an entry: its markup after the previous entry's name.
+  const auto sample_of = [&legend](const std::string& name) {
+    const std::size_t at = legend.find(">" + name + "</text>");
+    if (at == std::string::npos) return std::string();
+    const std::size_t from = legend.rfind("</text>", at);
+    return from == std::string::npos ? legend.substr(0, at) : legend.substr(from, at - from);
+  };
+  EXPECT_NE(sample_of("end-effector position").find("stroke-dasharray=\"8 3 1.5 3\""),
+            std::string::npos);
+  EXPECT_NE(sample_of("end-effector rotation").find("stroke-dasharray=\"8 3 1.5 3 1.5 3\""),
+            std::string::npos);
+  EXPECT_NE(html.find("three position and three rotation components"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
 }
 

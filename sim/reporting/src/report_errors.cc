@@ -220,19 +220,23 @@ void consistency_time_section(std::ostream& o, const ScenarioResult& r) {
   // One legend entry per method (its colour) and per quantity (its stroke):
   // methods x quantities entries would not fit.
   c.legend = false;
+  struct Part {
+    const char* name;
+    Coverage ConsistencyBin::*field;
+    chart::Stroke stroke;
+  };
+  const Part parts[] = {
+      {"angles", &ConsistencyBin::angles, chart::Stroke::kSolid},
+      {"biases", &ConsistencyBin::biases, chart::Stroke::kDashed},
+      {"camera offset", &ConsistencyBin::camera, chart::Stroke::kDotted},
+      {"end-effector position", &ConsistencyBin::end_effector_position, chart::Stroke::kDashDot},
+      {"end-effector rotation", &ConsistencyBin::end_effector_rotation,
+       chart::Stroke::kDashDotDot}};
   std::vector<chart::LegendEntry> entries;
   for (std::size_t mi = 0; mi < r.methods.size(); ++mi) {
     const std::size_t series_before = c.series.size();
     const std::vector<ConsistencyBin> bins = consistency_over_time(r, r.methods[mi], bin_s);
-    struct Part {
-      const char* name;
-      Coverage ConsistencyBin::*field;
-      chart::Stroke stroke;
-    };
-    for (const Part& part :
-         {Part{"angles", &ConsistencyBin::angles, chart::Stroke::kSolid},
-          Part{"biases", &ConsistencyBin::biases, chart::Stroke::kDashed},
-          Part{"camera offset", &ConsistencyBin::camera, chart::Stroke::kDotted}}) {
+    for (const Part& part : parts) {
       chart::Series s;
       s.name = r.methods[mi] + ": " + part.name;
       s.colour = method_colour(r.methods[mi], mi);
@@ -252,15 +256,14 @@ void consistency_time_section(std::ostream& o, const ScenarioResult& r) {
   c.title = "Truth within 2 sigma over time, every run pooled, per " + fixed(bin_s, 2) + " s";
   c.x_marks.emplace_back(r.scoring.converged_after_s, "converged window from here");
   c.y_marks.emplace_back(95, "95%");
-  for (const auto& [name, stroke] :
-       {std::pair{"angles", chart::Stroke::kSolid}, std::pair{"biases", chart::Stroke::kDashed},
-        std::pair{"camera offset", chart::Stroke::kDotted}})
-    entries.push_back({name, "#555", chart::Mark::kLine, stroke});
+  for (const Part& part : parts)
+    entries.push_back({part.name, "#555", chart::Mark::kLine, part.stroke});
   o << "<h2>Consistency over time</h2>\n<p>The share of samples (every joint or virtual camera "
-       "joint) whose true value lies within two of the standard deviations the method reports, "
-       "per stretch of time. About 95% for an honest filter; below it the method claims more "
-       "certainty than it has, at 100% less. The tables give the same shares over all samples "
-       "and over the converged window.</p>\n";
+       "joint, and every end effector's pose: its three position and three rotation components "
+       "in the camera's axes, pooled over the end effectors) whose true value lies within two "
+       "of the standard deviations the method reports, per stretch of time. About 95% for an "
+       "honest filter; below it the method claims more certainty than it has, at 100% less. "
+       "The tables give the same shares over all samples and over the converged window.</p>\n";
   chart::legend(o, "consistency-legend", entries);
   chart::line_chart(o, c);
 }
@@ -297,6 +300,15 @@ std::vector<ConsistencyBin> consistency_over_time(const ScenarioResult& r,
       if (truth.T_base_camera)
         for (int k = 0; k < 6; ++k)
           bin.camera.add(e.camera_offset[k] - truth.camera_offset[k], e.camera_offset_std[k]);
+      // The end-effector poses as score_estimate and stats_from count them:
+      // each end effector's pose_error_vector against the square roots of
+      // its covariance's diagonal (ee_std, empty without one), position
+      // then rotation, pooled over the end effectors.
+      if (e.ee_std.size() == e.ee_error_vector.size())
+        for (std::size_t k = 0; k < e.ee_std.size(); ++k)
+          for (int c = 0; c < 6; ++c)
+            (c < 3 ? bin.end_effector_position : bin.end_effector_rotation)
+                .add(e.ee_error_vector[k][c], e.ee_std[k][c]);
     }
   }
   return out;

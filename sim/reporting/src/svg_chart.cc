@@ -22,8 +22,9 @@ std::string esc(const std::string& s) { return text::html_escape(s); }
 
 // The dash pattern of a stroke, as an attribute (Stroke order).
 const char* dash_attribute(Stroke stroke) {
-  static const char* const kDash[] = {"", " stroke-dasharray=\"6 4\"",
-                                      " stroke-dasharray=\"1.5 3\""};
+  static const char* const kDash[] = {
+      "", " stroke-dasharray=\"6 4\"", " stroke-dasharray=\"1.5 3\"",
+      " stroke-dasharray=\"8 3 1.5 3\"", " stroke-dasharray=\"8 3 1.5 3 1.5 3\""};
   return kDash[int(stroke)];
 }
 

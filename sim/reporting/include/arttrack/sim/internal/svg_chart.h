@@ -119,8 +119,9 @@ void svg_open(std::ostream& o, const Frame& f, const std::string& id, const std:
 void y_axis(std::ostream& o, const Frame& f, const Axis& a, const std::string& label);
 void x_axis(std::ostream& o, const Frame& f, const Axis& a, const std::string& label);
 
-// How a series or a legend entry is drawn.
-enum class Stroke { kSolid, kDashed, kDotted };
+// How a series or a legend entry is drawn. Strokes: solid, dashed (6 4),
+// dotted (1.5 3), dash-dot and dash-dot-dot (dashes of 8).
+enum class Stroke { kSolid, kDashed, kDotted, kDashDot, kDashDotDot };
 enum class Mark {
   kLine,       // a line (with Stroke)
   kDots,       // a dot per point
