@@ -112,8 +112,9 @@ TimeseriesTable timeseries_table(const ScenarioResult& result);
 // several), p1/p25/p50/p75/p99 of translation (mm) and rotation (degrees)
 // over all samples, the median after convergence, the convergence time and
 // the lost runs ("2 of 10"); then per method the consistency (truth within
-// two standard deviations: angles, biases, camera offset; "-" when not
-// estimated) and the camera frame's error; the lost runs by name; then the
+// two standard deviations: angles, biases, camera offset, end-effector
+// positions and rotations; "-" when not estimated) and the camera frame's
+// error; the lost runs by name; then the
 // timings.
 void print_summary_table(std::ostream& out, const ScenarioResult& result);
 
