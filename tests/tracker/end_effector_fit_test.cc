@@ -79,9 +79,9 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
 // exponentially weighted scatter about their average, over the fits' total
 // weight, plus the shape error's shift in every direction, in the tool's
 // axes. Fits alternating between two places 2 mm apart along the camera's
-// x: by hand, West's weighted variance; a fit too vague to count changes
-// nothing; the same fit every image shrinks the scatter, not the shape
-// error.
+// x: by hand, West's weighted variance; a fit too vague to count leaves the
+// covariance and fades the fits' say by that image's weight; the same fit
+// every image shrinks the scatter, not the shape error.
 TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
                            {"shoulder", "elbow"});
@@ -128,13 +128,14 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   ImageInformation::RigidFit vague = fit_at(0.05);
   vague.information *= 1e-4;  // sd 1 cm: above max_std_m
   fit.update(2.1, {vague}, mean, mean, shape_std_m);
-  EXPECT_EQ(fit.estimates()[0].weight, after.weight);
+  EXPECT_NEAR(fit.estimates()[0].weight, after.weight * (1 - w), 1e-15);  // a held fit fades
   EXPECT_EQ(fit.estimates()[0].position_covariance_m2, after.position_covariance_m2);
 
   for (int k = 22; k <= 120; ++k) fit.update(k * dt_s, {fit_at(0.001)}, mean, mean, shape_std_m);
   const Eigen::Matrix3d settled = R * fit.estimates()[0].position_covariance_m2 * R.transpose();
   EXPECT_LT(settled(0, 0) - shape_std_m * shape_std_m, 0.01e-6);
   EXPECT_GE(settled(0, 0), shape_std_m * shape_std_m);
+  EXPECT_GT(fit.estimates()[0].weight, 0.9999);
 }
 
 }  // namespace

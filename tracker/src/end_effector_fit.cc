@@ -40,6 +40,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
     : setup_(setup),
       estimates_(setup.ee_links.size()),
       scatter_m2_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
+      fits_weight_(setup.ee_links.size(), 0.0),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)) {
   const TrackerConfig& c = setup.config;
@@ -87,6 +88,10 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     motion.translation() = fit.origin_m + x.head<3>() - motion.linear() * fit.origin_m;
     seen_[f] = any = true;
   }
+  // A held correction says less with every image that does not show its
+  // hand: the kinematic error it stands for changes with the pose.
+  for (std::size_t f = 0; f < fit_links_.size(); ++f)
+    if (!seen_[f]) estimates_[ee_of(f)].weight *= 1 - weight;
   if (!any) return;
   // Where the fitted mean's kinematics put each end effector, moved as the
   // image shows it; then relative to the final mean's (one kinematics each).
@@ -113,8 +118,10 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     scatter = (1 - weight) * (scatter + weight * deviation * deviation.transpose());
     e.correction += weight * (sample - e.correction);
     e.weight += weight * (1 - e.weight);
+    double& total = fits_weight_[ee_of(f)];
+    total += weight * (1 - total);
     e.position_covariance_m2 =
-        scatter / e.weight + model_error_std_m * model_error_std_m * Eigen::Matrix3d::Identity();
+        scatter / total + model_error_std_m * model_error_std_m * Eigen::Matrix3d::Identity();
   }
 }
 

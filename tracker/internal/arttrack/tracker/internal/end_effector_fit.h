@@ -33,7 +33,8 @@
 // information^-1, is not used: over pixels as correlated as an exact
 // render's it says 1-1.6 mm where the fits scatter by 0.15-0.4 mm
 // (docs/accuracy.md, stop 52). EstimateReport weighs the result against
-// the kinematics' by the fits' total weight.
+// the kinematics' by the fits' say (EndEffectorFitEstimate::weight), which
+// fades while no image shows the hand.
 //
 // Setup: the end effectors' fit links, from the TrackerSetup. Workspace:
 // the kinematics and the corrections. Internal to the tracker
@@ -62,9 +63,12 @@ Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c);
 // What the fits say about one end effector.
 struct EndEffectorFitEstimate {
   EndEffectorCorrection correction = EndEffectorCorrection::Zero();
-  // The fits' total weight in the correction, in [0, 1): 1 - prod(1 - w)
-  // over the images that showed it (the rest, 1 - weight, is 0: the
-  // kinematics' own pose).
+  // The fits' say in the reported pose, in [0, 1): their total weight in
+  // the correction, 1 - prod(1 - w) over the images that showed the end
+  // effector (the rest, 1 - weight, is 0: the kinematics' own pose), times
+  // 1 - w for every image since the last one that did. A held correction
+  // stands for a kinematic error that changes with the pose: its
+  // uncertainty goes back to the kinematics' over time_constant_s.
   double weight = 0;
   // The covariance of the fits' end-effector position, m^2, in the end
   // effector's own axes (at the kinematics' pose): the scatter plus the
@@ -104,8 +108,10 @@ class EndEffectorFit {
   std::vector<int> fitted_ee_;  // per fitted end effector: its index among the end effectors
   std::vector<EndEffectorFitEstimate> estimates_;
   // Per end effector, the fits' translations' weighted scatter about the
-  // correction, m^2 (weight times their average's).
+  // correction, m^2 (their total weight times their average's), and that
+  // total weight (EndEffectorFitEstimate::weight without the decay).
   std::vector<Eigen::Matrix3d> scatter_m2_;
+  std::vector<double> fits_weight_;
   // Per fitted end effector, the last image's: whether it determined the
   // fit, and the motion (then the end effector's pose) it says.
   std::vector<char> seen_;
