@@ -79,9 +79,10 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
 // exponentially weighted scatter about their average, over the fits' total
 // weight, plus the shape error's shift in every direction, in the tool's
 // axes. Fits alternating between two places 2 mm apart along the camera's
-// x: by hand, West's weighted variance; a fit too vague to count leaves the
-// covariance and fades the fits' say by that image's weight; the same fit
-// every image shrinks the scatter, not the shape error.
+// x: by hand, West's weighted variance; fits too vague to count leave the
+// covariance and fade the fits' say by exp(-t / time constant), t the time
+// since the last fit that counted; the same fit every image shrinks the
+// scatter, not the shape error, and gives the say back.
 TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
                            {"shoulder", "elbow"});
@@ -128,10 +129,12 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   ImageInformation::RigidFit vague = fit_at(0.05);
   vague.information *= 1e-4;  // sd 1 cm: above max_std_m
   fit.update(2.1, {vague}, mean, mean, shape_std_m);
-  EXPECT_NEAR(fit.estimates()[0].weight, after.weight * (1 - w), 1e-15);  // a held fit fades
+  EXPECT_NEAR(fit.estimates()[0].weight, after.weight * std::exp(-dt_s), 1e-15);  // fades
+  fit.update(2.5, {vague}, mean, mean, shape_std_m);
+  EXPECT_NEAR(fit.estimates()[0].weight, after.weight * std::exp(-0.5), 1e-15);  // since 2.0 s
   EXPECT_EQ(fit.estimates()[0].position_covariance_m2, after.position_covariance_m2);
 
-  for (int k = 22; k <= 120; ++k) fit.update(k * dt_s, {fit_at(0.001)}, mean, mean, shape_std_m);
+  for (int k = 26; k <= 120; ++k) fit.update(k * dt_s, {fit_at(0.001)}, mean, mean, shape_std_m);
   const Eigen::Matrix3d settled = R * fit.estimates()[0].position_covariance_m2 * R.transpose();
   EXPECT_LT(settled(0, 0) - shape_std_m * shape_std_m, 0.01e-6);
   EXPECT_GE(settled(0, 0), shape_std_m * shape_std_m);

@@ -41,6 +41,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
       estimates_(setup.ee_links.size()),
       scatter_m2_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       fits_weight_(setup.ee_links.size(), 0.0),
+      last_seen_s_(setup.ee_links.size(), 0.0),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)) {
   const TrackerConfig& c = setup.config;
@@ -88,10 +89,14 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     motion.translation() = fit.origin_m + x.head<3>() - motion.linear() * fit.origin_m;
     seen_[f] = any = true;
   }
-  // A held correction says less with every image that does not show its
-  // hand: the kinematic error it stands for changes with the pose.
-  for (std::size_t f = 0; f < fit_links_.size(); ++f)
-    if (!seen_[f]) estimates_[ee_of(f)].weight *= 1 - weight;
+  // A held correction says less the longer no image has shown its hand:
+  // the kinematic error it stands for changes with the pose.
+  for (std::size_t f = 0; f < fit_links_.size(); ++f) {
+    const std::size_t e = ee_of(f);
+    if (!seen_[f] && fits_weight_[e] > 0)
+      estimates_[e].weight =
+          fits_weight_[e] * std::exp(-(time_s - last_seen_s_[e]) / time_constant_s_);
+  }
   if (!any) return;
   // Where the fitted mean's kinematics put each end effector, moved as the
   // image shows it; then relative to the final mean's (one kinematics each).
@@ -117,9 +122,10 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     Eigen::Matrix3d& scatter = scatter_m2_[ee_of(f)];
     scatter = (1 - weight) * (scatter + weight * deviation * deviation.transpose());
     e.correction += weight * (sample - e.correction);
-    e.weight += weight * (1 - e.weight);
     double& total = fits_weight_[ee_of(f)];
     total += weight * (1 - total);
+    e.weight = total;
+    last_seen_s_[ee_of(f)] = time_s;
     e.position_covariance_m2 =
         scatter / total + model_error_std_m * model_error_std_m * Eigen::Matrix3d::Identity();
   }

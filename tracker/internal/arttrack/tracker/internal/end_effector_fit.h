@@ -66,9 +66,10 @@ struct EndEffectorFitEstimate {
   // The fits' say in the reported pose, in [0, 1): their total weight in
   // the correction, 1 - prod(1 - w) over the images that showed the end
   // effector (the rest, 1 - weight, is 0: the kinematics' own pose), times
-  // 1 - w for every image since the last one that did. A held correction
-  // stands for a kinematic error that changes with the pose: its
-  // uncertainty goes back to the kinematics' over time_constant_s.
+  // exp(-t / time_constant_s), t the time since the last image that did.
+  // A held correction stands for a kinematic error that changes with the
+  // pose: its uncertainty goes back to the kinematics' (an image now and
+  // then that the fit skips, a few images, costs little).
   double weight = 0;
   // The covariance of the fits' end-effector position, m^2, in the end
   // effector's own axes (at the kinematics' pose): the scatter plus the
@@ -109,9 +110,10 @@ class EndEffectorFit {
   std::vector<EndEffectorFitEstimate> estimates_;
   // Per end effector, the fits' translations' weighted scatter about the
   // correction, m^2 (their total weight times their average's), and that
-  // total weight (EndEffectorFitEstimate::weight without the decay).
+  // total weight (EndEffectorFitEstimate::weight without the decay), and
+  // the last image's time that showed it.
   std::vector<Eigen::Matrix3d> scatter_m2_;
-  std::vector<double> fits_weight_;
+  std::vector<double> fits_weight_, last_seen_s_;
   // Per fitted end effector, the last image's: whether it determined the
   // fit, and the motion (then the end effector's pose) it says.
   std::vector<char> seen_;
