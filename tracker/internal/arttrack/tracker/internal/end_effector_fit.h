@@ -31,7 +31,7 @@
 // (ReportedCovariance::model_error_std_m(), a consider parameter: the rigid
 // fit's translation takes a shift up whole). The fits' own noise model,
 // information^-1, is not used: over pixels as correlated as an exact
-// render's it says 1-1.6 mm where the fits scatter by 0.15-0.4 mm
+// render's it says 0.9-1.8 mm where the fits scatter by 0.15-0.4 mm
 // (docs/accuracy.md, stop 52). EstimateReport weighs the result against
 // the kinematics' by the fits' say (EndEffectorFitEstimate::weight), which
 // fades while no image shows the hand.
