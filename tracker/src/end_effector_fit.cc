@@ -115,17 +115,19 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     EndEffectorCorrection sample;
     const Eigen::AngleAxisd turn(relative.linear());
     sample << relative.translation(), turn.angle() * turn.axis();
-    EndEffectorFitEstimate& e = estimates_[ee_of(f)];
+    const std::size_t i = ee_of(f);
+    EndEffectorFitEstimate& e = estimates_[i];
     // The exponentially weighted scatter about the average (West's update:
     // the deviation from the average before this sample), then the average.
-    const Eigen::Vector3d deviation = (sample - e.correction).head<3>();
-    Eigen::Matrix3d& scatter = scatter_m2_[ee_of(f)];
-    scatter = (1 - weight) * (scatter + weight * deviation * deviation.transpose());
-    e.correction += weight * (sample - e.correction);
-    double& total = fits_weight_[ee_of(f)];
+    const EndEffectorCorrection deviation = sample - e.correction;
+    Eigen::Matrix3d& scatter = scatter_m2_[i];
+    scatter =
+        (1 - weight) * (scatter + weight * deviation.head<3>() * deviation.head<3>().transpose());
+    e.correction += weight * deviation;
+    double& total = fits_weight_[i];
     total += weight * (1 - total);
     e.weight = total;
-    last_seen_s_[ee_of(f)] = time_s;
+    last_seen_s_[i] = time_s;
     e.position_covariance_m2 =
         scatter / total + model_error_std_m * model_error_std_m * Eigen::Matrix3d::Identity();
   }
