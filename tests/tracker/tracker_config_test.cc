@@ -242,6 +242,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"end_effector_fit.time_constant_s", "10000", "10001"},
     {"end_effector_fit.max_std_m", "0.000001", "0"},
     {"end_effector_fit.max_std_m", "1", "1.1"},
+    {"end_effector_fit.resolution_factor", "1", "0"},
+    {"end_effector_fit.resolution_factor", "8", "9"},
     {"acquisition.passes", "1", "0"},
     {"acquisition.passes", "10", "11"},
     {"acquisition.coarse_noise_std_m", "0.003", "0.0029"},  // depth_model.noise_std_m

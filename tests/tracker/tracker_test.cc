@@ -158,29 +158,29 @@ RobotModel round_arm(double elbow_x_m) {
 }
 
 // The robot is not its URDF: the real elbow sits 8 mm nearer the camera.
-// The angles' kinematics leave the tool 8 mm off whatever the angles; the
-// end-effector fit puts it where the images show the forearm and hand, and
-// says by how much (ee_image_correction). The angles are the filter's
-// either way.
-TEST(TrackerTest, EndEffectorFitPutsTheToolWhereTheImagesShowIt) {
+// Its image at 160x120, and the tracker of the nominal arm (round_arm(0))
+// fed it for 2 s with exact encoders, `config` set up by the test.
+struct OffsetElbowScene {
   const RobotModel real = round_arm(0.008);
-  auto nominal = std::make_shared<const RobotModel>(round_arm(0.0));
+  const std::shared_ptr<const RobotModel> nominal =
+      std::make_shared<const RobotModel>(round_arm(0.0));
   const CameraIntrinsics camera = CameraIntrinsics::from_vertical_fov(160, 120, 60 * kRadPerDeg);
   const double q0 = 0.4, q1 = -0.6;
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(real.num_joints());
-  q[real.joint_index("shoulder")] = q0;
-  q[real.joint_index("elbow")] = q1;
-  KinematicsState state(real);
-  forward_kinematics(real, q, state);
   DepthImage image;
-  DepthRenderer(real, camera).render(state, image);
-  const Eigen::Vector3d tool_m = T_camera_link(real, state, real.link_index("tool")).translation();
+  Eigen::Vector3d tool_m;
 
-  auto track = [&](bool fit) {
+  OffsetElbowScene() {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(real.num_joints());
+    q[real.joint_index("shoulder")] = q0;
+    q[real.joint_index("elbow")] = q1;
+    KinematicsState state(real);
+    forward_kinematics(real, q, state);
+    DepthRenderer(real, camera).render(state, image);
+    tool_m = T_camera_link(real, state, real.link_index("tool")).translation();
+  }
+  TrackerEstimate track(const std::function<void(TrackerConfig&)>& configure) const {
     TrackerConfig config = small_config(TrackingMethod::kFullFusion);
-    config.depth_model.width = 160;
-    config.depth_model.height = 120;
-    config.end_effector_fit.enabled = fit;
+    configure(config);
     Tracker tracker(nominal, config, {"shoulder", "elbow"});
     for (int k = 0; k <= 2000; ++k) {
       const double t = 0.001 * k;
@@ -188,15 +188,55 @@ TEST(TrackerTest, EndEffectorFitPutsTheToolWhereTheImagesShowIt) {
       if (k % 33 == 0) tracker.add_depth_image(t, image, camera);
     }
     return tracker.estimate();
+  }
+  double tool_error_m(const TrackerEstimate& e) const {
+    return (e.T_camera_ee[0].translation() - tool_m).norm();
+  }
+};
+
+// The angles' kinematics leave the tool 8 mm off whatever the angles; the
+// end-effector fit puts it where the images show the forearm and hand, and
+// says by how much (ee_image_correction). The angles are the filter's
+// either way.
+TEST(TrackerTest, EndEffectorFitPutsTheToolWhereTheImagesShowIt) {
+  const OffsetElbowScene scene;
+  auto track = [&](bool fit) {
+    return scene.track([&](TrackerConfig& config) {
+      config.depth_model.width = 160;
+      config.depth_model.height = 120;
+      config.end_effector_fit.enabled = fit;
+    });
   };
   const TrackerEstimate fitted = track(true), plain = track(false);
-  EXPECT_GT((plain.T_camera_ee[0].translation() - tool_m).norm(), 0.006);
-  EXPECT_LT((fitted.T_camera_ee[0].translation() - tool_m).norm(), 0.002);
+  EXPECT_GT(scene.tool_error_m(plain), 0.006);
+  EXPECT_LT(scene.tool_error_m(fitted), 0.002);
   ASSERT_EQ(fitted.ee_image_correction.size(), 1u);
   EXPECT_NEAR(fitted.ee_image_correction[0].head<3>().norm(), 0.008, 0.002);
   EXPECT_EQ(plain.ee_image_correction[0].norm(), 0.0);
   EXPECT_EQ(fitted.angle_rad, plain.angle_rad);
   EXPECT_EQ(fitted.angle_std_rad, plain.angle_std_rad);
+}
+
+// The end-effector fit sees the image at resolution_factor times the
+// likelihood's: with the likelihood at 40x30 the tool's few pixels leave
+// its fit undetermined (the kinematics' pose, 8 mm off); on the 160x120
+// image (factor 4) the fit finds the tool where the images show it. The
+// angles are the particle filter's, the same either way.
+TEST(TrackerTest, EndEffectorFitSeesTheImageAtItsOwnResolution) {
+  const OffsetElbowScene scene;
+  auto track = [&](int factor) {
+    return scene.track([&](TrackerConfig& config) {
+      config.depth_model.width = 40;
+      config.depth_model.height = 30;
+      config.end_effector_fit.resolution_factor = factor;
+    });
+  };
+  const TrackerEstimate coarse = track(1), fine = track(4);
+  EXPECT_LT(scene.tool_error_m(fine), 0.002);
+  EXPECT_GT(scene.tool_error_m(coarse), 0.006);  // measured 8.5 mm: every fit skipped (max_std_m)
+  EXPECT_NEAR(fine.ee_image_correction[0].head<3>().norm(), 0.008, 0.002);
+  EXPECT_EQ(coarse.ee_image_correction[0].norm(), 0.0);
+  EXPECT_EQ(fine.angle_rad, coarse.angle_rad);
 }
 
 // The same input, with the image delivered on time or late: the buffer

@@ -53,14 +53,54 @@ std::span<const double> ImageUpdate::proposal_std_in_turn() {
 }
 
 void ImageUpdate::prepare(const CameraIntrinsics& camera) {
+  prepare_fit_view(camera);
   if (!filter_.set_camera(likelihood_camera(camera))) return;
   acquisition_.draw(filter_.geometry());
   ++geometry_builds_;
 }
 
-double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_camera,
-                          double stamp_s, double time_s, std::span<const double> reading_at_time,
-                          JointBelief& belief) {
+bool ImageUpdate::fit_image_size(int width, int height, int& fit_width, int& fit_height) const {
+  if (!end_effector_fit_.on()) return false;
+  const int factor = setup_.config.end_effector_fit.resolution_factor;
+  const int W = filter_.likelihood().width(), H = filter_.likelihood().height();
+  fit_width = std::min(W * factor, width);
+  fit_height = std::min(H * factor, height);
+  return fit_width > W && fit_height > H;
+}
+
+bool ImageUpdate::prepare_fit_view(const CameraIntrinsics& full_camera) {
+  int width = 0, height = 0;
+  if (!fit_image_size(full_camera.width, full_camera.height, width, height)) return false;
+  if (!fit_likelihood_ || fit_likelihood_->width() != width ||
+      fit_likelihood_->height() != height) {
+    DepthModelParams params = setup_.config.depth_model;
+    params.width = width;
+    params.height = height;
+    fit_likelihood_ = std::make_unique<DepthLikelihood>(params);
+    fit_geometry_ = std::make_unique<RenderGeometry>(setup_.model, setup_.config.geometry,
+                                                     filter_.pool().num_workers());
+    fit_information_ = std::make_unique<ImageInformation>(std::vector<int>{});
+    fit_information_->set_rigid_fit_links(*setup_.model, end_effector_fit_.fit_links());
+  }
+  const CameraIntrinsics camera = subsampled_intrinsics(full_camera, width, height);
+  if (!fit_geometry_->has_camera(camera)) fit_geometry_->use_camera(camera);
+  return true;
+}
+
+const std::vector<ImageInformation::RigidFit>* ImageUpdate::fine_rigid_fits(
+    const DepthImage& fit_image, const CameraIntrinsics& full_camera) {
+  if (fit_image.width == 0 || !prepare_fit_view(full_camera)) return nullptr;
+  if (fit_likelihood_->width() != fit_image.width || fit_likelihood_->height() != fit_image.height)
+    return nullptr;  // not this camera's (fit_image_size)
+  fit_likelihood_->set_observation(fit_image);
+  fit_information_->compute(fit_geometry_->renderer(), mean_fitted_, *fit_likelihood_,
+                            &filter_.pool());
+  return &fit_information_->rigid_fits();
+}
+
+double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
+                          const CameraIntrinsics& full_camera, double stamp_s, double time_s,
+                          std::span<const double> reading_at_time, JointBelief& belief) {
   const int n = setup_.n;
   for (int j = 0; j < n; ++j) prior_std_[j] = std::sqrt(std::max(0.0, belief.var_a[j]));
   std::copy(belief.mean_a.begin(), belief.mean_a.end(), prior_mean_.begin());
@@ -97,9 +137,11 @@ double ImageUpdate::apply(const DepthImage& image, const CameraIntrinsics& full_
                            prior_std_, filter_, belief);
   covariance_.end_image(time_s, health_);
   // Not at the first image: its search has just placed the arms.
-  if (informed && !first)
-    end_effector_fit_.update(time_s, covariance_.information().rigid_fits(), mean_fitted_,
-                             belief.mean_a, covariance_.model_error_std_m());
+  if (informed && !first) {
+    const std::vector<ImageInformation::RigidFit>* fine = fine_rigid_fits(fit_image, full_camera);
+    end_effector_fit_.update(time_s, fine ? *fine : covariance_.information().rigid_fits(),
+                             mean_fitted_, belief.mean_a, covariance_.model_error_std_m());
+  }
   check.update(belief.mean_a, image, stamp_s, renderer, health_);
   return search_ms;
 }

@@ -45,8 +45,9 @@ void load_belief(std::span<const double> in, JointBelief& b) {
 
 struct PendingImage {
   double stamp_s;
-  double apply_time_s;  // stamp minus the camera delay
-  DepthImage image;     // subsampled to the likelihood's resolution
+  double apply_time_s;   // stamp minus the camera delay
+  DepthImage image;      // subsampled to the likelihood's resolution
+  DepthImage fit_image;  // to the end-effector fit's (empty: the likelihood's)
   CameraIntrinsics camera;
   Clock::time_point received;  // add_depth_image was called
 };
@@ -202,8 +203,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   // The image update runs without the lock in asynchronous mode, so joint
   // readings keep coming in.
   if (setup.config.asynchronous) lock.unlock();
-  const double search_ms =
-      images->apply(image.image, image.camera, image.stamp_s, t, reading_at_t, prior);
+  const double search_ms = images->apply(image.image, image.fit_image, image.camera, image.stamp_s,
+                                         t, reading_at_t, prior);
   if (setup.config.asynchronous) lock.lock();
   published_health = images->health();
   published_covariance = images->covariance();
@@ -364,12 +365,20 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
         throw InputError(os.str());
       }
     }
-  // Only the likelihood's resolution is kept: the likelihood would subsample
-  // to it anyway, and a 640x480 copy per image is 64 times the memory.
+  // Only the likelihood's resolution is kept, and the end-effector fit's:
+  // the likelihood would subsample to it anyway, and a 640x480 copy per
+  // image is 64 times the memory (the fit's 160x120, 4 times).
   const int W = s.setup.config.depth_model.width, H = s.setup.config.depth_model.height;
-  DepthImage kept;
-  if (s.setup.use_images)
+  DepthImage kept, fit_kept;
+  if (s.setup.use_images) {
     kept = image.width == W && image.height == H ? image : subsample_depth(image, W, H);
+    // The end-effector fit's finer image, when the image has more pixels.
+    int fit_W = 0, fit_H = 0;
+    if (s.images->fit_image_size(image.width, image.height, fit_W, fit_H))
+      fit_kept = fit_W == image.width && fit_H == image.height
+                     ? image
+                     : subsample_depth(image, fit_W, fit_H);
+  }
 
   std::unique_lock lock(s.mutex);
   // An image a clock apart from the joints' (a stamp in another epoch or
@@ -390,8 +399,8 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   s.last_stamp_s = stamp_s;
   ++s.stats.images_received;
   if (!s.setup.use_images) return;
-  s.pending.push_back(
-      {stamp_s, stamp_s - s.setup.config.camera_delay_s, std::move(kept), camera, received});
+  s.pending.push_back({stamp_s, stamp_s - s.setup.config.camera_delay_s, std::move(kept),
+                       std::move(fit_kept), camera, received});
   while (int(s.pending.size()) > s.setup.config.max_pending_images) {
     s.pending.pop_front();
     ++s.stats.images_dropped_backlog;

@@ -165,6 +165,7 @@ void TrackerConfig::validate(const std::string& source) const {
   check("refinement.min_pixels", refinement_min_pixels, R::closed(1, 1e7));
   check("end_effector_fit.time_constant_s", end_effector_fit.time_constant_s, R::closed(1e-3, 1e4));
   check("end_effector_fit.max_std_m", end_effector_fit.max_std_m, R::closed(1e-6, 1));
+  check("end_effector_fit.resolution_factor", end_effector_fit.resolution_factor, R::closed(1, 8));
 
   const Acquisition& a = acquisition;
   check("acquisition.passes", a.passes, R::closed(1, 10));
@@ -290,8 +291,9 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   TrackerConfig::EndEffectorFitConfig& fit = c.end_effector_fit;
   const ConfigNode end_effector_fit = root.child("end_effector_fit");
   fit.enabled = end_effector_fit.get<bool>("enabled", fit.enabled);
-  read_numbers(end_effector_fit,
-               {{"time_constant_s", &fit.time_constant_s}, {"max_std_m", &fit.max_std_m}});
+  read_numbers(end_effector_fit, {{"time_constant_s", &fit.time_constant_s},
+                                  {"max_std_m", &fit.max_std_m},
+                                  {"resolution_factor", &fit.resolution_factor}});
 
   TrackerConfig::Acquisition& a = c.acquisition;
   const ConfigNode acquisition = root.child("acquisition");

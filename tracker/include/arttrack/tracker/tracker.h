@@ -56,7 +56,9 @@
 //   not its URDF: the angles that fit every link's pixels leave the hand a
 //   few millimetres and degrees from where its own pixels put it. After
 //   each image, a rigid motion of each end effector's end link (with the
-//   links below it) is fitted to the residuals; averaged over time, it
+//   links below it) is fitted to the residuals, on the image at
+//   end_effector_fit.resolution_factor times the likelihood's resolution
+//   (at most the image's own); averaged over time, it
 //   corrects the end effectors' reported poses (ee_image_correction), and
 //   their positions' covariance is the fits' (their scatter about the
 //   average, plus the links' shape error), not the angles'. The angles,

@@ -169,11 +169,15 @@ struct TrackerConfig {
   // the joint estimate's kinematics put it (tracker.h, "End-effector fit";
   // end_effector_fit.h). Each image's rigid fit of that link counts when
   // its translation's standard deviation is below max_std_m; the fits are
-  // averaged over time_constant_s.
+  // averaged over time_constant_s. The fit sees the image at
+  // resolution_factor times the likelihood's width and height (at most
+  // the image's own): 1 is the likelihood's image (no extra cost), more
+  // pixels show the hand's length and axis.
   struct EndEffectorFitConfig {
     bool enabled = true;
     double time_constant_s = 1.0;
     double max_std_m = 0.002;
+    int resolution_factor = 2;
   };
   EndEffectorFitConfig end_effector_fit;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the

@@ -10,7 +10,10 @@
 // (ImageInformation::rigid_fits(): a translation and a rotation of the
 // nearest link with geometry at or above the end effector, with every
 // link below it, fitted to the image's residuals at the particle filter's
-// mean) moves the end effector's pose from where that mean's kinematics
+// mean; ImageUpdate computes it on the image at
+// end_effector_fit.resolution_factor times the likelihood's resolution,
+// where the hand's length along its axis spans more than a pixel or two)
+// moves the end effector's pose from where that mean's kinematics
 // put it; what that is relative to the pose at the image's final mean
 // (after the refinement) is the image's correction, in end-effector axes.
 // Images whose fit's translation has a standard deviation above

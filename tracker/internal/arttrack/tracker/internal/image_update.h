@@ -5,8 +5,10 @@
 // (image_filter.h), or at the first image the acquisition's search
 // (acquisition.h); the re-acquisition the health check's counts call for;
 // the reported covariance (reported_covariance.h) with the mean's
-// refinement (refinement.h) between its halves; and the health check of
-// the result (health_check.h).
+// refinement (refinement.h) between its halves; the end-effector fit
+// (end_effector_fit.h), on the image at its own, finer resolution with a
+// renderer, pixel model and ImageInformation of its own; and the health
+// check of the result (health_check.h).
 //
 // Setup: the TrackerSetup and each component's own. Workspace: the
 // components' and the image's prior spread. Internal to the tracker
@@ -43,8 +45,9 @@ class ImageUpdate {
   bool wants_readings() const { return acquisition_.on(); }
 
   // Builds what draws the robot for `camera` (full resolution): the
-  // simplified meshes and the renderers (RenderGeometry::use_camera). apply()
-  // does it at the first image, or for a camera of other intrinsics.
+  // simplified meshes and the renderers (RenderGeometry::use_camera), the
+  // end-effector fit's too. apply() does it at the first image, or for a
+  // camera of other intrinsics.
   void prepare(const CameraIntrinsics& camera);
 
   // Updates `belief`, the prior at time_s (the image's stamp_s minus the
@@ -52,8 +55,17 @@ class ImageUpdate {
   // `camera` (full resolution). `reading_at_time` (DOF order; empty: none)
   // lets the searches after the first image run. Returns the search's time
   // in ms (0: none ran).
-  double apply(const DepthImage& image, const CameraIntrinsics& camera, double stamp_s,
-               double time_s, std::span<const double> reading_at_time, JointBelief& belief);
+  // `fit_image`: the image at the end-effector fit's resolution (empty:
+  // the fit uses `image`).
+  double apply(const DepthImage& image, const DepthImage& fit_image, const CameraIntrinsics& camera,
+               double stamp_s, double time_s, std::span<const double> reading_at_time,
+               JointBelief& belief);
+
+  // The size the end-effector fit sees an image of width x height at:
+  // end_effector_fit.resolution_factor times the likelihood's, at most the
+  // image's own. False (the fit uses the likelihood's image) when that is no
+  // finer than the likelihood's, or the fit is off.
+  bool fit_image_size(int width, int height, int& fit_width, int& fit_height) const;
 
   // After apply(): what the tracker publishes and counts.
   const TrackingHealth& health() const { return health_; }
@@ -83,6 +95,18 @@ class ImageUpdate {
   ReportedCovariance covariance_;
   Refinement refinement_;
   EndEffectorFit end_effector_fit_;
+  // The end-effector fit's own view, at its finer resolution: the robot
+  // drawn for that camera, the pixel model and the rigid fits (no DOFs).
+  std::unique_ptr<RenderGeometry> fit_geometry_;
+  std::unique_ptr<DepthLikelihood> fit_likelihood_;
+  std::unique_ptr<ImageInformation> fit_information_;
+  // The fit's view made for `camera` (full resolution) when it sees the
+  // image finer than the likelihood; false when it does not.
+  bool prepare_fit_view(const CameraIntrinsics& camera);
+  // The rigid fits at the image's finer resolution (fit_image), or nullptr
+  // when fit_image is empty.
+  const std::vector<ImageInformation::RigidFit>* fine_rigid_fits(const DepthImage& fit_image,
+                                                                 const CameraIntrinsics& camera);
   // Per image: the prior's angle means and standard deviations (DOF order),
   // and the DOFs re-acquisition moved.
   std::vector<double> prior_mean_, prior_std_;
