@@ -89,9 +89,9 @@ bool ImageUpdate::prepare_fit_view(const CameraIntrinsics& full_camera) {
 
 const std::vector<ImageInformation::RigidFit>* ImageUpdate::fine_rigid_fits(
     const DepthImage& fit_image, const CameraIntrinsics& full_camera) {
+  // The image is the camera's size (Tracker::add_depth_image), so its fit
+  // image is the size prepare_fit_view() makes the view for.
   if (fit_image.width == 0 || !prepare_fit_view(full_camera)) return nullptr;
-  if (fit_likelihood_->width() != fit_image.width || fit_likelihood_->height() != fit_image.height)
-    return nullptr;  // not this camera's (fit_image_size)
   fit_likelihood_->set_observation(fit_image);
   fit_information_->compute(fit_geometry_->renderer(), mean_fitted_, *fit_likelihood_,
                             &filter_.pool());

@@ -369,15 +369,17 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   // the likelihood would subsample to it anyway, and a 640x480 copy per
   // image is 64 times the memory (the fit's 160x120, 4 times).
   const int W = s.setup.config.depth_model.width, H = s.setup.config.depth_model.height;
+  auto at_size = [&](int width, int height) {
+    return image.width == width && image.height == height ? image
+                                                          : subsample_depth(image, width, height);
+  };
   DepthImage kept, fit_kept;
   if (s.setup.use_images) {
-    kept = image.width == W && image.height == H ? image : subsample_depth(image, W, H);
+    kept = at_size(W, H);
     // The end-effector fit's finer image, when the image has more pixels.
     int fit_W = 0, fit_H = 0;
     if (s.images->fit_image_size(image.width, image.height, fit_W, fit_H))
-      fit_kept = fit_W == image.width && fit_H == image.height
-                     ? image
-                     : subsample_depth(image, fit_W, fit_H);
+      fit_kept = at_size(fit_W, fit_H);
   }
 
   std::unique_lock lock(s.mutex);
