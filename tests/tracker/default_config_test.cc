@@ -278,7 +278,8 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.model_error_min_std_m", &C::model_error_min_std_m),
     key("uncertainty.model_error_unpinned_scale", &C::model_error_unpinned_scale));
   f(key("refinement.enabled", &C::refine_mean),
-    key("refinement.min_pixels", &C::refinement_min_pixels));
+    key("refinement.min_pixels", &C::refinement_min_pixels),
+    key("refinement.widen_beyond_sigma", &C::refinement_widen_beyond_sigma));
   f.nested("end_effector_fit.", &C::end_effector_fit, [](FieldList<C::EndEffectorFitConfig>& e) {
     using E = C::EndEffectorFitConfig;
     e(key("enabled", &E::enabled), key("time_constant_s", &E::time_constant_s),

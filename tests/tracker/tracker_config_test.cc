@@ -238,6 +238,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"uncertainty.model_error_unpinned_scale", "10", "11"},
     {"refinement.min_pixels", "1", "0"},
     {"refinement.min_pixels", "10000000", "10000001"},
+    {"refinement.widen_beyond_sigma", "0", "-0.5"},
+    {"refinement.widen_beyond_sigma", "100", "101"},
     {"end_effector_fit.time_constant_s", "0.001", "0.0009"},
     {"end_effector_fit.time_constant_s", "10000", "10001"},
     {"end_effector_fit.max_std_m", "0.000001", "0"},

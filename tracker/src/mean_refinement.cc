@@ -40,18 +40,39 @@ bool MeanRefinement::solve(const Eigen::MatrixXd& nominal_covariance, const Eige
     rhs_[i] = 0;
   }
   if (moving == 0) return false;
-  delta_ = system_.partialPivLu().solve(rhs_);
-  if (!delta_.allFinite()) return false;
+  unclipped_ = system_.partialPivLu().solve(rhs_);
+  if (!unclipped_.allFinite()) return false;
   // Trust region: no state moves further than the particles' own spread;
   // a longer step is shortened along its direction. A step beyond where the
   // particles looked is a linearisation far from its point, and could cross
   // into another mode.
+  return shorten(spread);
+}
+
+bool MeanRefinement::shorten(std::span<const double> limit) {
   double longest = 0;
-  for (Eigen::Index i = 0; i < m; ++i)
-    if (delta_[i] != 0) longest = std::max(longest, std::abs(delta_[i]) / spread[std::size_t(i)]);
+  for (Eigen::Index i = 0; i < unclipped_.size(); ++i)
+    if (unclipped_[i] != 0)
+      longest = std::max(longest, std::abs(unclipped_[i]) / limit[std::size_t(i)]);
   if (!std::isfinite(longest)) return false;
+  delta_ = unclipped_;
   if (longest > 1) delta_ /= longest;
   return true;
+}
+
+bool MeanRefinement::widen(const Eigen::MatrixXd& reported_covariance, double beyond_sigma,
+                           std::span<const double> spread) {
+  if (!(beyond_sigma > 0)) return false;
+  reported_ldlt_.compute(reported_covariance);
+  if (reported_ldlt_.info() != Eigen::Success) return false;
+  scratch_ = reported_ldlt_.solve(unclipped_);
+  const double length2 = unclipped_.dot(scratch_);
+  if (!(length2 > beyond_sigma * beyond_sigma)) return false;  // short, or not finite
+  // The limits in scratch_: the larger of the spread and the reported sd.
+  for (Eigen::Index i = 0; i < unclipped_.size(); ++i)
+    scratch_[i] =
+        std::max(spread[std::size_t(i)], std::sqrt(std::max(0.0, reported_covariance(i, i))));
+  return shorten({scratch_.data(), std::size_t(scratch_.size())});
 }
 
 double MeanRefinement::log_prior(double fraction) const {

@@ -10,7 +10,9 @@
 //   delta = (P^-1 + beta I)^-1 (beta g - P^-1 (theta - mu)),
 // over the states at least min_pixels explained pixels depend on (the
 // others held), shortened so that no state moves further than its spread
-// (the particles' prior standard deviation). The tracker then takes the
+// (the particles' prior standard deviation), or, when the step is longer
+// than widen_beyond_sigma reported standard deviations, than the larger of
+// that spread and its reported standard deviation (widen()). The tracker then takes the
 // full step or its half when it raises the target with the exact pixel
 // model (occlusion, outliers and edges included); otherwise the mean stays.
 //
@@ -42,6 +44,16 @@ class MeanRefinement {
              const Eigen::MatrixXd& information, const Eigen::VectorXd& gradient,
              const std::vector<int>& pixels_per_state, std::span<const double> spread);
 
+  // After solve(): when the step before shortening is longer than
+  // beyond_sigma standard deviations under `reported_covariance` (its
+  // Mahalanobis length; the states' reported covariance), shortens it
+  // instead so that no state moves further than the larger of its spread
+  // and its reported standard deviation. The particles' spread collapses
+  // within an image or two, so while the mean is still far from the image's
+  // optimum it would otherwise crawl. Returns whether it widened.
+  bool widen(const Eigen::MatrixXd& reported_covariance, double beyond_sigma,
+             std::span<const double> spread);
+
   // After solve(): the step, and the log prior (up to a constant) of
   // x + fraction * step.
   const Eigen::VectorXd& step() const { return delta_; }
@@ -51,9 +63,13 @@ class MeanRefinement {
   Eigen::VectorXd encoder_var_rad2_;
   int min_pixels_;
   double beta_;
-  Eigen::VectorXd x_, delta_, rhs_;
+  Eigen::VectorXd x_, delta_, rhs_, unclipped_, scratch_;
   Eigen::MatrixXd prior_, system_;
-  Eigen::LDLT<Eigen::MatrixXd> prior_ldlt_;
+  Eigen::LDLT<Eigen::MatrixXd> prior_ldlt_, reported_ldlt_;
+
+  // delta_ = unclipped_, shortened so that |delta_i| <= limit_i (0: held).
+  // False when a limit is not finite.
+  bool shorten(std::span<const double> limit);
 };
 
 }  // namespace arttrack

@@ -185,6 +185,10 @@ Eigen::MatrixXd PosteriorCovariance::angle_covariance() const {
   return sign_.asDiagonal() * covariance() * sign_.asDiagonal();
 }
 
+void PosteriorCovariance::angle_covariance(Eigen::MatrixXd& out) const {
+  out = sign_.asDiagonal() * (num_consider_ > 0 ? Q_ee_ : P_) * sign_.asDiagonal();
+}
+
 Eigen::MatrixXd PosteriorCovariance::nominal_angle_covariance() const {
   return sign_.asDiagonal() * P_ * sign_.asDiagonal();
 }

@@ -20,6 +20,7 @@ Eigen::VectorXd encoder_var_per_state(const TrackerSetup& setup,
 Refinement::Refinement(const TrackerSetup& setup,
                        const std::vector<PosteriorCovariance::State>& states)
     : on_(setup.config.method == TrackingMethod::kFullFusion && setup.config.refine_mean),
+      widen_beyond_sigma_(setup.config.refinement_widen_beyond_sigma),
       solver_(encoder_var_per_state(setup, states), setup.config.refinement_min_pixels,
               setup.config.likelihood_exponent),
       x_(Eigen::Index(states.size())),
@@ -40,6 +41,10 @@ bool Refinement::refine(const PosteriorCovariance& covariance, const ImageInform
   if (!solver_.solve(covariance.nominal_angle_covariance(), x_, information.information_matrix(),
                      information.gradient(), information.pixels_per_dof(), spread_))
     return false;
+  if (widen_beyond_sigma_ > 0) {
+    covariance.angle_covariance(reported_);
+    solver_.widen(reported_, widen_beyond_sigma_, spread_);
+  }
   const Eigen::VectorXd& step = solver_.step();
   auto target = [&](double fraction) {
     for (int j = 0; j < n; ++j) q_[std::size_t(j)] = belief.mean_a[j];

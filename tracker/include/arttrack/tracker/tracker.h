@@ -45,7 +45,9 @@
 //   residuals with the full prior covariance (DART's local refinement),
 //   taken only if it raises the exact target: it moves the mean along the
 //   ridge between the camera's pose and the arms' biases, where the
-//   coordinate-wise particles lag.
+//   coordinate-wise particles lag. Each state moves at most the particles'
+//   spread, or its reported standard deviation while the step is longer
+//   than refinement.widen_beyond_sigma of them (the mean still converging).
 // - Reported uncertainty. The standard deviations of the biases, angles and
 //   camera offsets are the marginals of a full covariance updated with each
 //   image's Gauss-Newton information (posterior_covariance.h,

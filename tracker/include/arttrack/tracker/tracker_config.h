@@ -164,6 +164,12 @@ struct TrackerConfig {
   // A DOF takes part in the step when at least this many explained pixels
   // depend on it.
   int refinement_min_pixels = 30;
+  // When the step is longer than this many reported standard deviations
+  // (its Mahalanobis length under the reported covariance: the mean is far
+  // from where the image and the prior put it, as while it converges),
+  // each state may move up to its reported standard deviation, not only the
+  // particles' spread. 0: never.
+  double refinement_widen_beyond_sigma = 2.0;
   // Full fusion: each end effector's pose where the images show its end
   // link (the nearest link with geometry at or above it), not only where
   // the joint estimate's kinematics put it (tracker.h, "End-effector fit";

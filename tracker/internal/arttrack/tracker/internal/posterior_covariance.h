@@ -95,6 +95,8 @@ class PosteriorCovariance {
   // The reported covariance of the states' DOFs' angle errors (D Q_ee D, or
   // D P D without consider parameters), without encoder noise.
   Eigen::MatrixXd angle_covariance() const;
+  // The same into `out` (no allocation once `out` has the size).
+  void angle_covariance(Eigen::MatrixXd& out) const;
   // The same from the filter's own covariance P (its weights).
   Eigen::MatrixXd nominal_angle_covariance() const;
   // The reported covariance of the states (Q_ee, or P).

@@ -2,7 +2,9 @@
 // "Refinement"; full fusion with refinement.enabled): one Gauss-Newton step
 // on the filter's target, prior x likelihood^beta, from the image's
 // information and gradient at the filter's mean (MeanRefinement,
-// mean_refinement.h, solves it), then the full step or its half when it
+// mean_refinement.h, solves it; the trust region widens to the reported
+// standard deviations while the step is longer than
+// refinement.widen_beyond_sigma of them), then the full step or its half when it
 // raises that target with the exact pixel model (occlusion, outliers and
 // edges included); otherwise the mean stays.
 //
@@ -38,8 +40,10 @@ class Refinement {
   // Refines `belief`'s angle means on the image's information (computed at
   // them) under the prior N(prior_mean, P) of the image, P the covariance's
   // nominal angle covariance, no state moving further than its prior_std
-  // (per DOF). Folds the step taken into `belief` (fold_angle_marginal, the
-  // variances kept). Returns whether a step was taken.
+  // (per DOF), or its reported standard deviation where larger when the
+  // step is longer than widen_beyond_sigma of them (the reported
+  // covariance's). Folds the step taken into `belief` (fold_angle_marginal,
+  // the variances kept). Returns whether a step was taken.
   bool refine(const PosteriorCovariance& covariance, const ImageInformation& information,
               std::span<const double> prior_mean, std::span<const double> prior_std,
               ImageFilter& image, JointBelief& belief);
@@ -47,11 +51,13 @@ class Refinement {
  private:
   // Setup.
   bool on_ = false;
+  double widen_beyond_sigma_ = 0;
   // Workspace.
   MeanRefinement solver_;
   Eigen::VectorXd x_;  // theta - mu per state
   std::vector<double> spread_;
   std::vector<double> q_;
+  Eigen::MatrixXd reported_;  // the reported angle covariance
 };
 
 }  // namespace arttrack
