@@ -176,17 +176,19 @@ void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
 double PosteriorCovariance::variance_at(int i, double time_s) const {
   double phi, added;
   transition(states_[std::size_t(i)], std::max(0.0, time_s - time_s_), phi, added);
-  return phi * phi * (num_consider_ > 0 ? Q_ee_(i, i) : P_(i, i)) + added;
+  return phi * phi * reported()(i, i) + added;
 }
 
-Eigen::MatrixXd PosteriorCovariance::covariance() const { return num_consider_ > 0 ? Q_ee_ : P_; }
+Eigen::MatrixXd PosteriorCovariance::covariance() const { return reported(); }
 
 Eigen::MatrixXd PosteriorCovariance::angle_covariance() const {
-  return sign_.asDiagonal() * covariance() * sign_.asDiagonal();
+  Eigen::MatrixXd out;
+  angle_covariance(out);
+  return out;
 }
 
 void PosteriorCovariance::angle_covariance(Eigen::MatrixXd& out) const {
-  out = sign_.asDiagonal() * (num_consider_ > 0 ? Q_ee_ : P_) * sign_.asDiagonal();
+  out = sign_.asDiagonal() * reported() * sign_.asDiagonal();
 }
 
 Eigen::MatrixXd PosteriorCovariance::nominal_angle_covariance() const {

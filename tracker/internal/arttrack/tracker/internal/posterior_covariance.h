@@ -104,6 +104,9 @@ class PosteriorCovariance {
   const Eigen::MatrixXd& nominal_covariance() const { return P_; }
 
  private:
+  // Q_ee with consider parameters, else P: what every accessor above reports.
+  const Eigen::MatrixXd& reported() const { return num_consider_ > 0 ? Q_ee_ : P_; }
+
   std::vector<State> states_;
   Eigen::VectorXd sign_;  // D's diagonal
   int num_consider_ = 0;
