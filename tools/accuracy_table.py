@@ -20,9 +20,16 @@ components against their reported covariance.
       times to converge; both consistencies weighted by runs. A method is pooled
       over the folders that ran it.
 
+  tools/accuracy_table.py --camera-axes out/realistic/*
+      per folder and method, the camera offset's share within 2 sigma per
+      virtual joint (x / y / z / roll / pitch / yaw), all samples and
+      converged: the pooled camera column can sit in the band while one
+      axis is never covered (docs/accuracy.md, "The camera's axes").
+
 Exit status 1 if a folder has no readable summary.json (or, with --pool,
 timeseries.csv), or if pooled folders score differently.
 """
+CAMERA_AXES = ("x", "y", "z", "roll", "pitch", "yaw")
 import csv
 import json
 import math
@@ -149,7 +156,38 @@ def pool(folders):
             print_row(scenario, name, runs, lost, *p, ttc, *k)
 
 
+def read_summaries(folders):
+    """The folders' summary.json, and 1 if one was unreadable (named on stderr), else 0."""
+    summaries, status = [], 0
+    for folder in folders:
+        try:
+            with open(f"{folder}/summary.json") as f:
+                summaries.append(json.load(f))
+        except (OSError, ValueError) as e:
+            print(f"accuracy_table: {folder}: {e}", file=sys.stderr)
+            status = 1
+    return summaries, status
+
+
+def camera_axes(folders):
+    """The --camera-axes table; 1 if a folder has no readable summary.json."""
+    summaries, status = read_summaries(folders)
+    print("| scenario | method | runs | camera within 2 sigma, x / y / z / roll / pitch / yaw: "
+          "all samples | the same, converged |")
+    print("|---|---|---|---|---|")
+    for s in summaries:
+        for name, m in s["methods"].items():
+            cells = []
+            for key in ("consistency", "converged_consistency"):
+                axes = (m.get(key) or {}).get("camera_offset_axes") or {}
+                cells.append(" / ".join(pct(axes.get(a)) for a in CAMERA_AXES))
+            print(f"| {s['scenario']} | {name} | {m['lost']['of']} | {cells[0]} | {cells[1]} |")
+    return status
+
+
 def main(folders):
+    if folders and folders[0] == "--camera-axes":
+        return camera_axes(folders[1:])
     if folders and folders[0] == "--pool":
         try:
             pool(folders[1:])
@@ -157,16 +195,9 @@ def main(folders):
             print(f"accuracy_table: {e}", file=sys.stderr)
             return 1
         return 0
-    status = 0
+    summaries, status = read_summaries(folders)
     print_header()
-    for folder in folders:
-        try:
-            with open(f"{folder}/summary.json") as f:
-                s = json.load(f)
-        except (OSError, ValueError) as e:
-            print(f"accuracy_table: {folder}: {e}", file=sys.stderr)
-            status = 1
-            continue
+    for s in summaries:
         for name, m in s["methods"].items():
             c = m["converged_translation_m"]
             ttc_values = m["convergence_time_s"]

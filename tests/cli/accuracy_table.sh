@@ -24,6 +24,10 @@ grep -q "| full_fusion | 2 |" plain.txt || { cp plain.txt out.txt; fail "no full
 [ "$(awk -F'|' '/\| full_fusion \|/ { print NF }' plain.txt)" = 11 ] &&
   grep -q "| full_fusion | 2 |.*% / .*% | .*% / .*% | .*% / .*%, .*% / .*% |$" plain.txt ||
   { cp plain.txt out.txt; fail "the full_fusion row has not both consistencies and the end effectors':"; }
+# The camera per axis: six shares, all samples and converged, per method.
+python3 "$tool" --camera-axes a >axes.txt 2>out.txt || fail "accuracy_table.py --camera-axes a failed:"
+grep -q "| full_fusion | 2 | \([0-9]*% / \)\{5\}[0-9]*% | \([0-9]*% / \)\{5\}[0-9]*% |$" axes.txt ||
+  { cp axes.txt out.txt; fail "--camera-axes: no full_fusion row with six shares twice:"; }
 python3 "$tool" --pool a b >both.txt 2>out.txt || fail "accuracy_table.py --pool a b failed:"
 [ "$(grep -c '| 4 |' both.txt)" = 2 ] || { cp both.txt out.txt; fail "--pool a b: not one row of 4 runs per method:"; }
 timeout 300 "$arttrack" run "$scenario" --methods encoders_only,full_fusion --runs 1 \

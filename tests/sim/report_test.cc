@@ -503,6 +503,9 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
   const std::size_t row = t.find("\nfull_fusion                51.2%");
   ASSERT_NE(row, std::string::npos) << t;
   EXPECT_NE(t.find("\n  from 10 s on            100.0%      100.0%", row), std::string::npos) << t;
+  // No camera truth here: no line of the camera's axes (the CLI test
+  // cli_accuracy_table_pool reads them from a run that has one).
+  EXPECT_EQ(t.find("camera within 2 sigma"), std::string::npos) << t;
 
   const std::string html = report_html(r);
   EXPECT_NE(html.find("within 2&sigma;, from 10.0&nbsp;s on"), std::string::npos);

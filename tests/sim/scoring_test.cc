@@ -469,6 +469,14 @@ TEST(Scoring, ConsistencyCountsTheTruthWithinTwoReportedSigmas) {
   // Camera: 3 estimated components per sample, x always outside.
   EXPECT_EQ(s.all.camera_offset_coverage.estimated, 300u);
   EXPECT_DOUBLE_EQ(s.all.camera_offset_coverage.fraction(), 2.0 / 3.0);
+  // Per axis: x never within, y and z always, the rotations not estimated;
+  // the pooled share is their sum.
+  EXPECT_EQ(s.all.camera_axis_coverage[0].estimated, 100u);
+  EXPECT_DOUBLE_EQ(s.all.camera_axis_coverage[0].fraction(), 0.0);
+  EXPECT_DOUBLE_EQ(s.all.camera_axis_coverage[1].fraction(), 1.0);
+  EXPECT_DOUBLE_EQ(s.all.camera_axis_coverage[2].fraction(), 1.0);
+  for (std::size_t k = 3; k < 6; ++k) EXPECT_EQ(s.all.camera_axis_coverage[k].estimated, 0u);
+  EXPECT_EQ(s.converged.camera_axis_coverage[0].estimated, 50u);
   EXPECT_EQ(s.all.camera_translation_m.p50, 0.02);
   // From 5 s: angle errors 2.0 .. 3.96, of which only 2.0 is within.
   EXPECT_EQ(s.converged.angle_coverage.estimated, 50u);

@@ -414,7 +414,7 @@ ErrorStats stats_from(const std::vector<ErrorTrace>& runs, std::size_t num_joint
       }
       if (camera_cov_known)
         for (std::size_t k = 0; k < 6; ++k)
-          s.camera_offset_coverage.add(run.camera_offset_error(i, k), run.camera_offset_std(i, k));
+          s.camera_axis_coverage[k].add(run.camera_offset_error(i, k), run.camera_offset_std(i, k));
       if (ee_cov_known)
         for (std::size_t e = 0; e < run.num_end_effectors(); ++e)
           for (std::size_t k = 0; k < 6; ++k)
@@ -443,6 +443,7 @@ ErrorStats stats_from(const std::vector<ErrorTrace>& runs, std::size_t num_joint
   if (any_bias_cov) s.joint_bias_coverage = bias_cov;
   for (const Coverage& c : angle_cov) s.angle_coverage += c;
   for (const Coverage& c : bias_cov) s.bias_coverage += c;
+  for (const Coverage& c : s.camera_axis_coverage) s.camera_offset_coverage += c;
   return s;
 }
 

@@ -109,14 +109,13 @@ void camera_section(std::ostream& o, const ScenarioResult& r) {
     entries.push_back(
         {m->method, method_colour(m->method, i), chart::Mark::kLine, chart::Stroke::kSolid});
   chart::legend(o, "camera-legend", entries);
-  const char* names[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
   o << "<div class=\"three\">\n";
   for (int k = 0; k < 6; ++k) {
     const bool translation = k < 3;
     const double scale = translation ? kMm : kDegPerRad;
-    chart::LineChart c =
-        small_time_chart(r, std::string("camera-") + names[k], std::string("camera ") + names[k],
-                         385, 200, translation ? "offset, mm" : "offset, deg");
+    chart::LineChart c = small_time_chart(r, "camera-" + std::string(kCameraOffsetAxes[k]),
+                                          "camera " + std::string(kCameraOffsetAxes[k]), 385, 200,
+                                          translation ? "offset, mm" : "offset, deg");
     c.min_span = translation ? 2.0 : 0.2;
     for (const auto& [i, m] : methods) {
       chart::Series s;

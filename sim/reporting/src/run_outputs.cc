@@ -54,9 +54,13 @@ Json pose_json(const ErrorStats& all, const ErrorStats& converged,
 Json coverage(const Coverage& c) { return number(c.fraction()); }
 
 Json consistency_json(const ErrorStats& s) {
+  Json axes = Json::object();
+  for (std::size_t k = 0; k < kCameraOffsetAxes.size(); ++k)
+    axes[std::string(kCameraOffsetAxes[k])] = coverage(s.camera_axis_coverage[k]);
   return Json{{"angles", coverage(s.angle_coverage)},
               {"biases", coverage(s.bias_coverage)},
               {"camera_offset", coverage(s.camera_offset_coverage)},
+              {"camera_offset_axes", axes},
               {"end_effector_position", coverage(s.end_effector_position_coverage)},
               {"end_effector_rotation", coverage(s.end_effector_rotation_coverage)}};
 }
@@ -402,6 +406,16 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     share(c.camera_offset_coverage, 12);
     share(c.end_effector_position_coverage, 12);
     share(c.end_effector_rotation_coverage, 12);
+    out << "\n";
+  }
+  // The camera's share per virtual joint: the pooled one can sit in the band
+  // while one axis is never covered.
+  for (const MethodResult& m : r.method_results) {
+    if (m.summary.all.camera_offset_coverage.estimated == 0) continue;
+    out << m.method << ", camera within 2 sigma, x y z roll pitch yaw: all samples";
+    for (const Coverage& c : m.summary.all.camera_axis_coverage) share(c, 7);
+    out << "; " << after.str();
+    for (const Coverage& c : m.summary.converged.camera_axis_coverage) share(c, 7);
     out << "\n";
   }
   out << "(-: not estimated, or no truth; end effectors: each position and rotation component\n"

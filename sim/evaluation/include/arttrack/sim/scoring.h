@@ -21,12 +21,14 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "arttrack/tracker/camera.h"
@@ -304,6 +306,11 @@ std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions&
 // terminal's and the report's lost lists); "" when none was or not known.
 std::string out_of_view_note(const LostSpan& span);
 
+// The virtual camera joints' names, in CameraOffset order (translation, then
+// rotation about the nominal camera frame's axes).
+inline constexpr std::array<std::string_view, 6> kCameraOffsetAxes = {"x",    "y",     "z",
+                                                                      "roll", "pitch", "yaw"};
+
 // How often the truth lies within two reported standard deviations.
 struct Coverage {
   // (sample, component) pairs whose reported standard deviation is not 0
@@ -342,6 +349,10 @@ struct ErrorStats {
   // standard deviations, over all joints (all six virtual joints), and per
   // joint (empty without standard deviations or truth).
   Coverage angle_coverage, bias_coverage, camera_offset_coverage;
+  // camera_offset_coverage per virtual joint (kCameraOffsetAxes order): the
+  // pooled share can sit in the band while one axis is never covered and the
+  // other five always are (docs/accuracy.md, "The camera's axes").
+  std::array<Coverage, 6> camera_axis_coverage;
   // The same of the end-effector poses (ScoredSample::end_effector_error):
   // the three position components, and the three rotation components, over
   // the end effectors of the traces (one end effector's alone in its
