@@ -29,12 +29,14 @@ components against their reported covariance.
 Exit status 1 if a folder has no readable summary.json (or, with --pool,
 timeseries.csv), or if pooled folders score differently.
 """
-CAMERA_AXES = ("x", "y", "z", "roll", "pitch", "yaw")
 import csv
 import json
 import math
 import statistics
 import sys
+
+# summary.json's camera_offset_axes keys, in the scorer's order (kCameraOffsetAxes).
+CAMERA_AXES = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
 def mm(v):
