@@ -199,5 +199,82 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
   EXPECT_TRUE(joint_wider);
 }
 
+// uncertainty.link_length_std_m: one consider state per joint origin with
+// a length and geometry below it that the camera does not hang from; the
+// planar arm's shoulder and elbow (the tool has no geometry, the camera
+// hangs from the base).
+TEST(ReportedCovariance, EachJointOriginWithALengthIsAConsiderState) {
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  c.link_length_std_m = 0.002;
+  const TrackerSetup setup(arm_model(), c, {"shoulder", "elbow"});
+  const RobotModel& model = *setup.model;
+  const ReportedCovarianceSetup s(setup, sampling_blocks(model, c));
+  ASSERT_EQ(s.lengths.size(), 2u);
+  const std::vector<int>& with_geometry = model.links_with_geometry();
+  const char* names[] = {"upper", "lower"};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& length = s.lengths[i];
+    EXPECT_EQ(model.link_name(length.link), names[i]);
+    EXPECT_EQ(length.parent, model.link(length.link).parent);
+    EXPECT_TRUE(length.direction_in_parent.isApprox(Eigen::Vector3d::UnitZ()));
+    ASSERT_EQ(length.top_shift_links.size(), 1u);
+    EXPECT_EQ(with_geometry[std::size_t(length.top_shift_links[0])], length.link);
+  }
+  EXPECT_EQ(s.num_consider, 3 * int(with_geometry.size()) + 2);
+  c.model_error = false;
+  const TrackerSetup lengths_only(arm_model(), c, {"shoulder", "elbow"});
+  EXPECT_EQ(ReportedCovarianceSetup(lengths_only, sampling_blocks(model, c)).num_consider, 2);
+  c.link_length_std_m = 0;
+  const TrackerSetup none(arm_model(), c, {"shoulder", "elbow"});
+  const ReportedCovarianceSetup s0(none, sampling_blocks(model, c));
+  EXPECT_TRUE(s0.lengths.empty());
+  EXPECT_EQ(s0.num_consider, 0);
+}
+
+// A stated length error is a consider parameter: it adds to the reported
+// covariance what its standard deviation squared times the gain's response
+// to it says (consider analysis is linear in the parameters' covariance:
+// twice the stated error, four times the addition), and only adds. The
+// forearm leans 0.1 m towards the camera, so its length moves its depth,
+// which the camera offset (not known here) absorbs in part; the real one
+// leans 8 mm further.
+TEST(ReportedCovariance, AStatedLengthErrorAddsItsSquareToTheCovariance) {
+  const auto real = arm_with_forearm_nearer(0.108);
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  c.model_error = false;
+  c.discount_correlated_residuals = false;  // the image counts whole: the effect is clear
+  c.camera_translation = TrackerConfig{}.camera_translation;
+  c.camera_rotation = TrackerConfig{}.camera_rotation;
+  const std::shared_ptr<const RobotModel> model = arm_with_forearm_nearer(0.1);
+  DepthLikelihood likelihood(c.depth_model);
+  likelihood.set_observation(render_truth(*real, 0.4, -0.6));
+  DepthRenderer renderer(*model, kCamera);
+  const std::size_t n = std::size_t(model->num_joints());
+  std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
+  mean[std::size_t(model->joint_index("shoulder"))] = 0.4;
+  mean[std::size_t(model->joint_index("elbow"))] = -0.6;
+  prior_std[std::size_t(model->joint_index("shoulder"))] = 0.05;
+  prior_std[std::size_t(model->joint_index("elbow"))] = 0.05;
+  auto after_two_images = [&](double length_std_m) {
+    TrackerConfig cs = c;
+    cs.link_length_std_m = length_std_m;
+    const TrackerSetup setup(model, cs, {"shoulder", "elbow"});
+    ReportedCovariance reported(setup, sampling_blocks(*model, cs));
+    std::vector<char> reopened(n, 0);
+    TrackingHealth health;
+    for (double t : {1.0, 1.1}) {
+      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
+      reported.end_image(t, health);
+    }
+    return reported.covariance().covariance();
+  };
+  const Eigen::MatrixXd none = after_two_images(0), at_2mm = after_two_images(0.002),
+                        at_4mm = after_two_images(0.004);
+  const Eigen::MatrixXd added = at_2mm - none;
+  EXPECT_GT(added.trace(), 1e-3 * none.trace());
+  EXPECT_GE(added.eigenvalues().real().minCoeff(), -1e-9 * added.trace());
+  EXPECT_LT((at_4mm - none - 4 * added).norm(), 1e-9 * added.norm());
+}
+
 }  // namespace
 }  // namespace arttrack

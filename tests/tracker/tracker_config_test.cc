@@ -236,6 +236,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"uncertainty.model_error_min_std_m", "0.1", "0.2"},
     {"uncertainty.model_error_unpinned_scale", "1", "0.9"},
     {"uncertainty.model_error_unpinned_scale", "10", "11"},
+    {"uncertainty.link_length_std_m", "0", "-1e-3"},
+    {"uncertainty.link_length_std_m", "0.1", "0.2"},
     {"refinement.min_pixels", "1", "0"},
     {"refinement.min_pixels", "10000000", "10000001"},
     {"refinement.widen_beyond_sigma", "0", "-0.5"},

@@ -31,9 +31,40 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
     dofs.push_back(j);
     physical_joint.push_back(j < setup.n_phys);
   }
-  information.link_shifts = model_error;
+  link_length_std_m = setup.config.link_length_std_m;
+  if (link_length_std_m > 0) find_lengths(*setup.model);
+  information.link_shifts = model_error || !lengths.empty();
   information.motion_field = true;
-  num_consider = model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0;
+  num_consider =
+      (model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0) + int(lengths.size());
+}
+
+void ReportedCovarianceSetup::find_lengths(const RobotModel& model) {
+  std::vector<char> carries_camera(std::size_t(model.num_links()), 0);
+  for (int a = model.camera_link(); a >= 0; a = model.link(a).parent)
+    carries_camera[std::size_t(a)] = 1;
+  const std::vector<int>& with_geometry = model.links_with_geometry();
+  std::vector<char> has_geometry(std::size_t(model.num_links()), 0);
+  for (int g : with_geometry) has_geometry[std::size_t(g)] = 1;
+  for (int k = 0; k < model.num_links(); ++k) {
+    const Link& link = model.link(k);
+    const Eigen::Vector3d origin_m = link.T_parent_joint.translation();
+    if (link.parent < 0 || carries_camera[std::size_t(k)] || !(origin_m.norm() >= 1e-3)) continue;
+    LengthParameter length;
+    length.link = k;
+    length.parent = link.parent;
+    length.direction_in_parent = origin_m.normalized();
+    // k if it has geometry, else the links with geometry below k with
+    // none between them and k.
+    for (std::size_t g = 0; g < with_geometry.size(); ++g) {
+      int a = with_geometry[g];
+      if (has_geometry[std::size_t(k)] && a != k) continue;
+      while (a != k && a >= 0 && (a == with_geometry[g] || !has_geometry[std::size_t(a)]))
+        a = model.link(a).parent;
+      if (a == k) length.top_shift_links.push_back(int(g));
+    }
+    if (!length.top_shift_links.empty()) lengths.push_back(std::move(length));
+  }
 }
 
 ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
@@ -41,6 +72,8 @@ ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
     : setup_(setup, sampled),
       covariance_(setup_.states, setup_.num_consider),
       information_(setup_.dofs, setup_.information),
+      model_(setup.model),
+      kinematics_(*setup.model),
       start_(covariance_.size()),
       q_(setup.n) {}
 
@@ -76,40 +109,61 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   const Eigen::MatrixXd& info = information_.motion_field_information();
   const double discount =
       setup_.discount_correlated_residuals ? information_.effective_pixel_fraction() : 1.0;
-  if (!setup_.model_error) {
-    covariance_.update(info, setup_.image_information_scale * discount);
+  const double scale = setup_.image_information_scale * discount;
+  if (setup_.num_consider == 0) {
+    covariance_.update(info, scale);
     return;
   }
-  // The link shifts' variance, averaged over time (one image's estimate is noisy).
-  const double sample = information_.link_shift_variance_m2(&pinned_);
-  // From 0, so that the first images (the estimate still converging, its
-  // residuals large) weigh one image's share each.
-  const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
-  const double keep = std::exp(-dt / setup_.model_error_time_constant_s);
-  model_error_var_m2_ = keep * model_error_var_m2_ + (1 - keep) * sample;
-  model_error_time_s_ = time_s;
-  model_error_started_ = true;
-  health.model_error_std_m = std::sqrt(model_error_var_m2_);
-  const double std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
-  model_error_std_m_ = std_m;
-  consider_cross_ = information_.motion_field_shift_cross_information();
-  consider_cross_ *= std_m;
-  // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm
-  // length, taken up by the shoulder) or one it hardly sees: the estimate,
-  // from the shifts that fit, says least about those (docs/accuracy.md,
-  // stop 41). The physical joints carry such a shift at the scaled
-  // estimate; the camera offset, which every link informs, at the estimate
-  // (stop 42: scaled there too, the dual arm's camera went to 99-100%).
-  const double unpinned_std_m =
-      std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
+  const Eigen::MatrixXd& shift_cross = information_.motion_field_shift_cross_information();
+  consider_cross_.resize(info.rows(), setup_.num_consider);
+  double std_m = 0, unpinned_std_m = 0;
+  if (setup_.model_error) {
+    // The link shifts' variance, averaged over time (one image's estimate is noisy).
+    const double sample = information_.link_shift_variance_m2(&pinned_);
+    // From 0, so that the first images (the estimate still converging, its
+    // residuals large) weigh one image's share each.
+    const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
+    const double keep = std::exp(-dt / setup_.model_error_time_constant_s);
+    model_error_var_m2_ = keep * model_error_var_m2_ + (1 - keep) * sample;
+    model_error_time_s_ = time_s;
+    model_error_started_ = true;
+    health.model_error_std_m = std::sqrt(model_error_var_m2_);
+    std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
+    model_error_std_m_ = std_m;
+    consider_cross_.leftCols(shift_cross.cols()) = shift_cross * std_m;
+    // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm
+    // length, taken up by the shoulder) or one it hardly sees: the estimate,
+    // from the shifts that fit, says least about those (docs/accuracy.md,
+    // stop 41). The physical joints carry such a shift at the scaled
+    // estimate; the camera offset, which every link informs, at the estimate
+    // (stop 42: scaled there too, the dual arm's camera went to 99-100%).
+    unpinned_std_m = std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
+  }
+  fill_length_columns(shift_cross);
   if (unpinned_std_m > std_m) {
     widened_cross_ = consider_cross_;
-    for (int c = 0; c < widened_cross_.cols(); ++c)
+    for (int c = 0; c < shift_cross.cols(); ++c)
       if (!pinned_[std::size_t(c)]) widened_cross_.col(c) *= unpinned_std_m / std_m;
-    covariance_.update(info, consider_cross_, widened_cross_, setup_.physical_joint,
-                       setup_.image_information_scale * discount);
+    covariance_.update(info, consider_cross_, widened_cross_, setup_.physical_joint, scale);
   } else {
-    covariance_.update(info, consider_cross_, setup_.image_information_scale * discount);
+    covariance_.update(info, consider_cross_, scale);
+  }
+}
+
+void ReportedCovariance::fill_length_columns(const Eigen::MatrixXd& shift_cross) {
+  if (setup_.lengths.empty()) return;
+  // A length error of s moves its subtree by s along the origin's
+  // direction: the shifts' columns times that direction in camera axes.
+  forward_kinematics(*model_, q_, kinematics_);
+  const int first = setup_.model_error ? int(shift_cross.cols()) : 0;
+  for (std::size_t i = 0; i < setup_.lengths.size(); ++i) {
+    const ReportedCovarianceSetup::LengthParameter& length = setup_.lengths[i];
+    const Eigen::Vector3d shift_m = T_camera_link(*model_, kinematics_, length.parent).linear() *
+                                    length.direction_in_parent * setup_.link_length_std_m;
+    auto column = consider_cross_.col(first + int(i));
+    column.setZero();
+    for (int a : length.top_shift_links)
+      column.noalias() += shift_cross.middleCols<3>(3 * a) * shift_m;
   }
 }
 

@@ -158,6 +158,14 @@ struct TrackerConfig {
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;
   double model_error_unpinned_scale = 2.0;
+  // The user's stated standard deviation of the URDF's link lengths, m, in
+  // [0, 0.1]: each joint origin the camera does not hang from may be that
+  // much longer or shorter along its translation, an error shared by every
+  // image (one more consider state per joint, reported_covariance.h). The
+  // joints and the camera offset absorb such an error, so the images
+  // cannot size it (the link shifts above come from the residuals left
+  // after that); only what the user knows of their robot can. 0: none.
+  double link_length_std_m = 0.0;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = true;

@@ -4,7 +4,9 @@
 // the motion field, image_information.h) folded in after the image's
 // particle filter, and,
 // with uncertainty.model_error, the link shifts' variance estimated from the
-// images' residuals as consider parameters.
+// images' residuals as consider parameters; with
+// uncertainty.link_length_std_m, each joint origin's length error, the
+// user's stated URDF tolerance, as one more consider parameter per joint.
 //
 // An image's update comes in two halves, with the mean's refinement
 // (refinement.h) between them: begin_image() moves the covariance to the
@@ -17,6 +19,7 @@
 // installed). Not thread-safe: the image thread's.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -28,6 +31,7 @@
 #include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {
@@ -42,7 +46,30 @@ struct ReportedCovarianceSetup {
   std::vector<PosteriorCovariance::State> states;
   std::vector<int> dofs;
   std::vector<char> physical_joint;  // per state: its DOF is a physical joint (not the camera's)
-  int num_consider = 0;              // 3 per link with geometry with model_error, else 0
+  // Consider parameters: 3 per link with geometry with model_error (the
+  // link shifts, image_information.h), then one per entry of `lengths`.
+  int num_consider = 0;
+  // uncertainty.link_length_std_m > 0: a joint origin whose length the real
+  // robot may not have (the URDF's link lengths are measured, machined and
+  // assembled to a tolerance). Its error moves the joint's child link and
+  // everything below it along the origin's translation, in the parent
+  // link's axes: a shift of `top_shift_links` (indices into the model's
+  // links with geometry: the nearest ones at or below the child; each
+  // link shift moves its subtree) along `direction_in_parent`. One per
+  // joint (fixed ones too) whose origin translates at least 1 mm, that the
+  // camera does not hang from (that error is the camera offset's), and
+  // with geometry below it. Unlike the shifts, none is estimated from the
+  // residuals: the joints and the camera offset absorb a length error along
+  // the chain, so the images cannot say how large it is (docs/accuracy.md,
+  // stop 57); its size is what the user states.
+  struct LengthParameter {
+    int link = -1;  // the joint's child link
+    int parent = -1;
+    Eigen::Vector3d direction_in_parent = Eigen::Vector3d::UnitX();
+    std::vector<int> top_shift_links;
+  };
+  std::vector<LengthParameter> lengths;
+  double link_length_std_m = 0;
   ImageInformationParams information;
   double reopened_bias_var_rad2 = 0;  // (acquisition.bias_std_rad)^2
   double image_information_scale = 1;
@@ -51,6 +78,9 @@ struct ReportedCovarianceSetup {
   double model_error_time_constant_s = 2;
   double model_error_min_std_m = 0;
   double model_error_unpinned_scale = 2;  // the constructor copies the configuration's
+
+ private:
+  void find_lengths(const RobotModel& model);
 };
 
 class ReportedCovariance {
@@ -100,6 +130,8 @@ class ReportedCovariance {
   const ReportedCovarianceSetup setup_;
   PosteriorCovariance covariance_;
   ImageInformation information_;
+  std::shared_ptr<const RobotModel> model_;
+  KinematicsState kinematics_;  // at the image's mean, for the lengths' directions
   Eigen::VectorXd start_, q_;
   // uncertainty.model_error: the link shifts' variance averaged over images.
   double model_error_var_m2_ = 0, model_error_time_s_ = 0;
@@ -107,6 +139,9 @@ class ReportedCovariance {
   double model_error_std_m_ = 0;
   Eigen::MatrixXd consider_cross_, widened_cross_;
   std::vector<char> pinned_;  // per link shift column: the last image pinned it
+  // The lengths' columns of consider_cross_ at the image's mean (after
+  // begin_image()'s kinematics), from the shifts' cross-information.
+  void fill_length_columns(const Eigen::MatrixXd& shift_cross);
 };
 
 }  // namespace arttrack
