@@ -530,7 +530,29 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
   EXPECT_NE(html.find("<td>51.2%</td><td>100.0%</td><td>not estimated</td><td>not estimated</td>"
                       "<td>not estimated</td><td>100.0%</td>"),
             std::string::npos);
+  EXPECT_EQ(html.find("camera offset within 2&sigma; per axis"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
+
+  // With camera truth, one row per such method: every axis, all samples /
+  // converged (pitch never covered, the rest always, here).
+  ScenarioResult with_camera = r;
+  for (MethodResult& m : with_camera.method_results) {
+    if (m.method != "full_fusion") continue;
+    for (std::size_t k = 0; k < 6; ++k) {
+      m.summary.all.camera_axis_coverage[k] = Coverage{10, k == 4 ? 0u : 10u};
+      m.summary.converged.camera_axis_coverage[k] = Coverage{4, k == 4 ? 0u : 4u};
+      m.summary.all.camera_offset_coverage += m.summary.all.camera_axis_coverage[k];
+    }
+  }
+  const std::string camera_html = report_html(with_camera);
+  EXPECT_NE(camera_html.find("camera offset within 2&sigma; per axis"), std::string::npos);
+  EXPECT_NE(camera_html.find("<th>roll</th><th>pitch</th><th>yaw</th>"), std::string::npos);
+  EXPECT_NE(camera_html.find("<tr><td class=\"m\">full_fusion</td><td>100.0% / 100.0%</td>"),
+            std::string::npos);
+  EXPECT_NE(camera_html.find("<td>0.0% / 0.0%</td><td>100.0% / 100.0%</td></tr>"),
+            std::string::npos);
+  EXPECT_EQ(count(camera_html, "<td>100.0% / 100.0%</td>"), 5u);  // encoders_only has no row
+  EXPECT_EQ(tag_problem(camera_html), "");
 }
 
 // Two hands, two runs of 20 s, each estimate scored by score_estimate as a

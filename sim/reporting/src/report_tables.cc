@@ -80,6 +80,31 @@ std::string coverage_cell(const Coverage& c) {
   return c.estimated ? fixed(100.0 * c.fraction(), 1) + "%" : std::string("not estimated");
 }
 
+// The camera offset's share per axis, for the methods with camera truth: a
+// pooled share in the band can be one axis never covered and five always
+// (docs/accuracy.md, "The camera's axes").
+void camera_axes_table(std::ostream& o, const ScenarioResult& r) {
+  const auto has_camera = [](const MethodResult& m) {
+    return m.summary.all.camera_offset_coverage.estimated > 0;
+  };
+  if (std::none_of(r.method_results.begin(), r.method_results.end(), has_camera)) return;
+  o << "<p>The camera offset within 2&sigma; per axis: all samples / from "
+    << fixed(r.scoring.converged_after_s, 1)
+    << "&nbsp;s on. The pooled share above can sit in the band while one axis is never "
+       "covered.</p>\n<table><tr><th class=\"m\">method</th>";
+  for (std::string_view axis : kCameraOffsetAxes) o << "<th>" << axis << "</th>";
+  o << "</tr>\n";
+  for (const MethodResult& m : r.method_results) {
+    if (!has_camera(m)) continue;
+    o << "<tr><td class=\"m\">" << text::html_escape(m.method) << "</td>";
+    for (std::size_t k = 0; k < kCameraOffsetAxes.size(); ++k)
+      o << "<td>" << coverage_cell(m.summary.all.camera_axis_coverage[k]) << " / "
+        << coverage_cell(m.summary.converged.camera_axis_coverage[k]) << "</td>";
+    o << "</tr>\n";
+  }
+  o << "</table>\n";
+}
+
 void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
   o << "<h2>Lost runs, consistency and the camera</h2>\n<p>A run is <em>lost</em> for a method "
        "when an end effector's translation error stays above "
@@ -125,6 +150,7 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
       << fixed(s.camera_rotation_rad.p99 * kDegPerRad, 3) << "</td></tr>\n";
   }
   o << "</table>\n";
+  camera_axes_table(o, r);
   std::ostringstream list;
   for (const MethodResult& m : r.method_results)
     for (std::size_t run = 0; run < m.summary.num_runs; ++run)
