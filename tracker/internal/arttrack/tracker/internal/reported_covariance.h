@@ -13,10 +13,11 @@
 // image's time and computes the image's information at the filter's mean;
 // end_image() folds it in.
 //
-// Setup (ReportedCovarianceSetup): the states and what scales the images'
-// information. Workspace: the covariance, the information and the model
-// error's running average. Internal to the tracker (tracker/internal: not
-// installed). Not thread-safe: the image thread's.
+// Setup (ReportedCovarianceSetup): the states, the stated lengths and what
+// scales the images' information. Workspace: the covariance, the
+// information, the model error's running average and the kinematics at
+// the image's mean (the lengths' directions). Internal to the tracker
+// (tracker/internal: not installed). Not thread-safe: the image thread's.
 #pragma once
 
 #include <memory>
