@@ -231,6 +231,49 @@ TEST(ReportedCovariance, EachJointOriginWithALengthIsAConsiderState) {
   EXPECT_EQ(s0.num_consider, 0);
 }
 
+// A joint whose child has no geometry: its length shifts the nearest links
+// with geometry below the child, on every branch, and no link below those
+// (their own shifts carry their subtrees). Here a bare mount carries the
+// upper arm and a side box; the upper arm carries the forearm.
+TEST(ReportedCovariance, ALengthAboveABareLinkShiftsTheNearestLinksWithGeometryBelow) {
+  std::string urdf = kArm;
+  auto replace = [&urdf](const std::string& from, const std::string& to) {
+    const std::size_t at = urdf.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    urdf.replace(at, from.size(), to);
+  };
+  replace(R"(<parent link="base_link"/><child link="upper"/>)",
+          R"(<parent link="mount"/><child link="upper"/>)");
+  replace("</robot>", R"(<link name="mount"/>
+  <link name="side"><visual><geometry><box size="0.03 0.03 0.03"/></geometry></visual></link>
+  <joint name="mount_joint" type="fixed"><parent link="base_link"/><child link="mount"/><origin xyz="0 0 0.02"/></joint>
+  <joint name="side_joint" type="fixed"><parent link="mount"/><child link="side"/><origin xyz="0 0.1 0"/></joint>
+</robot>)");
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  c.link_length_std_m = 0.002;
+  const TrackerSetup setup(
+      std::make_shared<const RobotModel>(RobotModel::from_urdf_string(urdf, ".")), c,
+      {"shoulder", "elbow"});
+  const RobotModel& model = *setup.model;
+  const ReportedCovarianceSetup s(setup, sampling_blocks(model, c));
+  const std::vector<int>& with_geometry = model.links_with_geometry();
+  auto shifted = [&](const std::string& child) {
+    std::vector<std::string> names;
+    for (const auto& length : s.lengths)
+      if (model.link_name(length.link) == child)
+        for (int g : length.top_shift_links)
+          names.push_back(model.link_name(with_geometry[std::size_t(g)]));
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  using Names = std::vector<std::string>;
+  ASSERT_EQ(s.lengths.size(), 4u);  // not the tool (nothing below) nor the camera
+  EXPECT_EQ(shifted("mount"), (Names{"side", "upper"}));
+  EXPECT_EQ(shifted("upper"), Names{"upper"});
+  EXPECT_EQ(shifted("side"), Names{"side"});
+  EXPECT_EQ(shifted("lower"), Names{"lower"});
+}
+
 // A stated length error is a consider parameter: it adds to the reported
 // covariance what its standard deviation squared times the gain's response
 // to it says (consider analysis is linear in the parameters' covariance:

@@ -54,13 +54,14 @@ void ReportedCovarianceSetup::find_lengths(const RobotModel& model) {
     length.link = k;
     length.parent = link.parent;
     length.direction_in_parent = origin_m.normalized();
-    // k if it has geometry, else the links with geometry below k with
-    // none between them and k.
+    // The shifted links: k if it has geometry, else the links with geometry
+    // below k with none between them and k.
     for (std::size_t g = 0; g < with_geometry.size(); ++g) {
-      int a = with_geometry[g];
-      if (has_geometry[std::size_t(k)] && a != k) continue;
-      while (a != k && a >= 0 && (a == with_geometry[g] || !has_geometry[std::size_t(a)]))
-        a = model.link(a).parent;
+      const int top = with_geometry[g];
+      if (top == k) length.top_shift_links.push_back(int(g));
+      if (top == k || has_geometry[std::size_t(k)]) continue;
+      int a = model.link(top).parent;
+      while (a >= 0 && a != k && !has_geometry[std::size_t(a)]) a = model.link(a).parent;
       if (a == k) length.top_shift_links.push_back(int(g));
     }
     if (!length.top_shift_links.empty()) lengths.push_back(std::move(length));
