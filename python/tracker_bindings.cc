@@ -138,12 +138,15 @@ py::dict chain_health_dict(const ChainHealth& c) {
 py::dict health_dict(const TrackingHealth& h) {
   py::list chains;
   for (const ChainHealth& c : h.chains) chains.append(chain_health_dict(c));
+  py::list links;
+  for (const TrackingHealth::LinkModelError& l : h.links)
+    links.append(py::dict("link"_a = l.link, "shift_m"_a = l.shift_m, "images"_a = l.images));
   return py::dict("state"_a = health_state_name(h.state), "image_stamp_s"_a = h.image_stamp_s,
                   "whole"_a = chain_health_dict(h.whole), "chains"_a = chains,
                   "acquisitions"_a = h.acquisitions, "chains_reacquired"_a = h.chains_reacquired,
                   "refinements_accepted"_a = h.refinements_accepted,
                   "last_acquisition_ms"_a = h.last_acquisition_ms,
-                  "model_error_std_m"_a = h.model_error_std_m,
+                  "model_error_std_m"_a = h.model_error_std_m, "links"_a = links,
                   "weakest_part_explained_fraction"_a = h.weakest_part_explained_fraction(),
                   "unconfirmed_chains"_a = h.unconfirmed_chains());
 }
@@ -463,7 +466,9 @@ void bind_tracker(py::module_& m) {
           "chain: name, rendered_pixels, explained_fraction, contradicted_fraction, "
           "abandoned_fraction, weakest_part_joint, weakest_part_explained_fraction, "
           "unconfirmed), acquisitions, chains_reacquired, refinements_accepted, "
-          "last_acquisition_ms, model_error_std_m (m), weakest_part_explained_fraction, "
+          "last_acquisition_ms, model_error_std_m (m), links (per link with geometry: link, "
+          "shift_m, the surface shift the images pin, NaN before one does, and images), "
+          "weakest_part_explained_fraction, "
           "unconfirmed_chains. Fractions are NaN without a verdict (fewer than "
           "health.min_pixels pixels)."_doc);
 

@@ -42,6 +42,12 @@ def test_python_fed_tracker_converges(dataset):
                   for j in arm]
     assert max(abs(x) for x in errors_deg) < 1.0, errors_deg  # of an 8.6 degree bias
     assert e.health["state"] == "tracking"
+    # Per link with geometry: its pinned surface shift, a few millimetres at
+    # most on this exact robot (NaN where no image pinned it).
+    links = e.health["links"]
+    assert [l["link"] for l in links][:2] == ["base_link", "torso"]
+    pinned = [l["shift_m"] for l in links if l["images"] > 0]
+    assert pinned and max(pinned) < 0.003, links
     assert tracker.stats()["images_applied"] == 91
     # The pose and its covariance per end effector.
     assert e.T_camera_ee.shape == (2, 4, 4) and e.T_camera_ee_covariance.shape == (2, 6, 6)

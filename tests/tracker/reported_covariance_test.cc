@@ -199,6 +199,57 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
   EXPECT_TRUE(joint_wider);
 }
 
+// The health names the link that does not fit: the real forearm sits 8 mm
+// nearer the camera than the model's (a shift along the view, which the
+// joints cannot take up), so after some images the forearm's pinned shift
+// reads about 8 mm and the upper arm's about nothing; on the exact arm both
+// read about nothing. The base's shift moves the whole arm, which the camera
+// offset takes up: no image pins it. Without model_error there is no list.
+TEST(ReportedCovariance, TheHealthReportsEachLinksPinnedShift) {
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  auto links_after_images = [&](double forearm_nearer_m, bool model_error) {
+    TrackerConfig cs = c;
+    cs.model_error = model_error;
+    const TrackerSetup setup(arm_model(), cs, {"shoulder", "elbow"});
+    const RobotModel& model = *setup.model;
+    DepthLikelihood likelihood(cs.depth_model);
+    likelihood.set_observation(render_truth(*arm_with_forearm_nearer(forearm_nearer_m), 0.4, -0.6));
+    DepthRenderer renderer(model, kCamera);
+    const std::size_t n = std::size_t(model.num_joints());
+    std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
+    mean[std::size_t(model.joint_index("shoulder"))] = 0.4;
+    mean[std::size_t(model.joint_index("elbow"))] = -0.6;
+    ReportedCovariance reported(setup, sampling_blocks(model, cs));
+    std::vector<char> reopened(n, 0);
+    TrackingHealth health;
+    // 20 s of images 0.5 s apart: the average (2 s) forgets its start at 0.
+    for (int k = 0; k < 40; ++k) {
+      const double t = 1.0 + 0.5 * k;
+      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
+      reported.end_image(t, health);
+    }
+    return health.links;
+  };
+  const auto off = links_after_images(0.008, true);
+  const auto exact = links_after_images(0.0, true);
+  const std::vector<std::string> names = {"base_link", "upper", "lower"};
+  ASSERT_EQ(off.size(), names.size());
+  ASSERT_EQ(exact.size(), names.size());
+  for (std::size_t g = 0; g < names.size(); ++g) {
+    EXPECT_EQ(off[g].link, names[g]);
+    EXPECT_EQ(exact[g].link, names[g]);
+  }
+  EXPECT_TRUE(std::isnan(off[0].shift_m));
+  EXPECT_EQ(off[0].images, 0);
+  EXPECT_TRUE(std::isnan(exact[0].shift_m));
+  EXPECT_EQ(off[2].images, 40);
+  EXPECT_NEAR(off[2].shift_m, 0.008, 0.002);
+  EXPECT_LT(off[1].shift_m, 0.002);
+  EXPECT_LT(exact[1].shift_m, 0.001);
+  EXPECT_LT(exact[2].shift_m, 0.001);
+  EXPECT_TRUE(links_after_images(0.008, false).empty());
+}
+
 // uncertainty.link_length_std_m: one consider state per joint origin with
 // a length and geometry below it that the camera does not hang from; the
 // planar arm's shoulder and elbow (the tool has no geometry, the camera

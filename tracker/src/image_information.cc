@@ -549,8 +549,10 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
   });
 }
 
-double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned, int min_pixels) const {
+double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned, int min_pixels,
+                                                std::vector<double>* column_square_m2) const {
   if (pinned) pinned->assign(3 * shift_links_.size(), 0);
+  if (column_square_m2) column_square_m2->assign(3 * shift_links_.size(), 0.0);
   if (!params_.link_shifts || pixels_used_ == 0) return 0;
   const int n = int(dofs_.size());
   std::vector<int> columns;
@@ -595,9 +597,11 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned, int m
   int counted = 0;
   for (int i = 0; i < k; ++i) {
     if (!(c * noise(i, i) < kMaxShiftNoiseVar_m2)) continue;  // the image hardly sees it
-    sum += estimate[i] * estimate[i] - c * noise(i, i);
+    const double square_m2 = estimate[i] * estimate[i] - c * noise(i, i);
+    sum += square_m2;
     ++counted;
     if (pinned) (*pinned)[std::size_t(columns[std::size_t(i)])] = 1;
+    if (column_square_m2) (*column_square_m2)[std::size_t(columns[std::size_t(i)])] = square_m2;
   }
   return counted > 0 ? std::max(0.0, sum / counted) : 0.0;
 }

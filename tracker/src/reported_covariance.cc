@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace arttrack {
 
@@ -120,7 +121,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   double std_m = 0, unpinned_std_m = 0;
   if (setup_.model_error) {
     // The link shifts' variance, averaged over time (one image's estimate is noisy).
-    const double sample = information_.link_shift_variance_m2(&pinned_);
+    const double sample = information_.link_shift_variance_m2(&pinned_, 20, &column_square_m2_);
     // From 0, so that the first images (the estimate still converging, its
     // residuals large) weigh one image's share each.
     const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
@@ -129,6 +130,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     model_error_time_s_ = time_s;
     model_error_started_ = true;
     health.model_error_std_m = std::sqrt(model_error_var_m2_);
+    update_link_model_errors(time_s, health);
     std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
     model_error_std_m_ = std_m;
     consider_cross_.leftCols(shift_cross.cols()) = shift_cross * std_m;
@@ -148,6 +150,35 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     covariance_.update(info, consider_cross_, widened_cross_, setup_.physical_joint, scale);
   } else {
     covariance_.update(info, consider_cross_, scale);
+  }
+}
+
+void ReportedCovariance::update_link_model_errors(double time_s, TrackingHealth& health) {
+  const std::vector<int>& with_geometry = model_->links_with_geometry();
+  if (health.links.size() != with_geometry.size()) {  // the first image: sized once
+    health.links.assign(with_geometry.size(), {});
+    for (std::size_t g = 0; g < with_geometry.size(); ++g)
+      health.links[g].link = model_->link_name(with_geometry[g]);
+    link_square_m2_.assign(with_geometry.size(), 0.0);
+    link_time_s_.assign(with_geometry.size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  for (std::size_t g = 0; g < with_geometry.size(); ++g) {
+    // The pinned directions' squares add up to the shift's pinned size.
+    double square_m2 = 0;
+    bool pinned = false;
+    for (std::size_t a = 3 * g; a < 3 * g + 3; ++a) {
+      square_m2 += pinned_[a] ? column_square_m2_[a] : 0.0;
+      pinned = pinned || pinned_[a];
+    }
+    if (!pinned) continue;
+    // As the pooled estimate: from 0, one image's share at the first.
+    const double dt =
+        std::isnan(link_time_s_[g]) ? 1.0 / 30 : std::max(0.0, time_s - link_time_s_[g]);
+    const double keep = std::exp(-dt / setup_.model_error_time_constant_s);
+    link_square_m2_[g] = keep * link_square_m2_[g] + (1 - keep) * square_m2;
+    link_time_s_[g] = time_s;
+    health.links[g].shift_m = std::sqrt(std::max(0.0, link_square_m2_[g]));
+    ++health.links[g].images;
   }
 }
 

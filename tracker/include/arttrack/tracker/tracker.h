@@ -141,6 +141,19 @@ struct TrackingHealth {
   // deviation of a link's surface shift the residuals show (uncertainty.
   // model_error), metres; 0 when the model fits the images (or it is off).
   double model_error_std_m = 0;
+  // The same per link, to find the links that do not fit: one per link
+  // with geometry (RobotModel::links_with_geometry order) with
+  // uncertainty.model_error, none without. `shift_m` is the size of the
+  // link's surface shift the residuals show along the directions the images
+  // pin (the DOFs cannot absorb them), averaged like model_error_std_m over
+  // the images that pin some; NaN until one does. A length error along the
+  // chain that the joints take up does not show (docs/accuracy.md).
+  struct LinkModelError {
+    std::string link;
+    double shift_m = std::numeric_limits<double>::quiet_NaN();
+    int images = 0;  // that pinned some direction of it
+  };
+  std::vector<LinkModelError> links;
 
   // The lowest ChainHealth::weakest_part_explained_fraction over the chains
   // (NaN when no chain has a part with a verdict), and how many chains are

@@ -118,7 +118,9 @@ class ReportedCovariance {
   // image_information_scale (and the effective pixel fraction with
   // discount_correlated_residuals); with model_error, first averages the
   // link shifts' variance over model_error_time_constant_s, which `health`
-  // reports (model_error_std_m). No-op without states.
+  // reports (model_error_std_m), and each link's squared shift along the
+  // directions the image pins, averaged over the images that pin some
+  // (health.links). No-op without states.
   void end_image(double time_s, TrackingHealth& health);
 
   // The standard deviation of a link's shift the last end_image() took, m
@@ -139,7 +141,12 @@ class ReportedCovariance {
   bool model_error_started_ = false;
   double model_error_std_m_ = 0;
   Eigen::MatrixXd consider_cross_, widened_cross_;
-  std::vector<char> pinned_;  // per link shift column: the last image pinned it
+  std::vector<char> pinned_;              // per link shift column: the last image pinned it
+  std::vector<double> column_square_m2_;  // per link shift column: its p^2 - noise
+  // Per link with geometry: its pinned squared shift averaged over images,
+  // and the newest image that pinned it (NaN: none yet).
+  std::vector<double> link_square_m2_, link_time_s_;
+  void update_link_model_errors(double time_s, TrackingHealth& health);
   // The lengths' columns of consider_cross_ at the image's mean (after
   // begin_image()'s kinematics), from the shifts' cross-information.
   void fill_length_columns(const Eigen::MatrixXd& shift_cross);
