@@ -555,6 +555,56 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
   EXPECT_EQ(tag_problem(camera_html), "");
 }
 
+// TrackingHealth::links: per link, the median of the runs' last estimates
+// over the runs that pinned it, named in summary.json, the terminal table
+// (the three furthest) and the report; a method without the list has none.
+TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
+  ScenarioResult r = two_hands_result();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // full_fusion's last samples: run 0 and run 1. "hand" is pinned in run 1
+  // only; "base" in none; an earlier sample (run 0) must not count.
+  const std::vector<std::vector<TrackingHealth::LinkModelError>> last = {
+      {{"base", nan, 0}, {"forearm", 0.004, 30}, {"upper", 0.001, 30}, {"hand", nan, 0}},
+      {{"base", nan, 0}, {"forearm", 0.006, 30}, {"upper", 0.003, 30}, {"hand", 0.0015, 4}}};
+  for (std::size_t k = 0; k < 2; ++k) {
+    std::vector<EstimateSample>& samples = r.runs[k].methods[1].samples;
+    samples[samples.size() - 2].health.links = {{"forearm", 0.05, 1}};
+    samples.back().health.links = last[k];
+  }
+  for (std::size_t m = 0; m < r.method_results.size(); ++m)
+    r.method_results[m].links = link_model_fits(r.runs, m);
+  EXPECT_TRUE(r.method_results[0].links.empty());  // encoders_only reports none
+  const std::vector<LinkModelFit>& fits = r.method_results[1].links;
+  ASSERT_EQ(fits.size(), 4u);
+  EXPECT_EQ(fits[0].runs_pinned, 0);
+  EXPECT_TRUE(std::isnan(fits[0].median_shift_m));
+  EXPECT_EQ(fits[1].link, "forearm");
+  EXPECT_EQ(fits[1].runs_pinned, 2);
+  EXPECT_NEAR(fits[1].median_shift_m, 0.005, 1e-12);
+  EXPECT_NEAR(fits[2].median_shift_m, 0.002, 1e-12);
+  EXPECT_EQ(fits[3].runs_pinned, 1);
+  EXPECT_NEAR(fits[3].median_shift_m, 0.0015, 1e-12);
+
+  const std::string json = summary_json(r);
+  EXPECT_NE(json.find("\"links_model_error\": {\n        \"base\": {\n          "
+                      "\"pinned_shift_m\": null,\n          \"runs_pinned\": 0"),
+            std::string::npos)
+      << json;
+  EXPECT_EQ(count(json, "links_model_error"), 1u);  // full_fusion only
+  std::ostringstream table;
+  print_summary_table(table, r);
+  EXPECT_NE(table.str().find("full_fusion, links furthest from the model (pinned surface shift, "
+                             "median of the runs' last estimates): forearm 5.0 mm, upper 2.0 mm, "
+                             "hand 1.5 mm; 1 of 4 links never pinned\n"),
+            std::string::npos)
+      << table.str();
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("<tr><td class=\"m\">forearm</td><td>5.0&nbsp;mm (2/2)</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"m\">base</td><td>not pinned</td></tr>"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
+}
+
 // Two hands, two runs of 20 s, each estimate scored by score_estimate as a
 // run scores it. full_fusion's pose errors spread 2 mm and 10 mrad per
 // component; it reports half that before 10 s (too sure) and that after,

@@ -1,6 +1,33 @@
 #include "arttrack/sim/run_result.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace arttrack::sim {
+
+std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method) {
+  std::vector<LinkModelFit> fits;
+  std::vector<std::vector<double>> shifts_m;  // per link, over runs
+  for (const RunResult& run : runs) {
+    if (method >= run.methods.size()) continue;
+    const std::vector<EstimateSample>& samples = run.methods[method].samples;
+    const auto last = std::find_if(samples.rbegin(), samples.rend(),
+                                   [](const EstimateSample& e) { return !e.health.links.empty(); });
+    if (last == samples.rend()) continue;
+    const auto& links = last->health.links;
+    if (fits.empty()) {
+      for (const TrackingHealth::LinkModelError& l : links) fits.push_back({l.link});
+      shifts_m.resize(links.size());
+    }
+    for (std::size_t g = 0; g < links.size() && g < fits.size(); ++g)
+      if (std::isfinite(links[g].shift_m)) shifts_m[g].push_back(links[g].shift_m);
+  }
+  for (std::size_t g = 0; g < fits.size(); ++g) {
+    fits[g].runs_pinned = int(shifts_m[g].size());
+    if (!shifts_m[g].empty()) fits[g].median_shift_m = percentiles(shifts_m[g]).p50;
+  }
+  return fits;
+}
 
 const MethodResult* ScenarioResult::method(const std::string& name) const {
   for (const MethodResult& m : method_results)

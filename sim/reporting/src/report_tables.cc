@@ -105,6 +105,35 @@ void camera_axes_table(std::ostream& o, const ScenarioResult& r) {
   o << "</table>\n";
 }
 
+// TrackingHealth::links per method: which links fit the model least.
+void links_table(std::ostream& o, const ScenarioResult& r) {
+  std::vector<const MethodResult*> with_links;
+  for (const MethodResult& m : r.method_results)
+    if (!m.links.empty()) with_links.push_back(&m);
+  if (with_links.empty()) return;
+  o << "<p>How far each link seems from the model: the size of its surface shift that the depth "
+       "residuals show along the directions the images pin (the joints and the camera offset "
+       "cannot take them up), in each run's last estimate; the median over the runs that pinned "
+       "it, and how many did. A length the joints take up does not show. A link far above the "
+       "rest is where to look in the URDF.</p>\n<table><tr><th class=\"m\">link</th>";
+  for (const MethodResult* m : with_links) o << "<th>" << text::html_escape(m->method) << "</th>";
+  o << "</tr>\n";
+  for (std::size_t g = 0; g < with_links.front()->links.size(); ++g) {
+    o << "<tr><td class=\"m\">" << text::html_escape(with_links.front()->links[g].link) << "</td>";
+    for (const MethodResult* m : with_links) {
+      o << "<td>";
+      if (g < m->links.size() && m->links[g].runs_pinned > 0)
+        o << fixed(m->links[g].median_shift_m * kMm, 1) << "&nbsp;mm (" << m->links[g].runs_pinned
+          << "/" << m->summary.num_runs << ")";
+      else
+        o << "not pinned";
+      o << "</td>";
+    }
+    o << "</tr>\n";
+  }
+  o << "</table>\n";
+}
+
 void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
   o << "<h2>Lost runs, consistency and the camera</h2>\n<p>A run is <em>lost</em> for a method "
        "when an end effector's translation error stays above "
@@ -151,6 +180,7 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
   }
   o << "</table>\n";
   camera_axes_table(o, r);
+  links_table(o, r);
   std::ostringstream list;
   for (const MethodResult& m : r.method_results)
     for (std::size_t run = 0; run < m.summary.num_runs; ++run)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <type_traits>
@@ -119,6 +120,15 @@ TrackerStats dropped_inputs(const ScenarioResult& r, std::size_t method) {
   return sum;
 }
 
+// Per link: the pinned surface shift, the median of the runs' last
+// estimates (null where no image pinned it), and in how many runs.
+Json links_json(const std::vector<LinkModelFit>& links) {
+  Json j = Json::object();
+  for (const LinkModelFit& l : links)
+    j[l.link] = Json{{"pinned_shift_m", number(l.median_shift_m)}, {"runs_pinned", l.runs_pinned}};
+  return j;
+}
+
 Json recipe_json(const RunRecipe& p) {
   if (p.scenario_yaml.empty()) return nullptr;
   return Json{{"version", p.version},
@@ -162,6 +172,7 @@ std::string summary_json(const ScenarioResult& r) {
     method["consistency"] = consistency_json(s.all);
     method["converged_consistency"] = consistency_json(s.converged);
     method["joints"] = joints_json(s);
+    if (!m.links.empty()) method["links_model_error"] = links_json(m.links);
     methods[m.method] = method;
   }
   j["methods"] = methods;
@@ -417,6 +428,25 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     out << "; " << after.str();
     for (const Coverage& c : m.summary.converged.camera_axis_coverage) share(c, 7);
     out << "\n";
+  }
+  // The links that fit the model least: where to look in the URDF.
+  for (const MethodResult& m : r.method_results) {
+    std::vector<LinkModelFit> pinned;
+    std::copy_if(m.links.begin(), m.links.end(), std::back_inserter(pinned),
+                 [](const LinkModelFit& l) { return l.runs_pinned > 0; });
+    if (pinned.empty()) continue;
+    std::stable_sort(pinned.begin(), pinned.end(),
+                     [](const LinkModelFit& a, const LinkModelFit& b) {
+                       return a.median_shift_m > b.median_shift_m;
+                     });
+    out << m.method << ", links furthest from the model (pinned surface shift, median of the runs' "
+        << "last estimates):";
+    const char* separator = " ";
+    for (std::size_t k = 0; k < pinned.size() && k < 3; ++k, separator = ", ")
+      out << separator << pinned[k].link << " " << std::fixed << std::setprecision(1)
+          << pinned[k].median_shift_m * mm << " mm";
+    out << "; " << m.links.size() - pinned.size() << " of " << m.links.size()
+        << " links never pinned\n";
   }
   out << "(-: not estimated, or no truth; end effectors: each position and rotation component\n"
          "of the reported pose against its reported sd; model error: the links' surface shift the\n"

@@ -149,6 +149,20 @@ struct MethodTiming {
   Percentiles image_latency_ms;
 };
 
+// How far one link of the tracker's model seems from the robot
+// (TrackingHealth::links): its pinned surface shift in each run's last
+// estimate, the median over the runs whose images pinned it.
+struct LinkModelFit {
+  std::string link;
+  double median_shift_m = std::numeric_limits<double>::quiet_NaN();
+  int runs_pinned = 0;
+};
+
+// Per link with geometry, model order, from every run's last estimate that
+// has the list (none without uncertainty.model_error); `method` indexes
+// RunResult::methods.
+std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method);
+
 // Everything about one method over all runs.
 struct MethodResult {
   std::string method;
@@ -158,6 +172,7 @@ struct MethodResult {
   MethodScores scores;
   MethodSummary summary;
   MethodTiming timing;
+  std::vector<LinkModelFit> links;  // link_model_fits
 };
 
 // What reproduces a run (summary.json "reproduce"; arttrack rerun): the

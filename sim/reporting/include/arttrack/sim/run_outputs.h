@@ -41,7 +41,8 @@ namespace arttrack::sim {
 //        "converged_consistency": {...},
 //        "joints": {J: {"angle_abs_error_rad", "bias_abs_error_rad",
 //                       "converged_angle_abs_error_rad", "converged_bias_abs_error_rad",
-//                       "angle_within_2sigma", "bias_within_2sigma"}}}},
+//                       "angle_within_2sigma", "bias_within_2sigma"}},
+//        "links_model_error": {L: {"pinned_shift_m", "runs_pinned"}}}},
 //    "timing": {"joint_update_us": {"p50","p99"}, "image_update_ms": {"p50","p99"},
 //               "evaluations_per_image"},
 //    "dropped": {METHOD: {"joint_measurements", "images_bad_stamp"}},
@@ -66,7 +67,10 @@ namespace arttrack::sim {
 // (null without camera truth). "consistency": the share of (sample,
 // component) pairs whose truth lies within two reported standard deviations,
 // over all samples (converged_: from converged_after_s on); null for a
-// quantity the method does not estimate (standard deviation 0). Timing is
+// quantity the method does not estimate (standard deviation 0).
+// "links_model_error" (only with uncertainty.model_error): per link with
+// geometry, its pinned surface shift (TrackingHealth::links) in the runs'
+// last estimates, the median over the runs that pinned it. Timing is
 // that of full_fusion (else of the first method run): joint updates measured
 // by the runner around each call, image updates as the tracker reports them.
 // Non-finite numbers are written as null.
