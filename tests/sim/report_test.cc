@@ -598,6 +598,16 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
                              "hand 1.5 mm; 1 of 4 links never pinned\n"),
             std::string::npos)
       << table.str();
+  // A model that fits: no link is named.
+  ScenarioResult exact = r;
+  for (LinkModelFit& l : exact.method_results[1].links)
+    if (l.runs_pinned > 0) l.median_shift_m = 0.0;
+  std::ostringstream exact_table;
+  print_summary_table(exact_table, exact);
+  EXPECT_NE(exact_table.str().find("median of the runs' last estimates): none, every pinned link "
+                                   "within 0.1 mm; 1 of 4 links never pinned\n"),
+            std::string::npos)
+      << exact_table.str();
   const std::string html = report_html(r);
   EXPECT_NE(html.find("<tr><td class=\"m\">forearm</td><td>5.0&nbsp;mm (2/2)</td></tr>"),
             std::string::npos);

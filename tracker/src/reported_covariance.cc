@@ -155,7 +155,8 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
 
 void ReportedCovariance::update_link_model_errors(double time_s, TrackingHealth& health) {
   const std::vector<int>& with_geometry = model_->links_with_geometry();
-  if (health.links.size() != with_geometry.size()) {  // the first image: sized once
+  if (pinned_.size() != 3 * with_geometry.size()) return;  // no shifts computed
+  if (health.links.size() != with_geometry.size()) {       // the first image: sized once
     health.links.assign(with_geometry.size(), {});
     for (std::size_t g = 0; g < with_geometry.size(); ++g)
       health.links[g].link = model_->link_name(with_geometry[g]);

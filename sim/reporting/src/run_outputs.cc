@@ -442,9 +442,12 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     out << m.method << ", links furthest from the model (pinned surface shift, median of the runs' "
         << "last estimates):";
     const char* separator = " ";
-    for (std::size_t k = 0; k < pinned.size() && k < 3; ++k, separator = ", ")
-      out << separator << pinned[k].link << " " << std::fixed << std::setprecision(1)
-          << pinned[k].median_shift_m * mm << " mm";
+    if (pinned.front().median_shift_m < 0.05 / mm)  // would print 0.0 mm: name none
+      out << " none, every pinned link within 0.1 mm";
+    else
+      for (std::size_t k = 0; k < pinned.size() && k < 3; ++k, separator = ", ")
+        out << separator << pinned[k].link << " " << std::fixed << std::setprecision(1)
+            << pinned[k].median_shift_m * mm << " mm";
     out << "; " << m.links.size() - pinned.size() << " of " << m.links.size()
         << " links never pinned\n";
   }
