@@ -549,8 +549,9 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
   });
 }
 
-double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned, int min_pixels,
-                                                std::vector<double>* column_square_m2) const {
+double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
+                                                std::vector<double>* column_square_m2,
+                                                int min_pixels) const {
   if (pinned) pinned->assign(3 * shift_links_.size(), 0);
   if (column_square_m2) column_square_m2->assign(3 * shift_links_.size(), 0.0);
   if (!params_.link_shifts || pixels_used_ == 0) return 0;

@@ -5,6 +5,20 @@
 #include <limits>
 
 namespace arttrack {
+namespace {
+
+// A running average of `sample` over `time_constant_s`, from 0: the first
+// sample (last_time_s NaN) weighs one image's share (1/30 s), later ones the
+// time since the previous.
+void average_over_time(double sample, double time_s, double time_constant_s, double& average,
+                       double& last_time_s) {
+  const double dt = std::isnan(last_time_s) ? 1.0 / 30 : std::max(0.0, time_s - last_time_s);
+  const double keep = std::exp(-dt / time_constant_s);
+  average = keep * average + (1 - keep) * sample;
+  last_time_s = time_s;
+}
+
+}  // namespace
 
 ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
                                                  const std::vector<SamplingBlock>& sampled_blocks)
@@ -121,14 +135,11 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   double std_m = 0, unpinned_std_m = 0;
   if (setup_.model_error) {
     // The link shifts' variance, averaged over time (one image's estimate is noisy).
-    const double sample = information_.link_shift_variance_m2(&pinned_, 20, &column_square_m2_);
+    const double sample = information_.link_shift_variance_m2(&pinned_, &column_square_m2_);
     // From 0, so that the first images (the estimate still converging, its
     // residuals large) weigh one image's share each.
-    const double dt = model_error_started_ ? std::max(0.0, time_s - model_error_time_s_) : 1.0 / 30;
-    const double keep = std::exp(-dt / setup_.model_error_time_constant_s);
-    model_error_var_m2_ = keep * model_error_var_m2_ + (1 - keep) * sample;
-    model_error_time_s_ = time_s;
-    model_error_started_ = true;
+    average_over_time(sample, time_s, setup_.model_error_time_constant_s, model_error_var_m2_,
+                      model_error_time_s_);
     health.model_error_std_m = std::sqrt(model_error_var_m2_);
     update_link_model_errors(time_s, health);
     std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
@@ -164,20 +175,13 @@ void ReportedCovariance::update_link_model_errors(double time_s, TrackingHealth&
     link_time_s_.assign(with_geometry.size(), std::numeric_limits<double>::quiet_NaN());
   }
   for (std::size_t g = 0; g < with_geometry.size(); ++g) {
-    // The pinned directions' squares add up to the shift's pinned size.
-    double square_m2 = 0;
-    bool pinned = false;
-    for (std::size_t a = 3 * g; a < 3 * g + 3; ++a) {
-      square_m2 += pinned_[a] ? column_square_m2_[a] : 0.0;
-      pinned = pinned || pinned_[a];
-    }
-    if (!pinned) continue;
-    // As the pooled estimate: from 0, one image's share at the first.
-    const double dt =
-        std::isnan(link_time_s_[g]) ? 1.0 / 30 : std::max(0.0, time_s - link_time_s_[g]);
-    const double keep = std::exp(-dt / setup_.model_error_time_constant_s);
-    link_square_m2_[g] = keep * link_square_m2_[g] + (1 - keep) * square_m2;
-    link_time_s_[g] = time_s;
+    if (!pinned_[3 * g] && !pinned_[3 * g + 1] && !pinned_[3 * g + 2]) continue;
+    // The pinned directions' squares (0 where not pinned) add up to the
+    // shift's pinned size; averaged as the pooled estimate.
+    const double square_m2 =
+        column_square_m2_[3 * g] + column_square_m2_[3 * g + 1] + column_square_m2_[3 * g + 2];
+    average_over_time(square_m2, time_s, setup_.model_error_time_constant_s, link_square_m2_[g],
+                      link_time_s_[g]);
     health.links[g].shift_m = std::sqrt(std::max(0.0, link_square_m2_[g]));
     ++health.links[g].images;
   }

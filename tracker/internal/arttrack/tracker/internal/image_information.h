@@ -181,8 +181,9 @@ class ImageInformation {
   // set per shift column (3 per link, as shift_cross_information()) to
   // whether this image pinned it (and so counted it); `column_square_m2`
   // to that shift's p_i^2 - c (A^-1)_ii where pinned, 0 elsewhere.
-  double link_shift_variance_m2(std::vector<char>* pinned = nullptr, int min_pixels = 20,
-                                std::vector<double>* column_square_m2 = nullptr) const;
+  double link_shift_variance_m2(std::vector<char>* pinned = nullptr,
+                                std::vector<double>* column_square_m2 = nullptr,
+                                int min_pixels = 20) const;
 
   // Rigid fits (the end-effector fit, end_effector_fit.h): for each link
   // given to set_rigid_fit_links() (links with geometry), the normal

@@ -20,6 +20,7 @@
 // (tracker/internal: not installed). Not thread-safe: the image thread's.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -137,8 +138,8 @@ class ReportedCovariance {
   KinematicsState kinematics_;  // at the image's mean, for the lengths' directions
   Eigen::VectorXd start_, q_;
   // uncertainty.model_error: the link shifts' variance averaged over images.
-  double model_error_var_m2_ = 0, model_error_time_s_ = 0;
-  bool model_error_started_ = false;
+  // (model_error_time_s_: the newest image's; NaN before the first.)
+  double model_error_var_m2_ = 0, model_error_time_s_ = std::numeric_limits<double>::quiet_NaN();
   double model_error_std_m_ = 0;
   Eigen::MatrixXd consider_cross_, widened_cross_;
   std::vector<char> pinned_;              // per link shift column: the last image pinned it
