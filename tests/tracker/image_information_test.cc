@@ -302,6 +302,22 @@ TEST(ImageInformation, LinkShiftVarianceSeesAShiftedLink) {
   const long count = std::count(pinned.begin(), pinned.end(), 1);
   EXPECT_GE(count, 3);
   EXPECT_LE(count, 6);
+  // The normal equations the fit solved (what LearnedLinkShifts sums):
+  // the block's shift along the camera's z reads its 4 mm.
+  ImageInformation::ProjectedShiftEquations equations;
+  info.link_shift_variance_m2(nullptr, nullptr, &equations);
+  EXPECT_GE(equations.noise_var, 1.0);
+  const auto& with_geometry = info.shift_links();
+  const int block_z = 3 * int(std::find(with_geometry.begin(), with_geometry.end(), block_link) -
+                              with_geometry.begin()) +
+                      2;
+  const auto it = std::find(equations.columns.begin(), equations.columns.end(), block_z);
+  ASSERT_NE(it, equations.columns.end());
+  const Eigen::MatrixXd A =
+      equations.A + 1e-9 * equations.A.diagonal().maxCoeff() *
+                        Eigen::MatrixXd::Identity(equations.A.rows(), equations.A.cols());
+  const Eigen::VectorXd fit_m = A.ldlt().solve(equations.b);
+  EXPECT_NEAR(fit_m[it - equations.columns.begin()], -0.004, 0.001);
 }
 
 // A link whose every shift the camera's DOFs explain (the plate alone in

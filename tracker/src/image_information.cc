@@ -551,9 +551,14 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
 
 double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
                                                 std::vector<double>* column_square_m2,
+                                                ProjectedShiftEquations* equations,
                                                 int min_pixels) const {
   if (pinned) pinned->assign(3 * shift_links_.size(), 0);
   if (column_square_m2) column_square_m2->assign(3 * shift_links_.size(), 0.0);
+  if (equations) {
+    equations->columns.clear();
+    equations->noise_var = 0;
+  }
   if (!params_.link_shifts || pixels_used_ == 0) return 0;
   const int n = int(dofs_.size());
   std::vector<int> columns;
@@ -577,6 +582,10 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
   }
   A -= C.transpose() * dofs.solve(C);
   b -= C.transpose() * dofs.solve(gradient_);
+  if (equations) {  // before the ridge: a caller that sums images' adds its own
+    equations->A = A;
+    equations->b = b;
+  }
   A.diagonal().array() += 1e-9 * std::max(1.0, A.diagonal().maxCoeff());
   const Eigen::LDLT<Eigen::MatrixXd> shifts(A);
   // A is positive semi-definite in exact arithmetic. Where the image barely
@@ -591,6 +600,10 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
   const double fitted = gradient_.dot(dofs.solve(gradient_));
   const int left = pixels_used_ - n - k;
   const double c = left > 0 ? std::max(1.0, (residual_sum_sq_ - fitted - chi2) / left) : 1.0;
+  if (equations) {
+    equations->columns = columns;
+    equations->noise_var = c;
+  }
   // Each shift's square less its noise variance c (A^-1)_ii, averaged over
   // the shifts: every link counts the same, however many pixels it has.
   const Eigen::MatrixXd noise = shifts.solve(Eigen::MatrixXd::Identity(k, k));

@@ -180,10 +180,30 @@ class ImageInformation {
   // matrices (k up to 3 x links) once per image. `pinned`, when given, is
   // set per shift column (3 per link, as shift_cross_information()) to
   // whether this image pinned it (and so counted it); `column_square_m2`
-  // to that shift's p_i^2 - c (A^-1)_ii where pinned, 0 elsewhere.
+  // to that shift's p_i^2 - c (A^-1)_ii where pinned, 0 elsewhere;
+  // `equations` to the fit's normal equations (ProjectedShiftEquations).
+  struct ProjectedShiftEquations;
   double link_shift_variance_m2(std::vector<char>* pinned = nullptr,
                                 std::vector<double>* column_square_m2 = nullptr,
+                                ProjectedShiftEquations* equations = nullptr,
                                 int min_pixels = 20) const;
+  // The shifts' normal equations with the DOFs projected out, as
+  // link_shift_variance_m2() fits them: over the shift columns `columns`
+  // (indices as shift_cross_information()'s), A (k x k) and b (k), in
+  // normalised residuals per metre; the fit is A^-1 b with noise
+  // covariance noise_var A^-1. noise_var 0 (and k 0): the image fitted no
+  // shift (none shown, or A indefinite).
+  struct ProjectedShiftEquations {
+    std::vector<int> columns;
+    Eigen::MatrixXd A;
+    Eigen::VectorXd b;
+    double noise_var = 0;
+  };
+  // The camera's pose in each link with geometry's frame (index as
+  // shift_links()) at the last compute()'s configuration: a shift of link k
+  // along its own axis a is T_link_camera()[k].linear().row(a) in camera
+  // axes.
+  const std::vector<Eigen::Isometry3d>& T_link_camera() const { return T_link_camera_; }
 
   // Rigid fits (the end-effector fit, end_effector_fit.h): for each link
   // given to set_rigid_fit_links() (links with geometry), the normal
