@@ -1,6 +1,7 @@
 // Speed of the estimation building blocks: the joint Kalman bank (one 1 kHz
 // step, and re-filtering 100 ms after a delayed image), one depth likelihood
-// evaluation, and the coordinate particle filter's own overhead.
+// evaluation, the coordinate particle filter's own overhead, and the link
+// shifts learned over poses (one image's sum and solve).
 //   ./bench_filters [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
@@ -12,6 +13,7 @@
 #include "arttrack/tracker/internal/coordinate_particle_filter.h"
 #include "arttrack/tracker/internal/depth_likelihood.h"
 #include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/learned_link_shifts.h"
 #include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
@@ -207,6 +209,37 @@ void BM_CpfOverhead(benchmark::State& state) {
                  " workers");
 }
 BENCHMARK(BM_CpfOverhead)->Args({20, 1})->Args({200, 1})->Args({200, 2});
+
+// uncertainty.model_error_learned_shifts, per image: one image's projected
+// shift equations (every link shown, 3 columns each) added in the links'
+// axes, then the solve. N links with geometry: arm7's 11, the dual arm's
+// 23, and 60 for a larger maker description.
+void BM_LearnedLinkShifts(benchmark::State& state) {
+  const int links = int(state.range(0));
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> normal;
+  ImageInformation::ProjectedShiftEquations equations;
+  for (int c = 0; c < 3 * links; ++c) equations.columns.push_back(c);
+  Eigen::MatrixXd G(4 * links, 3 * links);
+  for (int i = 0; i < G.size(); ++i) G.data()[i] = normal(rng);
+  equations.A = G.transpose() * G;
+  equations.b = Eigen::VectorXd::NullaryExpr(3 * links, [&] { return normal(rng); });
+  equations.noise_var = 1.5;
+  std::vector<Eigen::Isometry3d> T_link_camera(std::size_t(links), Eigen::Isometry3d::Identity());
+  for (int k = 0; k < links; ++k)
+    T_link_camera[std::size_t(k)].linear() =
+        Eigen::AngleAxisd(0.1 * k, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  LearnedLinkShifts learned(links, 10.0);
+  double t_s = 0;
+  for (auto _ : state) {
+    learned.add_image(t_s, equations, T_link_camera, 0.3);
+    learned.solve();
+    benchmark::DoNotOptimize(learned.shift_m(0).data());
+    t_s += 1.0 / 30;
+  }
+  state.SetLabel(std::to_string(links) + " links");
+}
+BENCHMARK(BM_LearnedLinkShifts)->Arg(11)->Arg(23)->Arg(60)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace arttrack

@@ -277,6 +277,9 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.model_error_time_constant_s", &C::model_error_time_constant_s),
     key("uncertainty.model_error_min_std_m", &C::model_error_min_std_m),
     key("uncertainty.model_error_unpinned_scale", &C::model_error_unpinned_scale),
+    key("uncertainty.model_error_learned_shifts", &C::model_error_learned_shifts),
+    key("uncertainty.model_error_learned_time_constant_s", &C::model_error_learned_time_constant_s),
+    key("uncertainty.model_error_learned_max_std_m", &C::model_error_learned_max_std_m),
     key("uncertainty.link_length_std_m", &C::link_length_std_m));
   f(key("refinement.enabled", &C::refine_mean),
     key("refinement.min_pixels", &C::refinement_min_pixels),

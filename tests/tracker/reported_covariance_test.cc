@@ -250,6 +250,60 @@ TEST(ReportedCovariance, TheHealthReportsEachLinksPinnedShift) {
   EXPECT_TRUE(links_after_images(0.008, false).empty());
 }
 
+// uncertainty.model_error_learned_shifts: the forearm, 8 mm nearer the
+// camera than its model (along the joints' axis: the same shift in the
+// forearm's own axes in every pose), seen over 40 poses, is learned at
+// about its size, larger than the pooled estimate the prior has without:
+// the camera's reported variances grow. On the exact arm nothing is
+// learned above its noise, and the covariance is the same to the bit.
+TEST(ReportedCovariance, ALearnedShiftLargerThanTheEstimateWidensItsPrior) {
+  const TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  auto variances_after_poses = [&](double forearm_nearer_m, bool learned) {
+    TrackerConfig cs = c;
+    cs.model_error_learned_shifts = learned;
+    // The 64x48 image's residuals, one offset over few pixels, are
+    // correlated throughout: the discount would leave the sums almost
+    // nothing to learn from in 40 images.
+    cs.discount_correlated_residuals = false;
+    const TrackerSetup setup(arm_model(), cs, {"shoulder", "elbow"});
+    const RobotModel& model = *setup.model;
+    const auto real = arm_with_forearm_nearer(forearm_nearer_m);
+    DepthLikelihood likelihood(cs.depth_model);
+    DepthRenderer renderer(model, kCamera);
+    const std::size_t n = std::size_t(model.num_joints());
+    std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
+    ReportedCovariance reported(setup, sampling_blocks(model, cs));
+    std::vector<char> reopened(n, 0);
+    TrackingHealth health;
+    for (int k = 0; k < 40; ++k) {
+      const double t = 1.0 + 0.25 * k;
+      const double shoulder = 0.4 + 0.3 * std::sin(0.3 * k), elbow = -0.6 + 0.4 * std::cos(0.2 * k);
+      mean[std::size_t(model.joint_index("shoulder"))] = shoulder;
+      mean[std::size_t(model.joint_index("elbow"))] = elbow;
+      likelihood.set_observation(render_truth(*real, shoulder, elbow));
+      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
+      reported.end_image(t, health);
+    }
+    return Eigen::VectorXd(reported.covariance().covariance().diagonal());
+  };
+  const Eigen::VectorXd off = variances_after_poses(0.008, false);
+  const Eigen::VectorXd on = variances_after_poses(0.008, true);
+  const auto& states = ReportedCovarianceSetup(TrackerSetup(arm_model(), c, {"shoulder", "elbow"}),
+                                               sampling_blocks(*arm_model(), c))
+                           .states;
+  ASSERT_EQ(off.size(), Eigen::Index(states.size()));
+  // The camera's six (its offset is what the forearm's depth informs most
+  // here: the encoders' biases are the bias prior's): 1.5-2x on y and roll.
+  double camera_off = 0, camera_on = 0;
+  for (std::size_t i = 0; i < states.size(); ++i)
+    if (states[i].kind == Kind::kAngle) {
+      camera_off += off[Eigen::Index(i)];
+      camera_on += on[Eigen::Index(i)];
+    }
+  EXPECT_GT(camera_on, 1.5 * camera_off);
+  EXPECT_EQ(variances_after_poses(0.0, true), variances_after_poses(0.0, false));
+}
+
 // uncertainty.link_length_std_m: one consider state per joint origin with
 // a length and geometry below it that the camera does not hang from; the
 // planar arm's shoulder and elbow (the tool has no geometry, the camera

@@ -29,7 +29,11 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
       model_error(setup.config.model_error),
       model_error_time_constant_s(setup.config.model_error_time_constant_s),
       model_error_min_std_m(setup.config.model_error_min_std_m),
-      model_error_unpinned_scale(setup.config.model_error_unpinned_scale) {
+      model_error_unpinned_scale(setup.config.model_error_unpinned_scale),
+      model_error_learned_shifts(setup.config.model_error &&
+                                 setup.config.model_error_learned_shifts),
+      model_error_learned_time_constant_s(setup.config.model_error_learned_time_constant_s),
+      model_error_learned_max_std_m(setup.config.model_error_learned_max_std_m) {
   const JointFilterModel& filter = *setup.filter_model;
   std::vector<char> sampled(setup.n, 0);
   for (const SamplingBlock& b : sampled_blocks)
@@ -91,7 +95,11 @@ ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
       model_(setup.model),
       kinematics_(*setup.model),
       start_(covariance_.size()),
-      q_(setup.n) {}
+      q_(setup.n) {
+  if (setup_.model_error_learned_shifts && covariance_.size() > 0)
+    learned_ = std::make_unique<LearnedLinkShifts>(int(setup.model->links_with_geometry().size()),
+                                                   setup_.model_error_learned_time_constant_s);
+}
 
 bool ReportedCovariance::begin_image(double time_s, std::span<const double> prior_std,
                                      std::vector<char>& reopened, std::span<const double> mean,
@@ -135,7 +143,12 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   double std_m = 0, unpinned_std_m = 0;
   if (setup_.model_error) {
     // The link shifts' variance, averaged over time (one image's estimate is noisy).
-    const double sample = information_.link_shift_variance_m2(&pinned_, &column_square_m2_);
+    const double sample = information_.link_shift_variance_m2(
+        &pinned_, &column_square_m2_, learned_ ? &shift_equations_ : nullptr);
+    if (learned_) {  // each image's fit weighs its independent pixels' share
+      learned_->add_image(time_s, shift_equations_, information_.T_link_camera(), discount);
+      learned_->solve();
+    }
     // From 0, so that the first images (the estimate still converging, its
     // residuals large) weigh one image's share each.
     average_over_time(sample, time_s, setup_.model_error_time_constant_s, model_error_var_m2_,
@@ -154,10 +167,12 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     unpinned_std_m = std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
   }
   fill_length_columns(shift_cross);
-  if (unpinned_std_m > std_m) {
+  if (unpinned_std_m > std_m || learned_) {
     widened_cross_ = consider_cross_;
-    for (int c = 0; c < shift_cross.cols(); ++c)
-      if (!pinned_[std::size_t(c)]) widened_cross_.col(c) *= unpinned_std_m / std_m;
+    if (unpinned_std_m > std_m)
+      for (int c = 0; c < shift_cross.cols(); ++c)
+        if (!pinned_[std::size_t(c)]) widened_cross_.col(c) *= unpinned_std_m / std_m;
+    if (learned_) widen_learned_axes(shift_cross, std_m, unpinned_std_m);
     covariance_.update(info, consider_cross_, widened_cross_, setup_.physical_joint, scale);
   } else {
     covariance_.update(info, consider_cross_, scale);
@@ -184,6 +199,40 @@ void ReportedCovariance::update_link_model_errors(double time_s, TrackingHealth&
                       link_time_s_[g]);
     health.links[g].shift_m = std::sqrt(std::max(0.0, link_square_m2_[g]));
     ++health.links[g].images;
+  }
+}
+
+void ReportedCovariance::widen_learned_axes(const Eigen::MatrixXd& shift_cross, double std_m,
+                                            double unpinned_std_m) {
+  const double max_var_m2 =
+      setup_.model_error_learned_max_std_m * setup_.model_error_learned_max_std_m;
+  const std::vector<Eigen::Isometry3d>& T_link_camera = information_.T_link_camera();
+  for (int k = 0; k < learned_->num_links(); ++k) {
+    // The learned shift's excess over the prior, per learned axis of the
+    // link: a shift N(0, s^2) learned as p with noise variance v has
+    // E[p^2] = s^2 + v, so s^2 is about p^2 - v.
+    Eigen::Vector3d excess_m2 = Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d& covariance_m2 = learned_->covariance_m2(k);
+    for (int b = 0; b < 3; ++b)
+      if (covariance_m2(b, b) < max_var_m2) {
+        const double p_m = learned_->shift_m(k)[b];
+        excess_m2[b] = std::max(0.0, p_m * p_m - covariance_m2(b, b) - std_m * std_m);
+      }
+    if (!(excess_m2.array() > 0).any()) continue;
+    // Link axis b is row b of R_link_camera in camera axes.
+    const Eigen::Matrix3d R = T_link_camera[std::size_t(k)].linear();
+    const Eigen::Matrix3d excess_camera_m2 = R.transpose() * excess_m2.asDiagonal() * R;
+    // A floor of (1 nm)^2 keeps the factor defined where the prior is 0.
+    const Eigen::Matrix3d floor_m2 = Eigen::Matrix3d::Identity() * 1e-18;
+    Eigen::Matrix3d prior_m2 = Eigen::Matrix3d::Identity() * (std_m * std_m);
+    const Eigen::Matrix3d factor = (prior_m2 + excess_camera_m2 + floor_m2).llt().matrixL();
+    for (int a = 0; a < 3; ++a) {
+      const double sd = pinned_[std::size_t(3 * k + a)] ? std_m : std::max(std_m, unpinned_std_m);
+      prior_m2(a, a) = sd * sd;
+    }
+    const Eigen::Matrix3d widened = (prior_m2 + excess_camera_m2 + floor_m2).llt().matrixL();
+    consider_cross_.middleCols<3>(3 * k).noalias() = shift_cross.middleCols<3>(3 * k) * factor;
+    widened_cross_.middleCols<3>(3 * k).noalias() = shift_cross.middleCols<3>(3 * k) * widened;
   }
 }
 

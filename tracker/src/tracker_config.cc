@@ -162,6 +162,10 @@ void TrackerConfig::validate(const std::string& source) const {
         R::closed(1e-3, 1e4));
   check("uncertainty.model_error_min_std_m", model_error_min_std_m, R::closed(0, 0.1));
   check("uncertainty.model_error_unpinned_scale", model_error_unpinned_scale, R::closed(1, 10));
+  check("uncertainty.model_error_learned_time_constant_s", model_error_learned_time_constant_s,
+        R::closed(1e-3, 1e4));
+  check("uncertainty.model_error_learned_max_std_m", model_error_learned_max_std_m,
+        R::closed(1e-6, 0.1));
   check("uncertainty.link_length_std_m", link_length_std_m, R::closed(0, 0.1));
   check("refinement.min_pixels", refinement_min_pixels, R::closed(1, 1e7));
   check("refinement.widen_beyond_sigma", refinement_widen_beyond_sigma, R::closed(0, 100));
@@ -280,14 +284,19 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   }
 
   const ConfigNode uncertainty = root.child("uncertainty");
-  read_numbers(uncertainty, {{"image_information_scale", &c.image_information_scale},
-                             {"model_error_time_constant_s", &c.model_error_time_constant_s},
-                             {"model_error_min_std_m", &c.model_error_min_std_m},
-                             {"model_error_unpinned_scale", &c.model_error_unpinned_scale},
-                             {"link_length_std_m", &c.link_length_std_m}});
+  read_numbers(uncertainty,
+               {{"image_information_scale", &c.image_information_scale},
+                {"model_error_time_constant_s", &c.model_error_time_constant_s},
+                {"model_error_min_std_m", &c.model_error_min_std_m},
+                {"model_error_unpinned_scale", &c.model_error_unpinned_scale},
+                {"model_error_learned_time_constant_s", &c.model_error_learned_time_constant_s},
+                {"model_error_learned_max_std_m", &c.model_error_learned_max_std_m},
+                {"link_length_std_m", &c.link_length_std_m}});
   c.discount_correlated_residuals =
       uncertainty.get<bool>("discount_correlated_residuals", c.discount_correlated_residuals);
   c.model_error = uncertainty.get<bool>("model_error", c.model_error);
+  c.model_error_learned_shifts =
+      uncertainty.get<bool>("model_error_learned_shifts", c.model_error_learned_shifts);
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
   read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels},

@@ -158,6 +158,17 @@ struct TrackerConfig {
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;
   double model_error_unpinned_scale = 2.0;
+  // Also learn each link's shift over many poses, in the link's own axes
+  // (learned_link_shifts.h: each image's shift fit summed over
+  // model_error_learned_time_constant_s); where an axis is learned (the
+  // sum's standard deviation under model_error_learned_max_std_m), the
+  // shift's prior along it is at least the learned shift's size. A length
+  // the joints take up shows over poses, not in one image: on the
+  // realistic dual arm the camera's pitch is then within 2 sigma as often
+  // as it claims (docs/accuracy.md, stop 59).
+  bool model_error_learned_shifts = false;
+  double model_error_learned_time_constant_s = 10.0;
+  double model_error_learned_max_std_m = 0.001;
   // The user's stated standard deviation of the URDF's link lengths, m, in
   // [0, 0.1]: each joint origin the camera does not hang from may be that
   // much longer or shorter along its translation, an error shared by every

@@ -6,7 +6,10 @@
 // with uncertainty.model_error, the link shifts' variance estimated from the
 // images' residuals as consider parameters; with
 // uncertainty.link_length_std_m, each joint origin's length error, the
-// user's stated URDF tolerance, as one more consider parameter per joint.
+// user's stated URDF tolerance, as one more consider parameter per joint;
+// with uncertainty.model_error_learned_shifts, each link's shift learned
+// over many poses (learned_link_shifts.h) widens its prior where it is
+// larger.
 //
 // An image's update comes in two halves, with the mean's refinement
 // (refinement.h) between them: begin_image() moves the covariance to the
@@ -31,6 +34,7 @@
 #include "arttrack/tracker/internal/depth_likelihood.h"
 #include "arttrack/tracker/internal/image_information.h"
 #include "arttrack/tracker/internal/joint_filter.h"
+#include "arttrack/tracker/internal/learned_link_shifts.h"
 #include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/kinematics.h"
@@ -80,6 +84,9 @@ struct ReportedCovarianceSetup {
   double model_error_time_constant_s = 2;
   double model_error_min_std_m = 0;
   double model_error_unpinned_scale = 2;  // the constructor copies the configuration's
+  bool model_error_learned_shifts = false;
+  double model_error_learned_time_constant_s = 10;
+  double model_error_learned_max_std_m = 0.001;
 
  private:
   void find_lengths(const RobotModel& model);
@@ -148,6 +155,18 @@ class ReportedCovariance {
   // and the newest image that pinned it (NaN: none yet).
   std::vector<double> link_square_m2_, link_time_s_;
   void update_link_model_errors(double time_s, TrackingHealth& health);
+  // uncertainty.model_error_learned_shifts: the shifts learned over poses
+  // (null without), the image's equations for them, and the per-link
+  // factors of the widened priors (workspace).
+  std::unique_ptr<LearnedLinkShifts> learned_;
+  ImageInformation::ProjectedShiftEquations shift_equations_;
+  // Replaces each link's columns of consider_cross_ (prior sd std_m per
+  // camera axis) and widened_cross_ (unpinned_std_m where the image did not
+  // pin the axis) by the prior with the learned shift's excess over std_m
+  // added along every learned link axis: the columns times the Cholesky
+  // factor of that covariance (continuous in it, so the consider
+  // parameters stay the same ones from image to image).
+  void widen_learned_axes(const Eigen::MatrixXd& shift_cross, double std_m, double unpinned_std_m);
   // The lengths' columns of consider_cross_ at the image's mean (after
   // begin_image()'s kinematics), from the shifts' cross-information.
   void fill_length_columns(const Eigen::MatrixXd& shift_cross);
