@@ -166,7 +166,7 @@ struct TrackerConfig {
   // the joints take up shows over poses, not in one image: on the
   // realistic dual arm the camera's pitch is then within 2 sigma as often
   // as it claims (docs/accuracy.md, stop 59).
-  bool model_error_learned_shifts = false;
+  bool model_error_learned_shifts = true;
   double model_error_learned_time_constant_s = 10.0;
   double model_error_learned_max_std_m = 0.001;
   // The user's stated standard deviation of the URDF's link lengths, m, in
