@@ -156,8 +156,7 @@ class ReportedCovariance {
   std::vector<double> link_square_m2_, link_time_s_;
   void update_link_model_errors(double time_s, TrackingHealth& health);
   // uncertainty.model_error_learned_shifts: the shifts learned over poses
-  // (null without), the image's equations for them, and the per-link
-  // factors of the widened priors (workspace).
+  // (null without) and the image's equations for them (workspace).
   std::unique_ptr<LearnedLinkShifts> learned_;
   ImageInformation::ProjectedShiftEquations shift_equations_;
   // Replaces each link's columns of consider_cross_ (prior sd std_m per
