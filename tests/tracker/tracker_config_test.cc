@@ -110,7 +110,9 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
         {"health: {lost_abandoned_fraction: 1.5}\n", "health.lost_abandoned_fraction"},
         {"health: {lost_abandoned_fraction: -0.1}\n", "health.lost_abandoned_fraction"},
         {"uncertainty: {discount_correlated_residuals: often}\n",
-         "uncertainty.discount_correlated_residuals"}})
+         "uncertainty.discount_correlated_residuals"},
+        {"uncertainty: {model_error_learned_shifts: maybe}\n",
+         "uncertainty.model_error_learned_shifts"}})
     EXPECT_NE(tracker_config_error(yaml).find(part), std::string::npos) << yaml;
 }
 
