@@ -16,6 +16,14 @@ namespace {
 
 using namespace test_support;  // the planar arm (planar_arm.h)
 
+// The tool's rotation in the camera at the zero configuration: the
+// corrections' and covariances' axes.
+Eigen::Matrix3d R_camera_tool(const TrackerSetup& setup) {
+  KinematicsState state(*setup.model);
+  forward_kinematics(*setup.model, Eigen::VectorXd::Zero(setup.n), state);
+  return T_camera_link(*setup.model, state, setup.model->link_index("tool")).linear();
+}
+
 // The tool has no geometry: its fit moves the forearm ("lower"). The base
 // carries the camera: a fit there would move the camera, the camera
 // offset's to correct, so an end effector at the base is not fitted.
@@ -65,12 +73,8 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
   fit.update(2.0, {vague}, mean, mean, 0.0);
   EXPECT_EQ(fit.estimates()[0].correction, after_one[0]);
 
-  KinematicsState state(*setup.model);
-  forward_kinematics(*setup.model, Eigen::VectorXd::Zero(setup.n), state);
-  const Eigen::Matrix3d R_camera_tool =
-      T_camera_link(*setup.model, state, setup.model->link_index("tool")).linear();
   const Eigen::Vector3d expected =
-      (1 - std::exp(-1.0)) * R_camera_tool.transpose() * Eigen::Vector3d(0, 0, 0.003);
+      (1 - std::exp(-1.0)) * R_camera_tool(setup).transpose() * Eigen::Vector3d(0, 0, 0.003);
   EXPECT_LT((after_one[0].head<3>() - expected).norm(), 1e-9);
   EXPECT_LT(after_one[0].tail<3>().norm(), 1e-12);
 }
@@ -78,7 +82,9 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
 // The corrected position's uncertainty (end_effector_fit.h): the fits'
 // exponentially weighted scatter about their average, over the fits' total
 // weight, plus the shape error's shift in every direction, in the tool's
-// axes. Fits alternating between two places 2 mm apart along the camera's
+// axes, at the unpinned scale (2) in every direction here, where the fits
+// determine every direction alike (the test below has one that they do
+// not). Fits alternating between two places 2 mm apart along the camera's
 // x: by hand, West's weighted variance; fits too vague to count leave the
 // covariance and fade the fits' say by exp(-t / time constant), t the time
 // since the last fit that counted; the same fit every image shrinks the
@@ -88,10 +94,7 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
                            {"shoulder", "elbow"});
   EndEffectorFit fit(setup);
   const std::vector<double> mean(std::size_t(setup.n), 0.0);
-  KinematicsState state(*setup.model);
-  forward_kinematics(*setup.model, Eigen::VectorXd::Zero(setup.n), state);
-  const Eigen::Matrix3d R =
-      T_camera_link(*setup.model, state, setup.model->link_index("tool")).linear();
+  const Eigen::Matrix3d R = R_camera_tool(setup);
 
   auto fit_at = [](double x_m) {
     ImageInformation::RigidFit f;
@@ -117,14 +120,14 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   const EndEffectorFitEstimate after = fit.estimates()[0];
   EXPECT_NEAR(after.weight, weight, 1e-12);
   EXPECT_NEAR(after.weight, 1 - std::exp(-20 * dt_s), 1e-12);
-  const Eigen::Matrix3d expected =
-      scatter / weight + shape_std_m * shape_std_m * Eigen::Matrix3d::Identity();
+  const double shape_var_m2 = 4 * shape_std_m * shape_std_m;  // at the unpinned scale, 2
+  const Eigen::Matrix3d expected = scatter / weight + shape_var_m2 * Eigen::Matrix3d::Identity();
   EXPECT_LT((after.position_covariance_m2 - expected).norm(), 1e-12);
   // About the alternation's variance (1 mm)^2 along the camera's x, the
   // shape error's elsewhere.
   const Eigen::Matrix3d camera_axes = R * after.position_covariance_m2 * R.transpose();
-  EXPECT_NEAR(camera_axes(0, 0), 1e-6 + shape_std_m * shape_std_m, 0.5e-6);
-  EXPECT_NEAR(camera_axes(1, 1), shape_std_m * shape_std_m, 1e-12);
+  EXPECT_NEAR(camera_axes(0, 0), 1e-6 + shape_var_m2, 0.5e-6);
+  EXPECT_NEAR(camera_axes(1, 1), shape_var_m2, 1e-12);
 
   ImageInformation::RigidFit vague = fit_at(0.05);
   vague.information *= 1e-4;  // sd 1 cm: above max_std_m
@@ -136,9 +139,40 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
 
   for (int k = 26; k <= 120; ++k) fit.update(k * dt_s, {fit_at(0.001)}, mean, mean, shape_std_m);
   const Eigen::Matrix3d settled = R * fit.estimates()[0].position_covariance_m2 * R.transpose();
-  EXPECT_LT(settled(0, 0) - shape_std_m * shape_std_m, 0.01e-6);
-  EXPECT_GE(settled(0, 0), shape_std_m * shape_std_m);
+  EXPECT_LT(settled(0, 0) - shape_var_m2, 0.01e-6);
+  EXPECT_GE(settled(0, 0), shape_var_m2);
   EXPECT_GT(fit.estimates()[0].weight, 0.9999);
+}
+
+// A hand the image shows well across but hardly along one direction (the
+// camera's z here: translation sd 0.1 mm in x and y, 1 mm in z): the
+// same fit every image, so no scatter. The shape error is sigma^2 in
+// every direction plus (2^2 - 1) sigma^2 times the fits' noise shape
+// (largest eigenvalue 1): 4 sigma^2 along z, sigma^2 (1 + 3 * 0.01)
+// across, in the camera's axes; with the unpinned scale at 1, sigma^2
+// everywhere.
+TEST(EndEffectorFit, TheLeastDeterminedDirectionCarriesTheUnpinnedShapeError) {
+  for (const double scale : {2.0, 1.0}) {
+    TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+    config.model_error_unpinned_scale = scale;
+    const TrackerSetup setup(arm_model(), config, {"shoulder", "elbow"});
+    EndEffectorFit fit(setup);
+    const std::vector<double> mean(std::size_t(setup.n), 0.0);
+    const Eigen::Matrix3d R = R_camera_tool(setup);
+    ImageInformation::RigidFit f;
+    f.information = Eigen::Matrix<double, 6, 6>::Identity() * 1e8;
+    f.information(2, 2) = 1e6;
+    f.pixels = 100;  // no motion: no scatter
+    const double shape_std_m = 0.0015, var = shape_std_m * shape_std_m;
+    for (int k = 0; k <= 100; ++k) fit.update(0.1 * k, {f}, mean, mean, shape_std_m);
+    const Eigen::Matrix3d camera_axes =
+        R * fit.estimates()[0].position_covariance_m2 * R.transpose();
+    const double extra = scale * scale - 1;
+    EXPECT_NEAR(camera_axes(2, 2), var * (1 + extra), 1e-12) << scale;
+    EXPECT_NEAR(camera_axes(0, 0), var * (1 + extra * 0.01), 1e-12) << scale;
+    EXPECT_NEAR(camera_axes(1, 1), var * (1 + extra * 0.01), 1e-12) << scale;
+    EXPECT_NEAR(camera_axes(0, 2), 0.0, 1e-15) << scale;
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "arttrack/tracker/internal/end_effector_fit.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -42,12 +43,14 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
       scatter_m2_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       fits_weight_(setup.ee_links.size(), 0.0),
       last_seen_s_(setup.ee_links.size(), 0.0),
+      weak_shape_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)) {
   const TrackerConfig& c = setup.config;
   if (c.method != TrackingMethod::kFullFusion || !c.end_effector_fit.enabled) return;
   time_constant_s_ = c.end_effector_fit.time_constant_s;
   max_var_m2_ = c.end_effector_fit.max_std_m * c.end_effector_fit.max_std_m;
+  unpinned_scale_ = c.model_error_unpinned_scale;
   for (std::size_t e = 0; e < setup.ee_links.size(); ++e) {
     const int link = fit_link_of(*setup.model, setup.ee_links[e]);
     if (link < 0) continue;
@@ -57,6 +60,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
   on_ = !fit_links_.empty();
   motions_.assign(fit_links_.size(), Eigen::Isometry3d::Identity());
   seen_.assign(fit_links_.size(), false);
+  noise_m2_.assign(fit_links_.size(), Eigen::Matrix3d::Zero());
 }
 
 void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
@@ -82,6 +86,7 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
         normal.solve(Eigen::Matrix<double, 6, 6>::Identity());  // m^2, rad^2
     if (!(noise.diagonal().head<3>().maxCoeff() < max_var_m2_))
       continue;  // the image barely shows it
+    noise_m2_[f] = noise.topLeftCorner<3, 3>();
     const Eigen::Matrix<double, 6, 1> x = normal.solve(fit.gradient);
     Eigen::Isometry3d& motion = motions_[f];
     motion.setIdentity();
@@ -110,8 +115,9 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
   forward_kinematics(model, q_, kinematics_);
   for (std::size_t f = 0; f < fit_links_.size(); ++f) {
     if (!seen_[f]) continue;
-    const Eigen::Isometry3d relative =
-        T_camera_link(model, kinematics_, setup_.ee_links[ee_of(f)]).inverse() * motions_[f];
+    const Eigen::Isometry3d T_camera_ee =
+        T_camera_link(model, kinematics_, setup_.ee_links[ee_of(f)]);
+    const Eigen::Isometry3d relative = T_camera_ee.inverse() * motions_[f];
     EndEffectorCorrection sample;
     const Eigen::AngleAxisd turn(relative.linear());
     sample << relative.translation(), turn.angle() * turn.axis();
@@ -124,12 +130,22 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     scatter =
         (1 - weight) * (scatter + weight * deviation.head<3>() * deviation.head<3>().transpose());
     e.correction += weight * deviation;
+    // The noise's shape in end-effector axes (largest eigenvalue 1), averaged.
+    const Eigen::Matrix3d R = T_camera_ee.linear();
+    const Eigen::Matrix3d noise_ee_m2 = R.transpose() * noise_m2_[f] * R;
+    const double largest_m2 =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(noise_ee_m2, Eigen::EigenvaluesOnly)
+            .eigenvalues()[2];
+    Eigen::Matrix3d& shape = weak_shape_[i];
+    if (largest_m2 > 0) shape += weight * (noise_ee_m2 / largest_m2 - shape);
     double& total = fits_weight_[i];
     total += weight * (1 - total);
     e.weight = total;
     last_seen_s_[i] = time_s;
+    const double shape_var_m2 = model_error_std_m * model_error_std_m;
     e.position_covariance_m2 =
-        scatter / total + model_error_std_m * model_error_std_m * Eigen::Matrix3d::Identity();
+        scatter / total + shape_var_m2 * Eigen::Matrix3d::Identity() +
+        (unpinned_scale_ * unpinned_scale_ - 1) * shape_var_m2 * (shape / total);
   }
 }
 

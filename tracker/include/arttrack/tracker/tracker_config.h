@@ -153,7 +153,9 @@ struct TrackerConfig {
   // A shift one image does not pin (the DOFs absorb it: a link's length
   // along the chain) is taken model_error_unpinned_scale times that
   // estimate in the physical joints' uncertainty (the camera offset keeps
-  // the estimate), in [1, 10]: the estimate comes from the links that fit.
+  // the estimate), and so is the hand's along the direction the
+  // end-effector fit determines least (end_effector_fit.h), in [1, 10]:
+  // the estimate comes from the links that fit.
   bool model_error = true;
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;

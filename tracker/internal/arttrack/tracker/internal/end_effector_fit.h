@@ -32,10 +32,20 @@
 // are the same error), plus the hand's own shape error, a shift of its
 // surface by the links' model-error standard deviation in every direction
 // (ReportedCovariance::model_error_std_m(), a consider parameter: the rigid
-// fit's translation takes a shift up whole). The fits' own noise model,
-// information^-1, is not used: over pixels as correlated as an exact
-// render's it says 0.9-1.8 mm where the fits scatter by 0.15-0.4 mm
-// (docs/accuracy.md, stop 52). EstimateReport weighs the result against
+// fit's translation takes a shift up whole), and along the direction the
+// fits determine least at uncertainty.model_error_unpinned_scale times it,
+// as the joints take a shift no image pins: a box-shaped hand slides along
+// its own length without changing the depth of its side faces, and the
+// few pixels at its ends that would show a wrist 6 mm long drop out of the
+// fit as outliers, which then claims 1 mm where the truth is 6 mm away
+// (docs/accuracy.md, stop 60). That direction is the fits' noise
+// covariance, information^-1's translation block, scaled to a largest
+// eigenvalue of 1 and averaged like the scatter (a smooth shape: the
+// whole widening along one direction when one dominates, every direction
+// when the fit is isotropic). The size of the fits' own noise model,
+// information^-1, is not used, only its shape: over pixels as correlated
+// as an exact render's it says 0.9-1.8 mm where the fits scatter by
+// 0.15-0.4 mm (docs/accuracy.md, stop 52). EstimateReport weighs the result against
 // the kinematics' by the fits' say (EndEffectorFitEstimate::weight), which
 // fades while no image shows the hand.
 //
@@ -117,10 +127,16 @@ class EndEffectorFit {
   // the last image's time that showed it.
   std::vector<Eigen::Matrix3d> scatter_m2_;
   std::vector<double> fits_weight_, last_seen_s_;
+  // Per end effector, the fits' noise shape in end-effector axes (above),
+  // averaged like the scatter.
+  std::vector<Eigen::Matrix3d> weak_shape_;
+  double unpinned_scale_ = 1;
   // Per fitted end effector, the last image's: whether it determined the
-  // fit, and the motion (then the end effector's pose) it says.
+  // fit, the motion (then the end effector's pose) it says, and its
+  // translation's noise covariance in camera axes, m^2.
   std::vector<char> seen_;
   std::vector<Eigen::Isometry3d> motions_;
+  std::vector<Eigen::Matrix3d> noise_m2_;
   std::size_t ee_of(std::size_t f) const { return std::size_t(fitted_ee_[f]); }
   double last_time_s_ = 0;
   bool started_ = false;
