@@ -573,11 +573,11 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir,
   s.name = root.get<std::string>("name", fs::path(doc.file).stem().string());
   if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
     root.fail("name", "must be a non-empty name without slashes");
-  {
-    YAML::Node resolved = YAML::Clone(doc.root);
-    resolved["name"] = s.name;  // a rerun's document has another file name
-    s.resolved_yaml = YAML::Dump(resolved) + "\n";
-  }
+  // The document as read, for the run's record; written out once every key
+  // checked out (a 1 MB hostile value took yaml-cpp's emitter half a second
+  // before the error that refuses it).
+  YAML::Node resolved = YAML::Clone(doc.root);
+  resolved["name"] = s.name;  // a rerun's document has another file name
 
   if (!root.has("scene")) root.fail("scene", "is required but missing");
   s.scene_file = resolve_path(root, "scene", "", dir);
@@ -620,6 +620,7 @@ Scenario scenario_from_yaml(const YamlDocument& doc, const fs::path& dir,
   });
 
   root.finish();
+  s.resolved_yaml = YAML::Dump(resolved) + "\n";
   return s;
 }
 
