@@ -63,8 +63,10 @@
 //   (at most the image's own); averaged over time, it
 //   corrects the end effectors' reported poses (ee_image_correction), and
 //   their positions' covariance is the fits' (their scatter about the
-//   average, plus the links' shape error), not the angles'. The angles,
-//   biases and their covariance are the filter's, unchanged.
+//   average, plus the links' shape error, at
+//   uncertainty.model_error_unpinned_scale times it along the direction
+//   the fits determine least), not the angles'. The angles, biases and
+//   their covariance are the filter's, unchanged.
 // - An optional floor on the moment-matched variance
 //   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //
@@ -181,7 +183,8 @@ struct TrackerEstimate {
   // kinematics' Jacobian (first order; the biases' and camera offsets' full
   // covariance after the first image, posterior_covariance.h); with the
   // end-effector fit, the position's is the fits' where they have a say
-  // (their scatter and the links' shape error, "End-effector fit" above).
+  // (their scatter and the links' shape error, widened along the direction
+  // they determine least, "End-effector fit" above).
   std::vector<Eigen::Matrix<double, 6, 6>> T_camera_ee_covariance;
   // The end-effector fit's share of T_camera_ee ("End-effector fit" above):
   // per end effector, the rigid motion in its own axes (translation m, then
