@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "../scratch_dir.h"
 #include "arttrack/sim/depth_compare.h"
@@ -200,6 +201,41 @@ TEST(DepthCamera, RobotOnlyLeavesSceneOut) {
   for (float z : depth.depth_m) ASSERT_EQ(z, 0.f);
   camera.render(sim.data(), DepthContent::kScene, depth);
   EXPECT_GT(depth.at(80, 60), 1.4f);
+}
+
+// The floor, drawn as a few large quads (sim_model.cc), against the closed
+// form: from 1 m above it, looking along the floor, the ray through a pixel
+// below the horizon meets it at planar depth 1 m / (its optical y), and the
+// floor beyond the far plane is no return.
+TEST(DepthCamera, FloorAgreesWithTheClosedForm) {
+  SceneDescription scene = camera_scene();
+  scene.floor = true;
+  const auto model = build_sim_model(scene);
+  Simulator sim(model);
+  DepthCamera camera(model, 320, 240);
+  DepthImage depth;
+  camera.render(sim.data(), DepthContent::kScene, depth);
+  const CameraIntrinsics& K = camera.intrinsics();
+  const auto floor_depth_m = [&](double v) {
+    const double down = (v + 0.5 - K.cy) / K.fy;  // optical y is world -z
+    return down > 0 ? 1.0 / down : std::numeric_limits<double>::infinity();
+  };
+  long checked_floor = 0, checked_beyond = 0;
+  for (int v = 0; v < depth.height; ++v) {
+    // Rows within a pixel of the far plane's line may go either way.
+    const double nearest_m = floor_depth_m(v + 1), furthest_m = floor_depth_m(v - 1);
+    for (int u = 0; u < depth.width; ++u) {
+      if (furthest_m < scene.far_m) {
+        EXPECT_NEAR(depth.at(u, v), floor_depth_m(v), 1e-3) << "pixel " << u << ", " << v;
+        ++checked_floor;
+      } else if (nearest_m > scene.far_m) {
+        EXPECT_EQ(depth.at(u, v), 0.f) << "pixel " << u << ", " << v;
+        ++checked_beyond;
+      }
+    }
+  }
+  EXPECT_GT(checked_floor, 10000);
+  EXPECT_GT(checked_beyond, 10000);
 }
 
 TEST(DepthCamera, OtherResolutionKeepsFieldOfView) {
