@@ -90,7 +90,7 @@ ScenarioResult synthetic_result() {
   r.runs.push_back(run);
 
   for (const MethodRun& mr : r.runs[0].methods) {
-    MethodResult m{mr.method, MethodScores(mr.method, kJoints, r.end_effectors), {}, {}};
+    MethodResult m{mr.method, MethodScores(mr.method, kJoints, r.end_effectors), {}, {}, {}};
     m.scores.begin_run();
     for (std::size_t i = 0; i < mr.samples.size(); ++i)
       m.scores.add(r.runs[0].truth[i].time_s, mr.samples[i].ee_error[0]);
@@ -384,7 +384,7 @@ ScenarioResult two_hands_frame(const std::string& scenario, std::vector<std::uin
 ScenarioResult two_hands_result(double angle_std_from_10s_rad = 0.001) {
   ScenarioResult r = two_hands_frame("two_hands", {11, 22});
   for (const std::string& m : r.methods)
-    r.method_results.push_back({m, MethodScores(m, r.joint_names, r.end_effectors), {}, {}});
+    r.method_results.push_back({m, MethodScores(m, r.joint_names, r.end_effectors), {}, {}, {}});
   for (int k = 0; k < 2; ++k) {
     RunResult run;
     run.run = k;
