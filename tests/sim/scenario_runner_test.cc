@@ -251,6 +251,51 @@ occluders:
   }
 }
 
+// model_mismatch.random: each run simulates its own robot. With the left
+// forearm's origin drawn 10 mm longer or shorter, two runs that drew
+// opposite signs hold the hand 20 mm apart at the same angles, runs that
+// drew the same sign in the same place; summary.json names each run's draw.
+TEST(ScenarioRunner, EachRunSimulatesTheRobotItDrew) {
+  const test::TestDir dir("runner_random_robots");
+  const Scenario scenario = load_scenario(dir.write("robots.yaml", R"(
+scene: scene.yaml
+duration_s: 0.2
+runs: 6
+methods: [encoders_only]
+scoring: {end_effectors: [left_ee]}
+model_mismatch:
+  random: {joints: [left_arm_joint_2], lengths: 1, length_m: [0.01, 0.01]}
+)"));
+  const ScenarioResult r = run_scenario(scenario);
+  ASSERT_EQ(r.runs.size(), 6u);
+  std::vector<double> drawn_m;
+  std::vector<Eigen::Vector3d> hand_m;
+  for (const RunResult& run : r.runs) {
+    ASSERT_EQ(run.drawn_link_lengths_m.size(), 1u);
+    drawn_m.push_back(run.drawn_link_lengths_m.at("left_arm_joint_2"));
+    EXPECT_NEAR(std::abs(drawn_m.back()), 0.01, 1e-12);
+    EXPECT_TRUE(run.drawn_shape_scales.empty());
+    hand_m.push_back(run.truth.front().T_camera_ee.at(0).translation());
+  }
+  int opposite = 0, same = 0;
+  for (std::size_t a = 0; a < drawn_m.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b) {
+      const double apart_m = (hand_m[a] - hand_m[b]).norm();
+      if (drawn_m[a] == drawn_m[b]) {
+        EXPECT_LT(apart_m, 1e-3) << "runs " << a << " and " << b;
+        ++same;
+      } else {
+        EXPECT_NEAR(apart_m, 0.02, 1e-3) << "runs " << a << " and " << b;
+        ++opposite;
+      }
+    }
+  EXPECT_GT(opposite, 0);
+  EXPECT_GT(same, 0);
+  const std::string json = summary_json(r);
+  EXPECT_NE(json.find("\"robots\""), std::string::npos);
+  EXPECT_NE(json.find("\"left_arm_joint_2\""), std::string::npos);
+}
+
 TEST(ScenarioRunner, SameSeedSameNumbers) {
   const test::TestDir dir("runner_determinism");
   const Scenario scenario = load_scenario(dir.write("noisy.yaml", R"(

@@ -341,6 +341,80 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
                {"tracker_overrides={particle_filter: 3, particle_filter.particles: 1}"});
 }
 
+// model_mismatch.random: the candidates read (groups expanded, a fixed
+// joint by name), and run_model_error's draws within the budget: the
+// counts asked, sizes in their range with both signs, every candidate
+// drawn over many seeds, the same seed the same robot, on top of the
+// scenario's fixed mismatch.
+TEST(Scenario, RandomModelErrorIsDrawnPerSeedWithinItsBudget) {
+  const test::TestDir dir("scenario_random_mismatch");
+  const fs::path f = dir.write("full.yaml", kFull);
+  const Scenario s = load_scenario(
+      f, {"model_mismatch.random={joints: [arms, left_ee_joint], lengths: 2, length_m: [0.004, "
+          "0.006], links: [left_arm_fore, right_arm_upper], scales: 1, scale: [0.03, 0.05]}"});
+  const RandomModelMismatch& r = s.random_mismatch;
+  EXPECT_EQ(r.joints,
+            (std::vector<std::string>{"left_arm_joint_1", "left_arm_joint_2", "right_arm_joint_1",
+                                      "right_arm_joint_2", "left_ee_joint"}));
+  EXPECT_EQ(r.lengths, 2);
+  EXPECT_EQ(r.scales, 1);
+  EXPECT_EQ(r.length_min_m, 0.004);
+  EXPECT_EQ(r.scale_max, 0.05);
+
+  std::map<std::string, int> drawn;
+  int shorter = 0;
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    const DrawnModelError d = run_model_error(s, seed);
+    ASSERT_EQ(d.link_lengths_m.size(), 2u);
+    ASSERT_EQ(d.shape_scales.size(), 1u);
+    for (const auto& [joint, m] : d.link_lengths_m) {
+      ++drawn[joint];
+      shorter += m < 0;
+      EXPECT_GE(std::abs(m), 0.004);
+      EXPECT_LE(std::abs(m), 0.006);
+      // Added to the file's own 10 mm on left_arm_joint_2.
+      const double fixed = joint == "left_arm_joint_2" ? 0.01 : 0.0;
+      EXPECT_DOUBLE_EQ(d.perturbation.origin_extension_m.at(joint), fixed + m);
+    }
+    for (const auto& [link, scale] : d.shape_scales) {
+      ++drawn[link];
+      EXPECT_GE(std::abs(scale - 1), 0.03 - 1e-12);
+      EXPECT_LE(std::abs(scale - 1), 0.05 + 1e-12);
+      const double fixed = link == "left_arm_fore" ? 1.1 : 1.0;
+      EXPECT_DOUBLE_EQ(d.perturbation.link_scale.at(link), fixed * scale);
+    }
+    const DrawnModelError again = run_model_error(s, seed);
+    EXPECT_EQ(again.link_lengths_m, d.link_lengths_m);
+    EXPECT_EQ(again.shape_scales, d.shape_scales);
+  }
+  EXPECT_EQ(drawn.size(), 7u);  // five joints, two links
+  EXPECT_GT(shorter, 100);
+  EXPECT_LT(shorter, 300);
+  EXPECT_NE(run_model_error(s, 1).link_lengths_m, run_model_error(s, 2).link_lengths_m);
+
+  // Without model_mismatch.random: the file's robot, nothing drawn.
+  const DrawnModelError fixed = run_model_error(load_scenario(f), 7);
+  EXPECT_TRUE(fixed.link_lengths_m.empty() && fixed.shape_scales.empty());
+  EXPECT_EQ(fixed.perturbation.origin_extension_m.at("left_arm_joint_2"), 0.01);
+
+  expect_error(f, {"'model_mismatch.random.lengths'"},
+               {"model_mismatch.random={joints: [left_arm], lengths: 3, length_m: [0.004, "
+                "0.006]}"});
+  expect_error(f, {"'model_mismatch.random.length_m'", "[min, max]"},
+               {"model_mismatch.random={joints: [left_arm], lengths: 1, length_m: [0.006, "
+                "0.004]}"});
+  expect_error(f, {"'model_mismatch.random.length_m'", "required"},
+               {"model_mismatch.random={joints: [left_arm], lengths: 1}"});
+  expect_error(f, {"'model_mismatch.random.links'", "hand"},
+               {"model_mismatch.random={links: [hand], scales: 1, scale: [0.01, 0.02]}"});
+  expect_error(f, {"'model_mismatch.random.joints'", "elbow"},
+               {"model_mismatch.random={joints: [elbow], lengths: 1, length_m: [0, 0.01]}"});
+  expect_error(f, {"'model_mismatch.random.scale'"},
+               {"model_mismatch.random={links: [left_arm_fore], scales: 1, scale: [0.1, 0.9]}"});
+  expect_error(f, {"'model_mismatch.random.lenghts'", "not a known key"},
+               {"model_mismatch.random={lenghts: 1}"});
+}
+
 TEST(Scenario, JointGroups) {
   const std::vector<std::string> joints{"left_arm_joint_1", "left_arm_joint_2", "right_arm_joint_1",
                                         "head_pan_joint", "torso_joint"};

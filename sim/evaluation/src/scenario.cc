@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
+#include <sstream>
+#include <tuple>
 #include <type_traits>
 
 #include "arttrack/sim/internal/config_geometry.h"
@@ -282,6 +285,50 @@ void read_camera(const ConfigNode& n, Scenario& s) {
   });
 }
 
+// `key: [min, max]`, 0 <= min <= max <= `limit`.
+std::pair<double, double> draw_range(const ConfigNode& n, const std::string& key, double limit) {
+  const std::vector<double> v = numbers(n, key, 1.0);
+  if (v.size() != 2 || v[0] < 0 || v[0] > v[1] || v[1] > limit) {
+    std::ostringstream range;
+    range << "must be [min, max] with 0 <= min <= max <= " << limit;
+    n.fail(key, range.str());
+  }
+  return {v[0], v[1]};
+}
+
+// model_mismatch.random (RandomModelMismatch): joints by name (a fixed
+// mount too) or movable group, links by name; the counts at most the
+// candidates.
+void read_random_mismatch(const ConfigNode& n, Scenario& s) {
+  RandomModelMismatch& r = s.random_mismatch;
+  for (const std::string& name : n.get<std::vector<std::string>>("joints", {})) {
+    std::vector<std::string> joints =
+        s.urdf.has_joint(name)
+            ? std::vector<std::string>{name}
+            : expand_joint_group(name, s.urdf.movable_joints, s.scene.joint_groups);
+    if (joints.empty())
+      n.fail("joints", "names " + quote_value(name) + ", which is neither a joint of " +
+                           s.urdf.path.string() + " nor a group of its movable joints");
+    for (const std::string& j : joints)
+      if (std::find(r.joints.begin(), r.joints.end(), j) == r.joints.end()) r.joints.push_back(j);
+  }
+  for (const std::string& link : n.get<std::vector<std::string>>("links", {})) {
+    if (!s.urdf.has_link(link))
+      n.fail("links", "names " + quote_value(link) + ", no link of " + s.urdf.path.string());
+    if (std::find(r.links.begin(), r.links.end(), link) == r.links.end()) r.links.push_back(link);
+  }
+  r.lengths = int(integer(n, "lengths", 0, 0, double(r.joints.size())));
+  r.scales = int(integer(n, "scales", 0, 0, double(r.links.size())));
+  if (r.lengths > 0) {
+    if (!n.has("length_m")) n.fail("length_m", "is required when lengths > 0");
+    std::tie(r.length_min_m, r.length_max_m) = draw_range(n, "length_m", 0.1);
+  }
+  if (r.scales > 0) {
+    if (!n.has("scale")) n.fail("scale", "is required when scales > 0");
+    std::tie(r.scale_min, r.scale_max) = draw_range(n, "scale", 0.5);
+  }
+}
+
 void read_miscalibration(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s) {
   const ConfigNode m = root.child("miscalibration");
   UrdfPerturbation& p = s.perturbation;
@@ -313,6 +360,7 @@ void read_miscalibration(const ConfigNode& root, const UrdfSummary& urdf, Scenar
     if (!urdf.has_link(link)) shapes.fail(link, "names no link of " + urdf.path.string());
     p.link_scale[link] = shapes.required_number(link, 1e-3, 1e3);
   }
+  if (mm.has("random")) read_random_mismatch(mm.child("random"), s);
 }
 
 OccluderSpec::Type occluder_type(const std::string& type) {
@@ -650,6 +698,41 @@ void read_scoring_options(const ConfigNode& n, ScoringOptions& o) {
 
 fs::path default_scenario_path() {
   return find_default_file("scenarios/default.yaml", "default scenario");
+}
+
+DrawnModelError run_model_error(const Scenario& scenario, std::uint64_t seed) {
+  DrawnModelError out;
+  out.perturbation = scenario.perturbation;
+  const RandomModelMismatch& r = scenario.random_mismatch;
+  if (r.empty()) return out;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // `count` of `candidates`, in their order, then per one a size and a sign.
+  const auto draw = [&](const std::vector<std::string>& candidates, int count, double lo, double hi,
+                        auto&& apply) {
+    std::vector<std::string> order = candidates;
+    std::shuffle(order.begin(), order.end(), rng);
+    order.resize(std::size_t(count));
+    std::sort(order.begin(), order.end(), [&](const std::string& a, const std::string& b) {
+      return std::find(candidates.begin(), candidates.end(), a) <
+             std::find(candidates.begin(), candidates.end(), b);
+    });
+    for (const std::string& name : order) {
+      const double size = lo + (hi - lo) * unit(rng);
+      apply(name, unit(rng) < 0.5 ? -size : size);
+    }
+  };
+  draw(r.joints, r.lengths, r.length_min_m, r.length_max_m, [&](const std::string& j, double d) {
+    out.link_lengths_m[j] = d;
+    out.perturbation.origin_extension_m[j] += d;
+  });
+  draw(r.links, r.scales, r.scale_min, r.scale_max, [&](const std::string& l, double d) {
+    out.shape_scales[l] = 1 + d;
+    const auto it = out.perturbation.link_scale.find(l);
+    out.perturbation.link_scale[l] =
+        (it == out.perturbation.link_scale.end() ? 1.0 : it->second) * (1 + d);
+  });
+  return out;
 }
 
 }  // namespace arttrack::sim

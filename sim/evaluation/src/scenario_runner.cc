@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <thread>
 
 #include "arttrack/sim/depth_camera.h"
@@ -30,7 +32,7 @@ std::uint64_t splitmix64(std::uint64_t x) {
 }
 
 // Independent streams of one run: encoders, depth noise, frame timing, ...
-enum Stream : std::uint64_t { kMotion = 1, kEncoders, kDepth, kFrames, kTracker };
+enum Stream : std::uint64_t { kMotion = 1, kEncoders, kDepth, kFrames, kTracker, kModel };
 std::uint64_t stream_seed(std::uint64_t run_seed, Stream s) { return splitmix64(run_seed + s); }
 
 // The joint targets of the run with seed `seed` for the simulator's joints:
@@ -96,6 +98,7 @@ constexpr double kMaxRecording_MB = 4096;
 
 // Everything fixed over the runs of a scenario.
 struct Setup {
+  SceneDescription scene;  // the simulator's: its URDF, its time step
   std::shared_ptr<const SimModel> sim_model;
   std::shared_ptr<const RobotModel> robot;  // nominal, with virtual camera joints
   std::vector<std::string> joint_names;     // tracker physical joints
@@ -119,6 +122,7 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
   s.substeps = std::max(1, int(std::ceil(s.joint_period_s / scene.timestep_s - 1e-9)));
   scene.timestep_s = s.joint_period_s / s.substeps;
   scene.urdf_path = sc.simulated_urdf();
+  s.scene = scene;
   s.sim_model = build_sim_model(scene, sc.perturbation);
   const SimModel& m = *s.sim_model;
 
@@ -423,6 +427,30 @@ JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, 
   return commanded_motion(scenario, model, run_seed(seed, run));
 }
 
+// Every joint and link model_mismatch.random may draw, changed at once by
+// its largest draw, through the URDF rewriting the runs use: a joint whose
+// origin has no translation to lengthen fails here, before any run, not in
+// the run that first draws it.
+void check_random_mismatch(const Scenario& sc, const SceneDescription& scene) {
+  const RandomModelMismatch& r = sc.random_mismatch;
+  UrdfPerturbation all = sc.perturbation;
+  all.camera_link = scene.camera_link;
+  all.camera_mount = scene.camera_mount;
+  if (r.lengths > 0)
+    for (const std::string& j : r.joints) all.origin_extension_m[j] += r.length_max_m;
+  if (r.scales > 0)
+    for (const std::string& l : r.links) all.link_scale[l] = 1 + r.scale_max;
+  std::ifstream in(scene.urdf_path);
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    perturb_urdf_text(text.str(), scene.urdf_path.string(), scene.urdf_path.parent_path(),
+                      scene.package_paths, all);
+  } catch (const InputError& e) {
+    throw InputError(sc.source + ": key 'model_mismatch.random' cannot be drawn: " + e.what());
+  }
+}
+
 ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
   const int runs = options.runs > 0 ? options.runs : sc.runs;
   if (options.runs < 0) throw InputError("runs must be >= 1");
@@ -460,6 +488,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
     scores.emplace_back(method_name(m), setup.joint_names, sc.scoring.end_effectors);
   }
 
+  if (!sc.random_mismatch.empty()) check_random_mismatch(sc, setup.scene);
   for (int k = 0; k < runs; ++k) {
     const std::uint64_t seed_k = run_seed(seed, k);
     result.seeds.push_back(seed_k);
@@ -468,8 +497,22 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
       run_options.progress = [&](const RunProgress& p) {
         options.progress({k, runs, p.time_s, p.duration_s});
       };
-    Run run(sc, setup, sim, camera, k, seed_k, scores, run_options, result.frames);
+    if (sc.random_mismatch.empty()) {
+      Run run(sc, setup, sim, camera, k, seed_k, scores, run_options, result.frames);
+      result.runs.push_back(run.execute());
+      continue;
+    }
+    // Another robot for this run: its own simulator model, simulator and
+    // camera (same joints, links and end effectors, so setup's indices hold).
+    DrawnModelError drawn = run_model_error(sc, stream_seed(seed_k, kModel));
+    Setup run_setup = setup;
+    run_setup.sim_model = build_sim_model(setup.scene, drawn.perturbation);
+    Simulator run_sim(run_setup.sim_model);
+    DepthCamera run_camera(run_setup.sim_model);
+    Run run(sc, run_setup, run_sim, run_camera, k, seed_k, scores, run_options, result.frames);
     result.runs.push_back(run.execute());
+    result.runs.back().drawn_link_lengths_m = std::move(drawn.link_lengths_m);
+    result.runs.back().drawn_shape_scales = std::move(drawn.shape_scales);
   }
 
   summarise_methods(result, scores, true);

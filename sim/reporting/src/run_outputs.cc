@@ -150,6 +150,15 @@ std::string summary_json(const ScenarioResult& r) {
   j["scenario"] = r.scenario;
   j["runs"] = r.runs.size();
   j["seeds"] = r.seeds;
+  // The robot each run simulated, where the scenario draws one per run.
+  Json robots = Json::array();
+  for (const RunResult& run : r.runs)
+    if (!run.drawn_link_lengths_m.empty() || !run.drawn_shape_scales.empty())
+      robots.push_back(Json{{"run", run.run},
+                            {"seed", run.seed},
+                            {"link_lengths_m", run.drawn_link_lengths_m},
+                            {"shape_scale", run.drawn_shape_scales}});
+  if (!robots.empty()) j["robots"] = robots;
   j["duration_s"] = r.duration_s;
   j["end_effectors"] = r.end_effectors;
   j["scoring"] = Json{{"converged_after_s", number(r.scoring.converged_after_s)},

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -126,6 +127,9 @@ struct RunResult {
   std::vector<MethodRun> methods;  // ScenarioResult::methods order
   int frames_captured = 0;
   int frames_delivered = 0;
+  // The robot this run simulated, where model_mismatch.random drew it: the
+  // drawn origin changes (m, by joint) and shape scales (by link).
+  std::map<std::string, double> drawn_link_lengths_m, drawn_shape_scales;
 };
 
 // A depth frame kept for reports: what the camera delivered and what the

@@ -71,6 +71,24 @@ struct ScenarioScoring {
   std::vector<std::string> end_effectors;
 };
 
+// Model error drawn per run (model_mismatch.random): `lengths` of the
+// `joints` have their origin moved along its own translation by a length
+// drawn uniformly in [length_min_m, length_max_m], longer or shorter at
+// even odds; `scales` of the `links` are scaled by 1 +- a value drawn
+// uniformly in [scale_min, scale_max]. Which ones, how much and which sign
+// are drawn anew for every run, so the runs of a file are a population of
+// robots within one error budget rather than one robot.
+struct RandomModelMismatch {
+  std::vector<std::string> joints;  // joints whose origins may be off
+  int lengths = 0;                  // how many of them are, per run
+  double length_min_m = 0, length_max_m = 0;
+  std::vector<std::string> links;  // links whose shapes may be scaled
+  int scales = 0;                  // how many of them are, per run
+  double scale_min = 0, scale_max = 0;
+
+  bool empty() const { return lengths == 0 && scales == 0; }
+};
+
 struct Scenario {
   // Name (the `name` key, else the file's stem), used for output folders.
   std::string name;
@@ -131,11 +149,26 @@ struct Scenario {
   DepthCorruptionParams depth_corruption;
   // Differences of the simulated robot from the nominal URDF.
   UrdfPerturbation perturbation;
+  // Model error drawn afresh for each run (model_mismatch.random), on top of
+  // `perturbation`: every run simulates another robot of the same budget.
+  RandomModelMismatch random_mismatch;
   // Moving occluders (scene occluders without a schedule stay put).
   std::vector<OccluderSchedule> occluder_schedules;
 
   ScenarioScoring scoring;
 };
+
+// A robot's model error drawn from the run's seed (model_mismatch.random):
+// run_model_error gives the perturbation the run simulates and what was
+// drawn.
+struct DrawnModelError {
+  UrdfPerturbation perturbation;                 // the scenario's, plus the draws
+  std::map<std::string, double> link_lengths_m;  // drawn origin changes, by joint
+  std::map<std::string, double> shape_scales;    // drawn scales, by link
+};
+// `seed` is the run's model stream. Without model_mismatch.random: the
+// scenario's perturbation and nothing drawn.
+DrawnModelError run_model_error(const Scenario& scenario, std::uint64_t seed);
 
 // Loads a scenario file (following `extends:`), applies the overrides
 // ("dotted.key=value", as arttrack run --set) and parses it. Relative paths
