@@ -3,7 +3,8 @@
 // the ground truth.
 //
 // Per run k (seed run_seed(scenario seed, k)): one simulator with the
-// PERTURBED URDF (miscalibration, model mismatch), one Tracker per method
+// PERTURBED URDF (miscalibration, model mismatch; with model_mismatch.random
+// the robot drawn for run k, run_model_error), one Tracker per method
 // built on the NOMINAL URDF, in synchronous mode. Trackers never see ground
 // truth: they get corrupted encoder readings at the joint rate and corrupted
 // depth images, stamped with their capture time, at their arrival time
