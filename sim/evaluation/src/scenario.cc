@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <set>
 #include <sstream>
@@ -710,16 +711,14 @@ DrawnModelError run_model_error(const Scenario& scenario, std::uint64_t seed) {
   // `count` of `candidates`, in their order, then per one a size and a sign.
   const auto draw = [&](const std::vector<std::string>& candidates, int count, double lo, double hi,
                         auto&& apply) {
-    std::vector<std::string> order = candidates;
-    std::shuffle(order.begin(), order.end(), rng);
-    order.resize(std::size_t(count));
-    std::sort(order.begin(), order.end(), [&](const std::string& a, const std::string& b) {
-      return std::find(candidates.begin(), candidates.end(), a) <
-             std::find(candidates.begin(), candidates.end(), b);
-    });
-    for (const std::string& name : order) {
+    std::vector<std::size_t> chosen(candidates.size());
+    std::iota(chosen.begin(), chosen.end(), std::size_t(0));
+    std::shuffle(chosen.begin(), chosen.end(), rng);
+    chosen.resize(std::size_t(count));
+    std::sort(chosen.begin(), chosen.end());
+    for (std::size_t i : chosen) {
       const double size = lo + (hi - lo) * unit(rng);
-      apply(name, unit(rng) < 0.5 ? -size : size);
+      apply(candidates[i], unit(rng) < 0.5 ? -size : size);
     }
   };
   draw(r.joints, r.lengths, r.length_min_m, r.length_max_m, [&](const std::string& j, double d) {
@@ -728,9 +727,7 @@ DrawnModelError run_model_error(const Scenario& scenario, std::uint64_t seed) {
   });
   draw(r.links, r.scales, r.scale_min, r.scale_max, [&](const std::string& l, double d) {
     out.shape_scales[l] = 1 + d;
-    const auto it = out.perturbation.link_scale.find(l);
-    out.perturbation.link_scale[l] =
-        (it == out.perturbation.link_scale.end() ? 1.0 : it->second) * (1 + d);
+    out.perturbation.link_scale.try_emplace(l, 1.0).first->second *= 1 + d;
   });
   return out;
 }

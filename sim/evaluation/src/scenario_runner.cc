@@ -4,11 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <random>
-#include <sstream>
 #include <thread>
 
 #include "arttrack/sim/depth_camera.h"
@@ -434,18 +432,13 @@ JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, 
 void check_random_mismatch(const Scenario& sc, const SceneDescription& scene) {
   const RandomModelMismatch& r = sc.random_mismatch;
   UrdfPerturbation all = sc.perturbation;
-  all.camera_link = scene.camera_link;
-  all.camera_mount = scene.camera_mount;
   if (r.lengths > 0)
     for (const std::string& j : r.joints) all.origin_extension_m[j] += r.length_max_m;
   if (r.scales > 0)
-    for (const std::string& l : r.links) all.link_scale[l] = 1 + r.scale_max;
-  std::ifstream in(scene.urdf_path);
-  std::stringstream text;
-  text << in.rdbuf();
+    for (const std::string& l : r.links)
+      all.link_scale.try_emplace(l, 1.0).first->second *= 1 + r.scale_max;
   try {
-    perturb_urdf_text(text.str(), scene.urdf_path.string(), scene.urdf_path.parent_path(),
-                      scene.package_paths, all);
+    perturbed_urdf_text(scene, scene.urdf_path, all);
   } catch (const InputError& e) {
     throw InputError(sc.source + ": key 'model_mismatch.random' cannot be drawn: " + e.what());
   }

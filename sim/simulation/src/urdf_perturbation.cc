@@ -315,16 +315,20 @@ PerturbedUrdf::PerturbedUrdf(const fs::path& urdf,
   }
 }
 
-std::string mounted_urdf_text(const SceneDescription& scene, const fs::path& urdf) {
+std::string perturbed_urdf_text(const SceneDescription& scene, const fs::path& urdf,
+                                UrdfPerturbation changes) {
   std::ifstream in(urdf);
   if (!in || !fs::is_regular_file(urdf)) throw InputError(urdf.string() + ": URDF file not found");
   std::stringstream text;
   text << in.rdbuf();
-  UrdfPerturbation mount;
-  mount.camera_link = scene.camera_link;
-  mount.camera_mount = scene.camera_mount;
+  changes.camera_link = scene.camera_link;
+  changes.camera_mount = scene.camera_mount;
   return perturb_urdf_text(text.str(), urdf.string(), fs::absolute(urdf).parent_path(),
-                           scene.package_paths, mount);
+                           scene.package_paths, changes);
+}
+
+std::string mounted_urdf_text(const SceneDescription& scene, const fs::path& urdf) {
+  return perturbed_urdf_text(scene, urdf, {});
 }
 
 RobotModel tracker_robot_model(const SceneDescription& scene, const fs::path& urdf,

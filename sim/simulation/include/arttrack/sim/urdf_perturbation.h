@@ -94,9 +94,13 @@ std::string perturb_urdf_text(const std::string& xml, const std::string& source,
                               const std::map<std::string, std::filesystem::path>& package_paths,
                               const UrdfPerturbation& perturbation);
 
-// The text of `urdf` with the scene's camera mount (if any) added and mesh
-// file names made absolute: the nominal robot as the tracker loads it. Errors
-// as perturb_urdf_text, plus a missing or unreadable file.
+// The text of `urdf` with `changes` and the scene's camera link and mount
+// (if any) applied and mesh file names made absolute. Errors as
+// perturb_urdf_text, plus a missing or unreadable file.
+std::string perturbed_urdf_text(const SceneDescription& scene, const std::filesystem::path& urdf,
+                                UrdfPerturbation changes);
+// perturbed_urdf_text without changes: the nominal robot as the tracker
+// loads it.
 std::string mounted_urdf_text(const SceneDescription& scene, const std::filesystem::path& urdf);
 
 // The tracker's model of `urdf` in `scene`: mounted_urdf_text loaded with
