@@ -296,6 +296,41 @@ model_mismatch:
   EXPECT_NE(json.find("\"left_arm_joint_2\""), std::string::npos);
 }
 
+// A joint whose origin has no translation has no length to draw: the
+// scenario is refused before its first run, naming the key, the URDF and
+// the joint, whichever joints a seed would have drawn.
+TEST(ScenarioRunner, RandomLengthOfAJointWithoutTranslationIsRefusedBeforeAnyRun) {
+  const test::TestDir dir("runner_random_no_translation");
+  std::string urdf = test::kRobotUrdf;
+  const std::string elbow = R"(<origin xyz="0.3 0 0"/><axis xyz="0 0 1"/>)";
+  const std::size_t at = urdf.find(elbow);  // left_arm_joint_2, the first
+  ASSERT_NE(at, std::string::npos);
+  urdf.replace(at, elbow.size(), R"(<origin xyz="0 0 0"/><axis xyz="0 0 1"/>)");
+  dir.write("robot.urdf", urdf);
+  // Two runs, each drawing one of `joints`' lengths.
+  auto drawing = [&](const std::string& file, const std::string& joints) {
+    return load_scenario(dir.write(file, R"(
+scene: scene.yaml
+duration_s: 0.2
+runs: 2
+methods: [encoders_only]
+scoring: {end_effectors: [left_ee]}
+model_mismatch:
+  random: {joints: [)" + joints + R"(], lengths: 1, length_m: [0.004, 0.006]}
+)"));
+  };
+  const std::string error = test_support::error_of(
+      [&] { run_scenario(drawing("robots.yaml", "left_arm_joint_1, left_arm_joint_2")); });
+  EXPECT_NE(error.find("robots.yaml"), std::string::npos) << error;
+  EXPECT_NE(error.find("model_mismatch.random"), std::string::npos) << error;
+  EXPECT_NE(error.find("robot.urdf"), std::string::npos) << error;
+  EXPECT_NE(error.find("'left_arm_joint_2'"), std::string::npos) << error;
+  EXPECT_NE(error.find("no translation"), std::string::npos) << error;
+  // The same draw from joints with a length runs.
+  EXPECT_EQ(run_scenario(drawing("fine.yaml", "left_arm_joint_1, right_arm_joint_2")).runs.size(),
+            2u);
+}
+
 TEST(ScenarioRunner, SameSeedSameNumbers) {
   const test::TestDir dir("runner_determinism");
   const Scenario scenario = load_scenario(dir.write("noisy.yaml", R"(
