@@ -456,8 +456,13 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
         throw InputError("method '" + method_names[i] + "' is listed twice");
 
   const Setup setup = make_setup(sc, method_names);
-  Simulator sim(setup.sim_model);
-  DepthCamera camera(setup.sim_model);
+  // One simulator and camera for every run, unless each run draws its robot.
+  std::optional<Simulator> sim;
+  std::optional<DepthCamera> camera;
+  if (sc.random_mismatch.empty()) {
+    sim.emplace(setup.sim_model);
+    camera.emplace(setup.sim_model);
+  }
 
   ScenarioResult result;
   result.scenario = sc.name;
@@ -491,7 +496,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
         options.progress({k, runs, p.time_s, p.duration_s});
       };
     if (sc.random_mismatch.empty()) {
-      Run run(sc, setup, sim, camera, k, seed_k, scores, run_options, result.frames);
+      Run run(sc, setup, *sim, *camera, k, seed_k, scores, run_options, result.frames);
       result.runs.push_back(run.execute());
       continue;
     }
