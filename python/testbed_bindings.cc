@@ -165,25 +165,29 @@ row per run, scored instant and method; float64 but for 'method' and
           py::gil_scoped_release release;
           r = sim::render_scene(scene ? fs::path(*scene) : sim::default_scene_path(), time_s, s);
         }
-        return py::dict("scene_depth"_a = depth_array(r.scene_depth),
-                        "robot_depth"_a = depth_array(r.robot_depth),
-                        "model_depth"_a = depth_array(r.model_depth), "camera"_a = r.camera,
-                        "time_s"_a = r.time_s, "scene_file"_a = r.scene_file,
-                        "model_triangles"_a = r.model_triangles,
-                        "drawn_triangles"_a = r.drawn_triangles);
+        return py::dict(
+            "scene_depth"_a = depth_array(r.scene_depth),
+            "robot_depth"_a = depth_array(r.robot_depth),
+            "model_depth"_a = depth_array(r.model_depth), "camera"_a = r.camera,
+            "time_s"_a = r.time_s, "scene_file"_a = r.scene_file,
+            "simulated_urdf"_a = r.simulated_urdf, "model_mismatch"_a = r.model_mismatch,
+            "model_triangles"_a = r.model_triangles, "drawn_triangles"_a = r.drawn_triangles);
       },
       "scene"_a = py::none(), "time_s"_a = 0.0, "seed"_a = py::none(),
       R"(Renders a scene as `arttrack render` does: simulates it to time_s (s, in
 [0, 3600]) and renders its depth camera. A scene holds the home pose; a
 scenario's robot follows the motion of its first run (seed: the scenario's if
-None) and its occluders their schedules.
+None) and its occluders their schedules, on the robot that run simulates (its
+model_mismatch, head error and camera miscalibration).
 
 scene: a scene YAML or a scenario naming one (default models/scene_default.yaml).
 Returns a dict: 'scene_depth' (MuJoCo's depth of the whole scene), 'robot_depth'
 (of the robot alone), 'model_depth' (the tracker's render of the robot at the
-true state with the geometry it draws), each a float32 array (height, width) of
+true angles from the true camera with the geometry it draws: where it differs
+from robot_depth, the model error), each a float32 array (height, width) of
 metres along the optical axis, 0 = no return; 'camera' (Camera), 'time_s',
-'scene_file', 'model_triangles', 'drawn_triangles'. Raises InputError. The GIL
+'scene_file', 'simulated_urdf', 'model_mismatch' (how the simulated robot
+differs from the tracker's, or 'none'), 'model_triangles', 'drawn_triangles'. Raises InputError. The GIL
 is released while it runs.)");
 
   m.def(

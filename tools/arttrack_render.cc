@@ -17,8 +17,11 @@
 // A scene holds the initial (home) pose. A scenario's robot follows the
 // motion of its first run (the scenario's seed, or --seed) and its
 // occluders their schedules, as `arttrack run` drives them: the way to see
-// the links over the motion. (The scene's nominal robot; a scenario's
-// simulated_urdf, miscalibration and loads are not applied.)
+// the links over the motion. The robot is the one that run simulates (a
+// scenario's simulated_urdf and model_mismatch, under model_mismatch.random
+// run 0's draw, its head error and camera miscalibration; not its loads),
+// and the tracker draws its nominal URDF from the true camera, so that
+// their disagreement is the model error alone.
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -74,6 +77,8 @@ void run(const RenderArgs& args) {
   const CameraIntrinsics& K = r.camera;
   std::cout
       << "scene " << r.scene_file << " (robot " << r.robot_urdf << ")\n"
+      << "simulated robot " << r.simulated_urdf << ", off the tracker's: " << r.model_mismatch
+      << "\n"
       << "time " << r.time_s << " s, camera " << K.width << "x" << K.height << " fx " << K.fx
       << " px, GL " << r.gl << "\n"
       << (r.follows_scenario

@@ -72,6 +72,8 @@ def test_render_scene(cli, tmp_path):
     assert both.sum() > 0.9 * robot.sum()
     assert np.median(np.abs(r["robot_depth"][both] - r["model_depth"][both])) < 2e-3
     assert r["drawn_triangles"] <= r["model_triangles"]
+    # A scene's robot is its URDF: nothing simulated differs from the tracker's.
+    assert r["model_mismatch"] == "none" and r["simulated_urdf"].endswith("arm7.urdf")
 
 
 def test_export_and_track_dataset(dataset, tmp_path):

@@ -425,6 +425,10 @@ JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, 
   return commanded_motion(scenario, model, run_seed(seed, run));
 }
 
+DrawnModelError run_robot(const Scenario& scenario, std::uint64_t seed, int run) {
+  return run_model_error(scenario, stream_seed(run_seed(seed, run), kModel));
+}
+
 // Every joint and link model_mismatch.random may draw, changed at once by
 // its largest draw, through the URDF rewriting the runs use: a joint whose
 // origin has no translation to lengthen fails here, before any run, not in
@@ -502,7 +506,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
     }
     // Another robot for this run: its own simulator model, simulator and
     // camera (same joints, links and end effectors, so setup's indices hold).
-    DrawnModelError drawn = run_model_error(sc, stream_seed(seed_k, kModel));
+    DrawnModelError drawn = run_robot(sc, seed, k);
     Setup run_setup = setup;
     run_setup.sim_model = build_sim_model(setup.scene, drawn.perturbation);
     Simulator run_sim(run_setup.sim_model);

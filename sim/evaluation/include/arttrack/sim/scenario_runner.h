@@ -85,6 +85,11 @@ std::uint64_t run_seed(std::uint64_t seed, int run);
 JointTrajectory run_trajectory(const Scenario& scenario, const SimModel& model, std::uint64_t seed,
                                int run);
 
+// The robot run `run` of `scenario` with seed `seed` simulates: the
+// scenario's model_mismatch and, under model_mismatch.random, that run's
+// draw (what run_scenario builds that run's simulator from).
+DrawnModelError run_robot(const Scenario& scenario, std::uint64_t seed, int run);
+
 // Runs the scenario. Throws InputError for bad options (unknown method,
 // runs < 1) or a scenario the simulator or tracker rejects.
 ScenarioResult run_scenario(const Scenario& scenario, const RunOptions& options = {});

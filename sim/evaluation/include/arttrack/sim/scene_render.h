@@ -13,8 +13,12 @@
 namespace arttrack::sim {
 
 struct SceneRender {
-  std::string scene_file;         // the scene YAML that was rendered
-  std::string robot_urdf;         // the scene's robot description
+  std::string scene_file;      // the scene YAML that was rendered
+  std::string robot_urdf;      // the tracker's robot description
+  std::string simulated_urdf;  // the simulated robot's (a scenario's simulated_urdf)
+  // How the simulated robot differs from robot_urdf (a scenario's
+  // model_mismatch, head error and miscalibration), for people; "none".
+  std::string model_mismatch;
   double time_s = 0;              // simulated time of the render
   CameraIntrinsics camera;        // the scene's depth camera
   std::string gl;                 // the OpenGL renderer MuJoCo used
@@ -23,9 +27,10 @@ struct SceneRender {
   // Metres along the optical axis, 0 = no return, camera resolution:
   DepthImage scene_depth;  // MuJoCo: the whole scene
   DepthImage robot_depth;  // MuJoCo: the robot alone
-  // The tracker's render of the robot at the true state from the true
+  // The tracker's render of its model at the true angles from the true
   // camera, with the geometry it draws (TrackerConfig::geometry of the
-  // scenario's tracker configuration, or the default one for a scene).
+  // scenario's tracker configuration, or the default one for a scene):
+  // where it differs from robot_depth, it is the model error.
   DepthImage model_depth;
   DepthImage full_model_depth;  // the same with the full meshes
   std::string mesh_parts;       // describe_mesh_parts() of the tracker's model
@@ -43,8 +48,9 @@ struct SceneRender {
 // naming one) to `time_s` and renders it. A scene holds the initial (home)
 // pose; a scenario's robot follows the motion of its first run (seed: the
 // scenario's when negative) and its occluders their schedules, as `arttrack
-// run` drives them. (The scene's nominal robot: a scenario's simulated_urdf,
-// miscalibration and loads are not applied.) Errors: InputError naming the
+// run` drives them, on the robot that run simulates (its simulated_urdf and
+// model_mismatch, under model_mismatch.random run 0's draw, its head error
+// and camera miscalibration; not its loads). Errors: InputError naming the
 // file or the key (as load_scene and load_scenario), a time not finite or
 // outside [0, 3600] s.
 SceneRender render_scene(const std::filesystem::path& scene_or_scenario, double time_s,
