@@ -187,8 +187,8 @@ true angles from the true camera with the geometry it draws: where it differs
 from robot_depth, the model error), each a float32 array (height, width) of
 metres along the optical axis, 0 = no return; 'camera' (Camera), 'time_s',
 'scene_file', 'simulated_urdf', 'model_mismatch' (how the simulated robot
-differs from the tracker's, or 'none'), 'model_triangles', 'drawn_triangles'. Raises InputError. The GIL
-is released while it runs.)");
+differs from the tracker's, or 'none'), 'model_triangles', 'drawn_triangles'.
+Raises InputError. The GIL is released while it runs.)");
 
   m.def(
       "export_dataset",

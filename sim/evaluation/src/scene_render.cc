@@ -19,6 +19,7 @@
 #include "arttrack/tracker/kinematics.h"
 #include "arttrack/tracker/robot_model.h"
 #include "arttrack/tracker/tracker_config.h"
+#include "arttrack/tracker/units.h"
 
 namespace arttrack::sim {
 namespace fs = std::filesystem;
@@ -29,29 +30,21 @@ namespace {
 // origin's length, each link's scale, the head's changed joints and the
 // camera's offset.
 std::string describe_model_mismatch(const UrdfPerturbation& p) {
-  std::string out;
+  std::string out, origins, scales;
   char buf[160];
   auto add = [&](const std::string& part) { out += (out.empty() ? "" : "; ") + part; };
-  if (std::any_of(p.origin_extension_m.begin(), p.origin_extension_m.end(),
-                  [](const auto& e) { return e.second != 0; })) {
-    std::string part = "joint origins";
-    for (const auto& [joint, m] : p.origin_extension_m) {
-      if (m == 0) continue;
+  for (const auto& [joint, m] : p.origin_extension_m)
+    if (m != 0) {
       std::snprintf(buf, sizeof buf, " %s %+.1f mm", joint.c_str(), 1e3 * m);
-      part += buf;
+      origins += buf;
     }
-    add(part);
-  }
-  if (std::any_of(p.link_scale.begin(), p.link_scale.end(),
-                  [](const auto& e) { return e.second != 1; })) {
-    std::string part = "link scales";
-    for (const auto& [link, scale] : p.link_scale) {
-      if (scale == 1) continue;
+  if (!origins.empty()) add("joint origins" + origins);
+  for (const auto& [link, scale] : p.link_scale)
+    if (scale != 1) {
       std::snprintf(buf, sizeof buf, " %s x%.3f", link.c_str(), scale);
-      part += buf;
+      scales += buf;
     }
-    add(part);
-  }
+  if (!scales.empty()) add("link scales" + scales);
   if (!p.joint_changes.empty()) {
     std::string part = "joint origins and axes changed:";
     for (const JointOriginChange& c : p.joint_changes) part += " " + c.joint;
@@ -60,8 +53,7 @@ std::string describe_model_mismatch(const UrdfPerturbation& p) {
   const Eigen::Isometry3d& T = p.T_nominal_true_camera;
   if (!T.isApprox(Eigen::Isometry3d::Identity())) {
     std::snprintf(buf, sizeof buf, "camera %.1f mm and %.2f deg from its nominal mount",
-                  1e3 * T.translation().norm(),
-                  Eigen::AngleAxisd(T.linear()).angle() * 180 / 3.14159265358979323846);
+                  1e3 * T.translation().norm(), Eigen::AngleAxisd(T.linear()).angle() * kDegPerRad);
     add(buf);
   }
   return out.empty() ? "none" : out;
@@ -127,7 +119,7 @@ SceneRender render_scene(const fs::path& scene_or_scenario, double time_s, std::
       tracker_robot_model(scene, scenario ? scenario->tracker_urdf() : scene.urdf_path));
   const RobotModel& robot = *robot_ptr;
   const GroundTruth truth = simulator.ground_truth();
-  Eigen::VectorXd angle_rad(robot.num_joints() - 6);
+  Eigen::VectorXd angle_rad(robot.num_joints() - CameraOffset::RowsAtCompileTime);
   for (int i = 0; i < angle_rad.size(); ++i) {
     const auto it =
         std::find(model->joint_names.begin(), model->joint_names.end(), robot.joint_name(i));
@@ -138,7 +130,8 @@ SceneRender render_scene(const fs::path& scene_or_scenario, double time_s, std::
   }
   Eigen::VectorXd q(robot.num_joints());
   q.head(angle_rad.size()) = angle_rad;
-  q.tail<6>() = CameraPoses(robot_ptr).offset_to(angle_rad, truth.T_world_camera);
+  q.tail<CameraOffset::RowsAtCompileTime>() =
+      CameraPoses(robot_ptr).offset_to(angle_rad, truth.T_world_camera);
   KinematicsState state(robot);
   forward_kinematics(robot, q, state);
   // What the tracker draws: the meshes simplified for the likelihood's camera.
