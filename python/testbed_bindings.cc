@@ -165,20 +165,24 @@ row per run, scored instant and method; float64 but for 'method' and
           py::gil_scoped_release release;
           r = sim::render_scene(scene ? fs::path(*scene) : sim::default_scene_path(), time_s, s);
         }
+        py::dict joint_angles;
+        for (std::size_t j = 0; j < r.joint_names.size(); ++j)
+          joint_angles[py::str(r.joint_names[j])] = r.joint_angle_rad[j];
         return py::dict(
             "scene_depth"_a = depth_array(r.scene_depth),
             "robot_depth"_a = depth_array(r.robot_depth),
             "model_depth"_a = depth_array(r.model_depth), "camera"_a = r.camera,
-            "time_s"_a = r.time_s, "scene_file"_a = r.scene_file,
+            "time_s"_a = r.time_s, "joint_angles"_a = joint_angles, "scene_file"_a = r.scene_file,
             "simulated_urdf"_a = r.simulated_urdf, "model_mismatch"_a = r.model_mismatch,
             "model_triangles"_a = r.model_triangles, "drawn_triangles"_a = r.drawn_triangles);
       },
       "scene"_a = py::none(), "time_s"_a = 0.0, "seed"_a = py::none(),
       R"(Renders a scene as `arttrack render` does: simulates it to time_s (s, in
 [0, 3600]) and renders its depth camera. A scene holds the home pose; a
-scenario's robot follows the motion of its first run (seed: the scenario's if
-None) and its occluders their schedules, on the robot that run simulates (its
-model_mismatch, head error and camera miscalibration).
+scenario's is its first run's (seed: the scenario's if None) at the joint step
+nearest time_s, simulated as run_scenario simulates it (its motion, loads and
+occluders) on the robot that run simulates (its model_mismatch, head error and
+camera miscalibration).
 
 scene: a scene YAML or a scenario naming one (default models/scene_default.yaml).
 Returns a dict: 'scene_depth' (MuJoCo's depth of the whole scene), 'robot_depth'
@@ -186,7 +190,7 @@ Returns a dict: 'scene_depth' (MuJoCo's depth of the whole scene), 'robot_depth'
 true angles from the true camera with the geometry it draws: where it differs
 from robot_depth, the model error), each a float32 array (height, width) of
 metres along the optical axis, 0 = no return; 'camera' (Camera), 'time_s',
-'scene_file', 'simulated_urdf', 'model_mismatch' (how the simulated robot
+'joint_angles' ({joint: the simulated robot's true angle then, rad}), 'scene_file', 'simulated_urdf', 'model_mismatch' (how the simulated robot
 differs from the tracker's, or 'none'), 'model_triangles', 'drawn_triangles'.
 Raises InputError. The GIL is released while it runs.)");
 

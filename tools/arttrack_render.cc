@@ -14,14 +14,14 @@
 // tracker's render, with the full meshes and with the drawn ones, agrees
 // with MuJoCo's render of the robot alone.
 //
-// A scene holds the initial (home) pose. A scenario's robot follows the
-// motion of its first run (the scenario's seed, or --seed) and its
-// occluders their schedules, as `arttrack run` drives them: the way to see
-// the links over the motion. The robot is the one that run simulates (a
-// scenario's simulated_urdf and model_mismatch, under model_mismatch.random
-// run 0's draw, its head error and camera miscalibration; not its loads),
-// and the tracker draws its nominal URDF from the true camera, so that
-// their disagreement is the model error alone.
+// A scene holds the initial (home) pose. A scenario shows its first run
+// (the scenario's seed, or --seed) at the joint step nearest T, simulated
+// as `arttrack run` simulates it (its motion, loads and occluders;
+// run_physics.h): the way to see the links over the motion. The robot is
+// the one that run simulates (a scenario's simulated_urdf and
+// model_mismatch, under model_mismatch.random run 0's draw, its head error
+// and camera miscalibration), and the tracker draws its nominal URDF from
+// the true camera, so that their disagreement is the model error alone.
 #include <CLI/CLI.hpp>
 
 #include <cmath>

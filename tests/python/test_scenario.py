@@ -74,6 +74,9 @@ def test_render_scene(cli, tmp_path):
     assert r["drawn_triangles"] <= r["model_triangles"]
     # A scene's robot is its URDF: nothing simulated differs from the tracker's.
     assert r["model_mismatch"] == "none" and r["simulated_urdf"].endswith("arm7.urdf")
+    # Its true angles then, by joint: arm7's seven and its fingers, finite.
+    assert {f"arm7_joint{k}" for k in range(1, 8)} <= set(r["joint_angles"])
+    assert all(np.isfinite(a) for a in r["joint_angles"].values())
 
 
 def test_export_and_track_dataset(dataset, tmp_path):

@@ -370,6 +370,48 @@ miscalibration: {camera_offset: {xyz_m: [0.01, -0.015, 0.02], rpy_deg: [0.5, -1.
   EXPECT_GT(longer.max_abs_difference_m, 0.02) << longer.summary();
 }
 
+// `arttrack render --time T` of a scenario is its first run's scene at the
+// joint step nearest T, as the run simulated it: the same physics time step
+// and the same loads, so the same true angles to the bit. Render once
+// stepped the scene's own time step (2 ms, the run 1 ms) without the loads:
+// here 0.027 rad (1.5 degrees) off the run.
+TEST(SceneRender, AScenarioRendersItsFirstRunsPoseAtThatJointStep) {
+  const test::TestDir dir("render_run_pose");
+  const fs::path path = dir.write("loaded.yaml", R"(
+scene: scene.yaml
+duration_s: 0.8
+seed: 3
+methods: [encoders_only]
+motion:
+  random: [{joints: [left_arm], amplitude_deg: 15}]
+loads: [{link: left_ee, mass_kg: 2, start_s: 0.1, end_s: 5, ramp_s: 0.2}]
+scoring: {every_n_joint_steps: 50, end_effectors: [left_ee]}
+)");
+  RunOptions options;
+  options.runs = 1;
+  const ScenarioResult run = run_scenario(load_scenario(path), options);
+  double worst_rad = 0;
+  int compared = 0;
+  for (const double time_s : {0.3, 0.7}) {
+    const SceneRender r = render_scene(path, time_s + 0.0004);  // the nearest joint step
+    EXPECT_NEAR(r.time_s, time_s, 1e-9);
+    const auto sample =
+        std::find_if(run.runs[0].truth.begin(), run.runs[0].truth.end(),
+                     [&](const TruthSample& t) { return std::abs(t.time_s - time_s) < 1e-9; });
+    ASSERT_NE(sample, run.runs[0].truth.end()) << time_s;
+    for (std::size_t j = 0; j < run.joint_names.size(); ++j) {
+      const auto it = std::find(r.joint_names.begin(), r.joint_names.end(), run.joint_names[j]);
+      ASSERT_NE(it, r.joint_names.end()) << run.joint_names[j];
+      const double rendered = r.joint_angle_rad[std::size_t(it - r.joint_names.begin())];
+      worst_rad = std::max(worst_rad, std::abs(rendered - sample->angle_rad[Eigen::Index(j)]));
+      ++compared;
+    }
+  }
+  std::printf("%d angles, render against the run: at most %.3g rad apart\n", compared, worst_rad);
+  EXPECT_EQ(compared, 2 * int(run.joint_names.size()));
+  EXPECT_EQ(worst_rad, 0.0);
+}
+
 TEST(ScenarioRunner, SameSeedSameNumbers) {
   const test::TestDir dir("runner_determinism");
   const Scenario scenario = load_scenario(dir.write("noisy.yaml", R"(

@@ -12,6 +12,7 @@
 #include "arttrack/sim/depth_camera.h"
 #include "arttrack/sim/depth_png.h"
 #include "arttrack/sim/method_trackers.h"
+#include "arttrack/sim/run_physics.h"
 #include "arttrack/sim/sim_model.h"
 #include "arttrack/sim/simulator.h"
 #include "arttrack/tracker/error.h"
@@ -103,8 +104,6 @@ struct Setup {
   std::vector<int> sim_joint;               // per joint_names: SimModel index
   std::vector<int> sim_ee;                  // per scored end effector: GroundTruth index
   std::vector<TrackingMethod> methods;
-  int substeps = 1;
-  double joint_period_s = 1e-3;
 };
 
 Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_names) {
@@ -115,13 +114,8 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
   s.robot = std::make_shared<const RobotModel>(tracker_robot_model(sc.scene, sc.tracker_urdf()));
 
   // The simulator's perturbed model; physics steps divide the joint period.
-  SceneDescription scene = sc.scene;
-  s.joint_period_s = 1.0 / sc.joint_rate_hz;
-  s.substeps = std::max(1, int(std::ceil(s.joint_period_s / scene.timestep_s - 1e-9)));
-  scene.timestep_s = s.joint_period_s / s.substeps;
-  scene.urdf_path = sc.simulated_urdf();
-  s.scene = scene;
-  s.sim_model = build_sim_model(scene, sc.perturbation);
+  s.scene = run_scene(sc);
+  s.sim_model = build_sim_model(s.scene, sc.perturbation);
   const SimModel& m = *s.sim_model;
 
   for (int j = 0; j < s.robot->num_joints(); ++j) {
@@ -157,13 +151,9 @@ class Run {
         camera_poses_(setup.robot) {
     result_.run = run;
     result_.seed = seed;
-    trajectory_.emplace(commanded_motion(sc, *setup.sim_model, seed));
+    physics_.emplace(sc, sim_, commanded_motion(sc, *setup.sim_model, seed));
     frames_timing_ = camera_frames(sc.camera_timing, sc.duration_s, stream_seed(seed, kFrames));
-    sim_.reset();
     const SimModel& m = *setup.sim_model;
-    for (const OccluderSchedule& o : sc.occluder_schedules)
-      sim_.set_occluder_pose(o.occluder, o.pose_at(0));
-    for (const LinkLoad& l : sc.loads) load_body_.push_back(m.link_body[m.link_index(l.link)]);
 
     TrackingSetup tracking;
     tracking.robot = setup.robot;
@@ -191,9 +181,8 @@ class Run {
     const SimModel& m = *setup_.sim_model;
     const int n_sim = int(m.joint_names.size());
     const long steps = std::lround(sc_.duration_s * sc_.joint_rate_hz);
-    const double period = setup_.joint_period_s;
+    const double period = physics_->joint_period_s();
     const long progress_every = std::max(1L, std::lround(sc_.joint_rate_hz));
-    Eigen::VectorXd target(n_sim);
     std::vector<double> readings(n_sim);
     std::size_t next_frame = 0;
     GroundTruth truth;
@@ -202,7 +191,7 @@ class Run {
 
     for (long n = 0; n <= steps; ++n) {
       const double t = double(n) * period;
-      if (n > 0) advance_physics(target);
+      if (n > 0) physics_->advance_period();
       sim_.ground_truth(truth);
 
       // Encoders, then every method's joint update.
@@ -224,8 +213,7 @@ class Run {
         frame_now = true;
         ++result_.frames_captured;
         if (f.dropped) continue;
-        for (const OccluderSchedule& o : sc_.occluder_schedules)
-          sim_.set_occluder_pose(o.occluder, o.pose_at(t));
+        physics_->place_occluders(t);
         camera_.render(sim_.data(), DepthContent::kScene, exact);
         if (!sc_.occluder_schedules.empty()) {
           // A second render, so only when something walks about.
@@ -279,36 +267,6 @@ class Run {
   }
 
  private:
-  // One joint period of physics: servo targets and loads before every step.
-  void advance_physics(Eigen::VectorXd& target) {
-    mjData* d = sim_.data();
-    const Eigen::Vector3d g = setup_.sim_model->scene.gravity_m_s2;
-    for (int k = 0; k < setup_.substeps; ++k) {
-      const double now = sim_.time_s();
-      trajectory_->position(now, std::span<double>(target.data(), std::size_t(target.size())));
-      sim_.set_targets(target);
-      // Loads add up: several may hang on one link (a held load and one not
-      // picked up yet, at weight 0).
-      for (int b : load_body_) std::fill_n(d->xfrc_applied + 6 * b, 6, 0.0);
-      for (std::size_t i = 0; i < sc_.loads.size(); ++i) {
-        // MuJoCo applies xfrc_applied at the body's centre of mass (xipos),
-        // which for a massless link frame is not the frame; the torque term
-        // moves the force to the link frame's origin (xpos).
-        const LinkLoad& l = sc_.loads[i];
-        const int b = load_body_[i];
-        const Eigen::Vector3d f = l.weight(now) * l.mass_kg * g;
-        const Eigen::Vector3d lever = Eigen::Map<const Eigen::Vector3d>(d->xpos + 3 * b) -
-                                      Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b);
-        const Eigen::Vector3d torque = lever.cross(f);
-        for (int a = 0; a < 3; ++a) {
-          d->xfrc_applied[6 * b + a] += f[a];
-          d->xfrc_applied[6 * b + 3 + a] += torque[a];
-        }
-      }
-      sim_.step();
-    }
-  }
-
   // Reserves the recording of a real-time run, or refuses one that would
   // not fit in kMaxRecording_MB.
   void begin_recording(long steps, int n_sim) {
@@ -330,7 +288,7 @@ class Run {
   // Feeds the recorded run to the trackers, each joint step when its
   // simulated time has passed on the wall clock since the replay began.
   void replay(long steps, int n_sim) {
-    const double period = setup_.joint_period_s;
+    const double period = physics_->joint_period_s();
     const long progress_every = std::max(1L, std::lround(sc_.joint_rate_hz));
     std::size_t next_delivery = 0, next_scored = 0;
     wall_start_ = Clock::now();
@@ -399,10 +357,9 @@ class Run {
   const RunOptions& options_;
   EncoderCorruption encoders_;
   DepthCorruption depth_noise_;
-  std::optional<JointTrajectory> trajectory_;
+  std::optional<RunPhysics> physics_;
   CameraPoses camera_poses_;
   std::vector<CameraFrame> frames_timing_;
-  std::vector<int> load_body_;
   RunResult result_;
   // Fills result_; after it, as it refers to it.
   std::optional<MethodTrackers> trackers_;

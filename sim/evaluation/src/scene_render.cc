@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <span>
 
 #include "arttrack/sim/depth_camera.h"
+#include "arttrack/sim/run_physics.h"
 #include "arttrack/sim/scenario.h"
 #include "arttrack/sim/scenario_runner.h"
 #include "arttrack/sim/scene.h"
@@ -73,27 +73,21 @@ SceneRender render_scene(const fs::path& scene_or_scenario, double time_s, std::
   // The tracker configuration that decides the geometry it draws.
   const TrackerConfig config = scenario ? scenario->tracker : default_tracker_config();
 
-  // A scenario's first run simulates its own robot: simulated_urdf,
-  // model_mismatch (under model_mismatch.random, run 0's draw), the head's
-  // kinematic error and the camera's miscalibration.
-  SceneDescription simulated = scene;
+  // A scenario's first run simulates its own robot (simulated_urdf,
+  // model_mismatch, under model_mismatch.random run 0's draw, the head's
+  // kinematic error and the camera's miscalibration), stepped as the run
+  // steps it (RunPhysics: the same time step, loads and occluders).
+  const SceneDescription simulated = scenario ? run_scene(*scenario) : scene;
   UrdfPerturbation perturbation;
   const std::uint64_t scenario_seed =
       scenario ? (seed >= 0 ? std::uint64_t(seed) : scenario->seed) : 0;
-  if (scenario) {
-    simulated.urdf_path = scenario->simulated_urdf();
-    perturbation = run_robot(*scenario, scenario_seed, 0).perturbation;
-  }
+  if (scenario) perturbation = run_robot(*scenario, scenario_seed, 0).perturbation;
   out.model_mismatch = describe_model_mismatch(perturbation);
   const auto model = build_sim_model(simulated, perturbation);
   Simulator simulator(model);
   if (scenario) {
-    const JointTrajectory motion = run_trajectory(*scenario, *model, scenario_seed, 0);
-    simulator.run_until(time_s, [&](double t, Eigen::VectorXd& q) {
-      motion.position(t, std::span<double>(q.data(), std::size_t(q.size())));
-    });
-    for (const OccluderSchedule& o : scenario->occluder_schedules)
-      simulator.set_occluder_pose(o.occluder, o.pose_at(simulator.time_s()));
+    RunPhysics physics(*scenario, simulator, run_trajectory(*scenario, *model, scenario_seed, 0));
+    physics.advance_to(time_s);
   } else {
     const Eigen::VectorXd home = model->initial_joints;
     simulator.run_until(time_s, [&](double, Eigen::VectorXd& q) { q = home; });
@@ -119,6 +113,8 @@ SceneRender render_scene(const fs::path& scene_or_scenario, double time_s, std::
       tracker_robot_model(scene, scenario ? scenario->tracker_urdf() : scene.urdf_path));
   const RobotModel& robot = *robot_ptr;
   const GroundTruth truth = simulator.ground_truth();
+  out.joint_names = model->joint_names;
+  out.joint_angle_rad.assign(truth.q.data(), truth.q.data() + truth.q.size());
   Eigen::VectorXd angle_rad(robot.num_joints() - CameraOffset::RowsAtCompileTime);
   for (int i = 0; i < angle_rad.size(); ++i) {
     const auto it =

@@ -19,7 +19,11 @@ struct SceneRender {
   // How the simulated robot differs from robot_urdf (a scenario's
   // model_mismatch, head error and miscalibration), for people; "none".
   std::string model_mismatch;
-  double time_s = 0;              // simulated time of the render
+  double time_s = 0;  // simulated time of the render
+  // The simulated robot's joints and their true angles then (rad; m for
+  // prismatic joints), in the simulator's order.
+  std::vector<std::string> joint_names;
+  std::vector<double> joint_angle_rad;
   CameraIntrinsics camera;        // the scene's depth camera
   std::string gl;                 // the OpenGL renderer MuJoCo used
   bool follows_scenario = false;  // the robot followed a scenario's motion (else: home)
@@ -46,13 +50,13 @@ struct SceneRender {
 
 // Simulates the scene of `scene_or_scenario` (a scene YAML, or a scenario
 // naming one) to `time_s` and renders it. A scene holds the initial (home)
-// pose; a scenario's robot follows the motion of its first run (seed: the
-// scenario's when negative) and its occluders their schedules, as `arttrack
-// run` drives them, on the robot that run simulates (its simulated_urdf and
-// model_mismatch, under model_mismatch.random run 0's draw, its head error
-// and camera miscalibration; not its loads). Errors: InputError naming the
-// file or the key (as load_scene and load_scenario), a time not finite or
-// outside [0, 3600] s.
+// pose; a scenario's is its first run's (seed: the scenario's when
+// negative) at the joint step nearest `time_s`, as `arttrack run` simulates
+// it (run_physics.h: its motion, loads and occluders), on the robot that run
+// simulates (its simulated_urdf and model_mismatch, under
+// model_mismatch.random run 0's draw, its head error and camera
+// miscalibration). Errors: InputError naming the file or the key (as
+// load_scene and load_scenario), a time not finite or outside [0, 3600] s.
 SceneRender render_scene(const std::filesystem::path& scene_or_scenario, double time_s,
                          std::int64_t seed = -1);
 
