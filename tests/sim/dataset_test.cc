@@ -147,6 +147,10 @@ TEST_F(DatasetTest, ExportWritesTheStreamTheTrackersGet) {
   EXPECT_TRUE(late);
   EXPECT_EQ(d.camera.intrinsics.width, 80);
   EXPECT_EQ(d.camera.intrinsics.height, 60);
+  // The focal length the camera reports (focal_error 0.02), not the one it
+  // images with: what the trackers got.
+  EXPECT_NEAR(d.camera.intrinsics.fx,
+              1.02 * CameraIntrinsics::from_vertical_fov(80, 60, 50 * kRadPerDeg).fx, 1e-9);
   EXPECT_EQ(d.camera.frame, "camera_optical_frame");
   ASSERT_EQ(d.seed, run_seed(17, 0));
   EXPECT_EQ(d.truth_end_effectors, (std::vector<std::string>{"left_ee", "right_ee"}));

@@ -166,6 +166,25 @@ TEST(DepthCorruption, RangeLimits) {
   EXPECT_EQ(out.depth_m, (std::vector<float>{0.f, 0.7f, 5.9f, 0.f}));
 }
 
+// A calibration error of the depth scales every return alike, before the
+// range limits; pixels without return stay without.
+TEST(DepthCorruption, DepthScaleErrorScalesEveryReturn) {
+  DepthCorruptionParams p;
+  p.depth_scale_error = -0.01;
+  p.max_range_m = 4.0;
+  DepthImage exact(4, 1);
+  exact.at(0, 0) = 0.f;
+  exact.at(1, 0) = 1.0f;
+  exact.at(2, 0) = 2.5f;
+  exact.at(3, 0) = 4.02f;  // 3.9798 m measured: within range
+  DepthImage out;
+  DepthCorruption(p, 1).corrupt(exact, out);
+  EXPECT_EQ(out.depth_m[0], 0.f);
+  EXPECT_FLOAT_EQ(out.depth_m[1], 0.99f);
+  EXPECT_FLOAT_EQ(out.depth_m[2], 2.475f);
+  EXPECT_FLOAT_EQ(out.depth_m[3], float(4.02f * 0.99));
+}
+
 TEST(DepthCorruption, SameSeedSameImages) {
   DepthCorruptionParams p;
   p.noise_sigma0_m = 0.001;
@@ -264,6 +283,11 @@ TEST(DepthCorruption, BadInputIsNamed) {
   p = {};
   p.noise_sigma_quadratic_per_m = -0.1;
   expect_error_naming([&] { DepthCorruption(p, 1); }, "noise_sigma_quadratic_per_m");
+  p = {};
+  p.depth_scale_error = 0.3;
+  expect_error_naming([&] { DepthCorruption(p, 1); }, "depth_scale_error");
+  p.depth_scale_error = std::nan("");
+  expect_error_naming([&] { DepthCorruption(p, 1); }, "depth_scale_error");
   CameraTiming t;
   t.rate_hz = 0.0;
   expect_error_naming([&] { camera_frames(t, 1.0, 1); }, "rate_hz");

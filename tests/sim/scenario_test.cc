@@ -104,6 +104,8 @@ camera:
   dropout_probability: 0.02
   edge_dropout_probability: 0.5
   max_range_m: 4
+  depth_scale_error: -0.004
+  focal_error: 0.01
 miscalibration:
   camera_offset: {xyz_m: [0.01, -0.02, 0.03], rpy_deg: [1, 2, 3]}
   head_error:
@@ -181,6 +183,14 @@ TEST(Scenario, EveryKeyIsRead) {
   EXPECT_EQ(s.camera_timing.drop_probability, 0.1);
   EXPECT_EQ(s.depth_corruption.baseline_focal_m_px, 43.5);
   EXPECT_EQ(s.depth_corruption.max_range_m, 4.0);
+  EXPECT_EQ(s.depth_corruption.depth_scale_error, -0.004);
+  EXPECT_EQ(s.focal_error, 0.01);
+  const CameraIntrinsics rendered = CameraIntrinsics::from_vertical_fov(320, 240, s.scene.fovy_rad);
+  const CameraIntrinsics reported = reported_intrinsics(s, rendered);
+  EXPECT_DOUBLE_EQ(reported.fx, 1.01 * rendered.fx);
+  EXPECT_DOUBLE_EQ(reported.fy, 1.01 * rendered.fy);
+  EXPECT_EQ(reported.cx, rendered.cx);
+  EXPECT_EQ(reported.width, rendered.width);
 
   const Eigen::Isometry3d& T = s.perturbation.T_nominal_true_camera;
   EXPECT_LT((T.translation() - Eigen::Vector3d(0.01, -0.02, 0.03)).norm(), 1e-15);
@@ -313,6 +323,8 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
                {"encoders=[{step_amplitude_deg: 1, step_period_s: 2, step_ramp_time_s: 1.5}]"});
   expect_error(f, {"'camera.far_m'"}, {"camera.near_m=2", "camera.far_m=1"});
   expect_error(f, {"'camera.drop_probability'"}, {"camera.drop_probability=1"});
+  expect_error(f, {"'camera.depth_scale_error'"}, {"camera.depth_scale_error=-0.5"});
+  expect_error(f, {"'camera.focal_error'"}, {"camera.focal_error=.nan"});
   expect_error(f, {"'miscalibration.head_error.neck'"},
                {"miscalibration.head_error={neck: {xyz_m: [0, 0, 0.01]}}"});
   expect_error(f, {"'model_mismatch.shape_scale.left_arm_fore'"},

@@ -114,7 +114,9 @@ floor: false
 // A scenario whose measurements take every path from the simulator to the
 // trackers (dataset export and tracking, replay): latency, jitter and drops
 // (arrival differs from stamp, some frames never come), depth noise and
-// dropout, biased noisy encoders, a camera offset; every 70 joint steps
+// dropout, the depth's scale and the reported focal length off (the
+// trackers get the reported intrinsics), biased noisy encoders, a camera
+// offset; every 70 joint steps
 // scored too (so from 0 s on); two end effectors; tracker overrides.
 constexpr char kMeasuredScenario[] = R"(
 scene: scene.yaml
@@ -122,7 +124,8 @@ duration_s: 1.5
 seed: 5
 methods: [encoders_only, camera_offset_only, full_fusion, vision_only]
 camera: {width: 80, height: 60, latency_s: 0.04, jitter_s: 0.015, drop_probability: 0.1,
-         noise_sigma0_m: 0.002, dropout_probability: 0.05}
+         noise_sigma0_m: 0.002, dropout_probability: 0.05, depth_scale_error: 0.003,
+         focal_error: 0.02}
 motion:
   sinusoids:
     - {joints: [left_arm_joint_1], amplitude_deg: 15, frequency_hz: 0.5}

@@ -269,6 +269,8 @@ void read_camera(const ConfigNode& n, Scenario& s) {
   t.drop_probability = n.number("drop_probability", t.drop_probability, 0, 0.999);
 
   DepthCorruptionParams& d = s.depth_corruption;
+  d.depth_scale_error = n.number("depth_scale_error", d.depth_scale_error, -0.2, 0.2);
+  s.focal_error = n.number("focal_error", s.focal_error, -0.2, 0.2);
   d.noise_sigma0_m = n.number("noise_sigma0_m", d.noise_sigma0_m, 0, 10);
   d.noise_sigma_quadratic_per_m =
       n.number("noise_quadratic_per_m", d.noise_sigma_quadratic_per_m, 0, 10);
@@ -699,6 +701,13 @@ void read_scoring_options(const ConfigNode& n, ScoringOptions& o) {
 
 fs::path default_scenario_path() {
   return find_default_file("scenarios/default.yaml", "default scenario");
+}
+
+CameraIntrinsics reported_intrinsics(const Scenario& scenario, const CameraIntrinsics& rendered) {
+  CameraIntrinsics reported = rendered;
+  reported.fx *= 1 + scenario.focal_error;
+  reported.fy *= 1 + scenario.focal_error;
+  return reported;
 }
 
 DrawnModelError run_model_error(const Scenario& scenario, std::uint64_t seed) {

@@ -167,13 +167,13 @@ class Run {
     tracking.config.asynchronous = options.realtime;
     tracking.methods = setup.methods;
     tracking.joint_names = m.joint_names;
-    tracking.camera = camera_.intrinsics();
+    tracking.camera = reported_intrinsics(sc, camera_.intrinsics());
     const GroundTruth g0 = sim_.ground_truth();
     tracking.vision_only_start_rad.assign(g0.q.data(), g0.q.data() + g0.q.size());
     trackers_.emplace(tracking, result_, scores);
     if (options.sink)
       options.sink->begin_run({run, seed, stream_seed(seed, kTracker), m.joint_names,
-                               camera_.intrinsics(), setup.joint_names, sc.scoring.end_effectors});
+                               tracking.camera, setup.joint_names, sc.scoring.end_effectors});
     if (run == 0) trackers_->keep_frames(options.frames_to_keep, sc.duration_s, frames);
   }
 

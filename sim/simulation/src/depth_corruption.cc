@@ -27,6 +27,8 @@ bool is_probability(double p) { return p >= 0.0 && p <= 1.0; }
 
 void DepthCorruptionParams::validate() const {
   const char* what = "depth corruption";
+  require(std::abs(depth_scale_error) <= 0.2, what, "depth_scale_error must be in [-0.2, 0.2]",
+          depth_scale_error);
   require(noise_sigma0_m >= 0.0 && std::isfinite(noise_sigma0_m), what,
           "noise_sigma0_m must be >= 0", noise_sigma0_m);
   require(noise_sigma_quadratic_per_m >= 0.0 && std::isfinite(noise_sigma_quadratic_per_m), what,
@@ -86,7 +88,7 @@ void DepthCorruption::corrupt(const DepthImage& exact, DepthImage& out) {
           uniform_(rng_) < p.edge_dropout_probability)
         continue;
       if (p.dropout_probability > 0.0 && uniform_(rng_) < p.dropout_probability) continue;
-      double measured = z;
+      double measured = z * (1.0 + p.depth_scale_error);
       if (noisy) measured += p.noise_sigma_m(z) * normal_(rng_);
       if (p.baseline_focal_m_px > 0.0 && measured > 0.0) {
         // Round the disparity, not the depth: steps grow with z^2.

@@ -23,6 +23,7 @@
 #include "arttrack/sim/scene.h"
 #include "arttrack/sim/scoring.h"
 #include "arttrack/sim/urdf_perturbation.h"
+#include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/tracker_config.h"
 #include "arttrack/tracker/yaml_config.h"
 
@@ -147,6 +148,10 @@ struct Scenario {
   EncoderCorruptionParams encoders;
   CameraTiming camera_timing;
   DepthCorruptionParams depth_corruption;
+  // camera.focal_error: the focal lengths the camera reports are (1 +
+  // focal_error) times those it renders with, a calibration error
+  // (reported_intrinsics).
+  double focal_error = 0;
   // Differences of the simulated robot from the nominal URDF.
   UrdfPerturbation perturbation;
   // Model error drawn afresh for each run (model_mismatch.random), on top of
@@ -169,6 +174,11 @@ struct DrawnModelError {
 // `seed` is the run's model stream. Without model_mismatch.random: the
 // scenario's perturbation and nothing drawn.
 DrawnModelError run_model_error(const Scenario& scenario, std::uint64_t seed);
+
+// The intrinsics the scenario's camera reports, which the trackers and an
+// exported dataset get: `rendered` (the simulated camera's) with focal
+// lengths (1 + focal_error) times its own.
+CameraIntrinsics reported_intrinsics(const Scenario& scenario, const CameraIntrinsics& rendered);
 
 // Loads a scenario file (following `extends:`), applies the overrides
 // ("dotted.key=value", as arttrack run --set) and parses it. Relative paths

@@ -4,13 +4,16 @@
 //
 // Per pixel with a return (depth z > 0, metres along the optical axis), in
 // this order:
+//   0. depth scale: z becomes (1 + depth_scale_error) z, a calibration error
+//      of the camera's depth (a structured-light camera's baseline or
+//      reference plane; every pixel alike, a few millimetres per metre);
 //   1. edge dropout: if the pixel is on a depth edge of the exact image (the
 //      depths of the pixel and its 4-neighbours span more than edge_jump_m; a
 //      neighbour without return counts as infinitely far), it becomes 0 with
 //      probability edge_dropout_probability (structured-light cameras lose
 //      silhouettes);
 //   2. random dropout with probability dropout_probability;
-//   3. Gaussian noise with sigma = s0 + s1 z^2
+//   3. Gaussian noise with sigma = s0 + s1 z^2 (z the exact depth)
 //      (docs/method.md "Depth image likelihood");
 //   4. disparity quantisation, like a Kinect: the disparity
 //      d = baseline_focal / z (pixels) is rounded to a multiple of
@@ -32,6 +35,8 @@ namespace arttrack::sim {
 
 // Per-pixel corruption of a depth image.
 struct DepthCorruptionParams {
+  // Relative error of every depth, in [-0.2, 0.2] (0.005: 5 mm at 1 m).
+  double depth_scale_error = 0.0;
   // Noise standard deviation at zero depth s0, m (>= 0).
   double noise_sigma0_m = 0.0;
   // Quadratic growth of the noise s1, 1/m (>= 0): sigma = s0 + s1 z^2.
