@@ -190,7 +190,8 @@ Returns a dict: 'scene_depth' (MuJoCo's depth of the whole scene), 'robot_depth'
 true angles from the true camera with the geometry it draws: where it differs
 from robot_depth, the model error), each a float32 array (height, width) of
 metres along the optical axis, 0 = no return; 'camera' (Camera), 'time_s',
-'joint_angles' ({joint: the simulated robot's true angle then, rad}), 'scene_file', 'simulated_urdf', 'model_mismatch' (how the simulated robot
+'joint_angles' ({joint: the simulated robot's true angle then, rad}),
+'scene_file', 'simulated_urdf', 'model_mismatch' (how the simulated robot
 differs from the tracker's, or 'none'), 'model_triangles', 'drawn_triangles'.
 Raises InputError. The GIL is released while it runs.)");
 

@@ -148,10 +148,10 @@ class Run {
         options_(options),
         encoders_(setup.sim_model->joint_names, sc.encoders, stream_seed(seed, kEncoders)),
         depth_noise_(sc.depth_corruption, stream_seed(seed, kDepth)),
+        physics_(sc, sim, commanded_motion(sc, *setup.sim_model, seed)),
         camera_poses_(setup.robot) {
     result_.run = run;
     result_.seed = seed;
-    physics_.emplace(sc, sim_, commanded_motion(sc, *setup.sim_model, seed));
     frames_timing_ = camera_frames(sc.camera_timing, sc.duration_s, stream_seed(seed, kFrames));
     const SimModel& m = *setup.sim_model;
 
@@ -181,7 +181,7 @@ class Run {
     const SimModel& m = *setup_.sim_model;
     const int n_sim = int(m.joint_names.size());
     const long steps = std::lround(sc_.duration_s * sc_.joint_rate_hz);
-    const double period = physics_->joint_period_s();
+    const double period = physics_.joint_period_s();
     const long progress_every = std::max(1L, std::lround(sc_.joint_rate_hz));
     std::vector<double> readings(n_sim);
     std::size_t next_frame = 0;
@@ -191,7 +191,7 @@ class Run {
 
     for (long n = 0; n <= steps; ++n) {
       const double t = double(n) * period;
-      if (n > 0) physics_->advance_period();
+      if (n > 0) physics_.advance_period();
       sim_.ground_truth(truth);
 
       // Encoders, then every method's joint update.
@@ -213,7 +213,7 @@ class Run {
         frame_now = true;
         ++result_.frames_captured;
         if (f.dropped) continue;
-        physics_->place_occluders(t);
+        physics_.place_occluders(t);
         camera_.render(sim_.data(), DepthContent::kScene, exact);
         if (!sc_.occluder_schedules.empty()) {
           // A second render, so only when something walks about.
@@ -288,7 +288,7 @@ class Run {
   // Feeds the recorded run to the trackers, each joint step when its
   // simulated time has passed on the wall clock since the replay began.
   void replay(long steps, int n_sim) {
-    const double period = physics_->joint_period_s();
+    const double period = physics_.joint_period_s();
     const long progress_every = std::max(1L, std::lround(sc_.joint_rate_hz));
     std::size_t next_delivery = 0, next_scored = 0;
     wall_start_ = Clock::now();
@@ -357,7 +357,7 @@ class Run {
   const RunOptions& options_;
   EncoderCorruption encoders_;
   DepthCorruption depth_noise_;
-  std::optional<RunPhysics> physics_;
+  RunPhysics physics_;  // resets the simulator: before anything reads it
   CameraPoses camera_poses_;
   std::vector<CameraFrame> frames_timing_;
   RunResult result_;
