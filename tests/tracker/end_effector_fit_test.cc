@@ -175,5 +175,31 @@ TEST(EndEffectorFit, TheLeastDeterminedDirectionCarriesTheUnpinnedShapeError) {
   }
 }
 
+// uncertainty.depth_scale_std s: a depth scale off by s puts the fitted
+// hand s times its distance away along its line of sight, in every image:
+// s^2 X X^T (X the tool's position in camera axes, 1.04 m away) with no
+// scatter and no shape error, all of it along the line of sight.
+TEST(EndEffectorFit, AStatedDepthScaleWidensTheLineOfSight) {
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  config.depth_scale_std = 0.005;
+  const TrackerSetup setup(arm_model(), config, {"shoulder", "elbow"});
+  EndEffectorFit fit(setup);
+  const std::vector<double> mean(std::size_t(setup.n), 0.0);
+  KinematicsState state(*setup.model);
+  forward_kinematics(*setup.model, Eigen::VectorXd::Zero(setup.n), state);
+  const Eigen::Isometry3d T_camera_tool =
+      T_camera_link(*setup.model, state, setup.model->link_index("tool"));
+  const Eigen::Vector3d X = T_camera_tool.translation();
+  ASSERT_NEAR(X.norm(), std::hypot(1.0, 0.3), 1e-9);
+  ImageInformation::RigidFit f;
+  f.information = Eigen::Matrix<double, 6, 6>::Identity() * 1e8;
+  f.pixels = 100;  // no motion: no scatter
+  for (int k = 0; k <= 10; ++k) fit.update(0.1 * k, {f}, mean, mean, 0.0);
+  const Eigen::Matrix3d R = T_camera_tool.linear();
+  const Eigen::Matrix3d camera_axes = R * fit.estimates()[0].position_covariance_m2 * R.transpose();
+  const Eigen::Matrix3d expected = 0.005 * 0.005 * X * X.transpose();
+  EXPECT_LT((camera_axes - expected).norm(), 1e-12 * expected.norm()) << camera_axes;
+}
+
 }  // namespace
 }  // namespace arttrack

@@ -182,6 +182,45 @@ struct BoardScene {
   }
 };
 
+// The camera's depth scale (params.depth_scale): against the image of a
+// scene scaled for real, every return (1 + c) times the truth, the
+// Gauss-Newton gradient at the truth is c times the scale's cross
+// information (d r / d c = r at every used pixel); on the plate, where the
+// camera's z moves every depth by -1, against the closed form -r I_zz.
+TEST(ImageInformation, DepthScaleMatchesAScaledImage) {
+  BoardScene b;
+  DepthImage truth;
+  b.renderer.render(b.state, truth);
+  const double c = 0.002;  // 2 mm at 1 m, under a noise sigma: every pixel still explained
+  DepthImage scaled = truth;
+  for (float& z : scaled.depth_m) z *= float(1 + c);
+  b.likelihood.set_observation(scaled);
+  const std::vector<int> dofs{b.model.joint_index("camera_offset_z"),
+                              b.model.joint_index("camera_offset_roll"),
+                              b.model.joint_index("camera_offset_x")};
+  ImageInformation info(dofs, {.depth_scale = true});
+  info.compute(b.renderer, {b.q0.data(), std::size_t(b.q0.size())}, b.likelihood);
+  ASSERT_GT(info.pixels_used(), 500);
+  const Eigen::VectorXd& cross = info.depth_scale_cross_information();
+  ASSERT_EQ(cross.size(), 3);
+  EXPECT_GT(cross.norm(), 0.0);
+  EXPECT_TRUE((c * cross).isApprox(info.gradient(), 1e-3)) << cross.transpose() << "\n"
+                                                           << info.gradient().transpose();
+
+  PlateScene s;
+  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(s.model.num_joints());
+  s.observe(q0);
+  ImageInformation plate(std::vector<int>{s.dof_z}, {.motion_field = true, .depth_scale = true});
+  plate.compute(s.renderer, {q0.data(), std::size_t(q0.size())}, s.likelihood);
+  const double plate_depth_m = 1 - 0.01;  // its near face
+  EXPECT_NEAR(plate.depth_scale_cross_information()[0],
+              -plate_depth_m * plate.motion_field_information()(0, 0),
+              1e-3 * plate.motion_field_information()(0, 0));
+  ImageInformation without(std::vector<int>{s.dof_z});
+  without.compute(s.renderer, {q0.data(), std::size_t(q0.size())}, s.likelihood);
+  EXPECT_EQ(without.depth_scale_cross_information().size(), 0);
+}
+
 // The link-shift derivatives from the rendered depth's slopes, against
 // moving the block for real (its pose translated in camera axes, rendered,
 // central differences) over the pixels that show the block's interior.

@@ -424,5 +424,55 @@ TEST(ReportedCovariance, AStatedLengthErrorAddsItsSquareToTheCovariance) {
   EXPECT_LT((at_4mm - none - 4 * added).norm(), 1e-9 * added.norm());
 }
 
+// uncertainty.depth_scale_std: the camera's depth scale is the last
+// consider parameter. A scene scaled about the camera's centre is, for a
+// surface facing the camera, the camera moved along its optical axis by the
+// scale times the depth, which no image can tell apart: over many images
+// of one pose the camera's z is left that uncertain (the arm's near faces
+// are 0.975-0.98 m from the camera, its base's 0.95), where without it the
+// images pin z to a small fraction of that. Linear in the stated variance, as any
+// consider parameter.
+TEST(ReportedCovariance, AStatedDepthScaleLeavesTheCameraAlongItsAxisThatUncertain) {
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  c.model_error = false;
+  c.discount_correlated_residuals = false;
+  c.camera_translation = TrackerConfig{}.camera_translation;
+  c.camera_rotation = TrackerConfig{}.camera_rotation;
+  const std::shared_ptr<const RobotModel> model = arm_model();
+  DepthLikelihood likelihood(c.depth_model);
+  likelihood.set_observation(render_truth(*model, 0.4, -0.6));
+  DepthRenderer renderer(*model, kCamera);
+  const std::size_t n = std::size_t(model->num_joints());
+  std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
+  mean[std::size_t(model->joint_index("shoulder"))] = 0.4;
+  mean[std::size_t(model->joint_index("elbow"))] = -0.6;
+  for (int j = 0; j < int(n); ++j)
+    if (model->joint_name(j).starts_with("camera_offset")) prior_std[std::size_t(j)] = 0.03;
+  auto camera_z_std_m = [&](double scale_std) {
+    TrackerConfig cs = c;
+    cs.depth_scale_std = scale_std;
+    const TrackerSetup setup(model, cs, {"shoulder", "elbow"});
+    ReportedCovariance reported(setup, sampling_blocks(*model, cs));
+    EXPECT_EQ(reported.setup().num_consider, scale_std > 0 ? 1 : 0);
+    std::vector<char> reopened(n, 0);
+    TrackingHealth health;
+    for (int i = 0; i < 40; ++i) {
+      const double t = 1 + i / 30.0;
+      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
+      reported.end_image(t, health);
+    }
+    const auto& states = reported.covariance().states();
+    const int z = model->joint_index("camera_offset_z");
+    for (std::size_t i = 0; i < states.size(); ++i)
+      if (states[i].dof == z) return std::sqrt(reported.covariance().covariance()(int(i), int(i)));
+    ADD_FAILURE() << "no state for the camera's z";
+    return 0.0;
+  };
+  const double none = camera_z_std_m(0), at_1 = camera_z_std_m(0.01), at_2 = camera_z_std_m(0.02);
+  EXPECT_NEAR(at_1, 0.01 * 0.97, 0.03 * 0.01 * 0.97);
+  EXPECT_LT(none, 0.2 * at_1);
+  EXPECT_NEAR(at_2 * at_2 - none * none, 4 * (at_1 * at_1 - none * none), 1e-6 * at_2 * at_2);
+}
+
 }  // namespace
 }  // namespace arttrack

@@ -244,6 +244,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"uncertainty.model_error_learned_max_std_m", "0.1", "0.2"},
     {"uncertainty.link_length_std_m", "0", "-1e-3"},
     {"uncertainty.link_length_std_m", "0.1", "0.2"},
+    {"uncertainty.depth_scale_std", "0", "-1e-3"},
+    {"uncertainty.depth_scale_std", "0.1", "0.2"},
     {"refinement.min_pixels", "1", "0"},
     {"refinement.min_pixels", "10000000", "10000001"},
     {"refinement.widen_beyond_sigma", "0", "-0.5"},

@@ -51,6 +51,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
   time_constant_s_ = c.end_effector_fit.time_constant_s;
   max_var_m2_ = c.end_effector_fit.max_std_m * c.end_effector_fit.max_std_m;
   unpinned_scale_ = c.model_error_unpinned_scale;
+  depth_scale_std_ = c.depth_scale_std;
   for (std::size_t e = 0; e < setup.ee_links.size(); ++e) {
     const int link = fit_link_of(*setup.model, setup.ee_links[e]);
     if (link < 0) continue;
@@ -143,9 +144,11 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     e.weight = total;
     last_seen_s_[i] = time_s;
     const double shape_var_m2 = model_error_std_m * model_error_std_m;
+    const Eigen::Vector3d scale_m = depth_scale_std_ * (R.transpose() * motions_[f].translation());
     e.position_covariance_m2 =
         scatter / total + shape_var_m2 * Eigen::Matrix3d::Identity() +
-        (unpinned_scale_ * unpinned_scale_ - 1) * shape_var_m2 * (shape / total);
+        (unpinned_scale_ * unpinned_scale_ - 1) * shape_var_m2 * (shape / total) +
+        scale_m * scale_m.transpose();
   }
 }
 

@@ -112,6 +112,15 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     motion_field_gradients(model, renderer.camera(), likelihood, pool);
     field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
   }
+  if (params_.depth_scale) {
+    depth_scale_pixels_.setZero(num_pixels);
+    for (int p = 0; p < num_pixels; ++p)
+      if (used_[std::size_t(p)])
+        depth_scale_pixels_[p] = float(base_.depth_m[std::size_t(p)] /
+                                       likelihood.noise_std_at_m(likelihood.observed_depth_m(p)));
+    const Eigen::MatrixXf& G = params_.motion_field ? field_gradients_ : gradients_;
+    depth_scale_cross_.noalias() = (G.transpose() * depth_scale_pixels_).cast<double>();
+  }
   estimate_effective_pixel_fraction(likelihood.width());
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
   if (!rigid_fits_.empty()) compute_rigid_fits(renderer.camera(), likelihood);

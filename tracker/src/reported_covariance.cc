@@ -52,10 +52,12 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
   }
   link_length_std_m = setup.config.link_length_std_m;
   if (link_length_std_m > 0) find_lengths(*setup.model);
+  depth_scale_std = setup.config.depth_scale_std;
   information.link_shifts = model_error || !lengths.empty();
   information.motion_field = true;
-  num_consider =
-      (model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0) + int(lengths.size());
+  information.depth_scale = depth_scale_std > 0;
+  num_consider = (model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0) +
+                 int(lengths.size()) + (depth_scale_std > 0 ? 1 : 0);
 }
 
 void ReportedCovarianceSetup::find_lengths(const RobotModel& model) {
@@ -167,6 +169,9 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     unpinned_std_m = std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
   }
   fill_length_columns(shift_cross);
+  if (setup_.depth_scale_std > 0)
+    consider_cross_.col(setup_.num_consider - 1) =
+        information_.depth_scale_cross_information() * setup_.depth_scale_std;
   if (unpinned_std_m > std_m || learned_) {
     widened_cross_ = consider_cross_;
     if (unpinned_std_m > std_m)

@@ -179,6 +179,14 @@ struct TrackerConfig {
   // cannot size it (the link shifts above come from the residuals left
   // after that); only what the user knows of their robot can. 0: none.
   double link_length_std_m = 0.0;
+  // The user's stated standard deviation of their depth camera's scale, a
+  // fraction in [0, 0.1] (0.005: every return may be 0.5% long or short,
+  // the same in every image): one more consider state
+  // (reported_covariance.h) and, for the end-effector fit, that fraction of
+  // the hand's distance along its line of sight (end_effector_fit.h). The
+  // camera offset takes such an error up along the optical axis, so the
+  // images cannot size it; only the camera's calibration can. 0: none.
+  double depth_scale_std = 0.0;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = true;

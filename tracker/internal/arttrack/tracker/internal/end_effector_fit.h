@@ -45,7 +45,12 @@
 // when the fit is isotropic). The size of the fits' own noise model,
 // information^-1, is not used, only its shape: over pixels as correlated
 // as an exact render's it says 0.9-1.8 mm where the fits scatter by
-// 0.15-0.4 mm (docs/accuracy.md, stop 52). EstimateReport weighs the result against
+// 0.15-0.4 mm (docs/accuracy.md, stop 52). With uncertainty.depth_scale_std
+// s, the camera's depth scale may be off by s: the fit then puts the hand
+// where the scaled image does, s times its distance from the camera along
+// its line of sight (scaling about the camera's centre), an error every
+// image shares, so s^2 X X^T (X the hand's position in camera axes) is
+// added. EstimateReport weighs the result against
 // the kinematics' by the fits' say (EndEffectorFitEstimate::weight), which
 // fades while no image shows the hand.
 //
@@ -131,6 +136,7 @@ class EndEffectorFit {
   // averaged like the scatter.
   std::vector<Eigen::Matrix3d> weak_shape_;
   double unpinned_scale_ = 1;
+  double depth_scale_std_ = 0;
   // Per fitted end effector, the last image's: whether it determined the
   // fit, the motion (then the end effector's pose) it says, and its
   // translation's noise covariance in camera axes, m^2.

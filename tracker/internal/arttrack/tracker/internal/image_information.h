@@ -58,6 +58,9 @@ struct ImageInformationParams {
   // Also compute the information from the motion field
   // (motion_field_information(), below).
   bool motion_field = false;
+  // Also compute how the image depends on the camera's depth scale
+  // (depth_scale_cross_information(), below).
+  bool depth_scale = false;
 };
 
 class ImageInformation {
@@ -164,6 +167,14 @@ class ImageInformation {
     return params_.motion_field ? field_shift_cross_ : shift_cross_;
   }
   const Eigen::MatrixXd& shift_information() const { return shift_information_; }
+  // The camera's depth scale (with params.depth_scale): every return (1 + c)
+  // times the true depth, the same error in every image. Scaling the scene
+  // about the camera's centre keeps each pixel where it is, so the rendered
+  // depth becomes (1 + c) r and d r / d c = r at every pixel (for a link's
+  // shift t = c X, j . X = r). Over the same pixels as the information,
+  // normalised by sigma: G_dof^T (r / sigma), in dofs() order, with the
+  // motion field's DOF columns when params.motion_field.
+  const Eigen::VectorXd& depth_scale_cross_information() const { return depth_scale_cross_; }
   const Eigen::VectorXd& shift_gradient() const { return shift_gradient_; }
   // A moment estimate of the links' shift variance, m^2, from the last
   // compute(): the shifts' least-squares fit p to the residuals with the
@@ -266,6 +277,8 @@ class ImageInformation {
   std::vector<int> shift_pixels_;                   // per shift link: used pixels
   Eigen::MatrixXd shift_cross_, shift_information_, field_shift_cross_;
   Eigen::VectorXd shift_gradient_, pixel_gradient_;
+  Eigen::VectorXf depth_scale_pixels_;  // per pixel: r / sigma (0 where unused)
+  Eigen::VectorXd depth_scale_cross_;
   double residual_sum_sq_ = 0;  // of the used pixels' residuals u
   // Rigid fits: per fit its link's shift_links_ index; per shift link
   // (label), the fits whose subtree it belongs to.

@@ -9,7 +9,8 @@
 // user's stated URDF tolerance, as one more consider parameter per joint;
 // with uncertainty.model_error_learned_shifts, each link's shift learned
 // over many poses (learned_link_shifts.h) widens its prior where it is
-// larger.
+// larger; with uncertainty.depth_scale_std, the camera's depth scale, the
+// user's stated calibration, as the last consider parameter.
 //
 // An image's update comes in two halves, with the mean's refinement
 // (refinement.h) between them: begin_image() moves the covariance to the
@@ -53,7 +54,12 @@ struct ReportedCovarianceSetup {
   std::vector<int> dofs;
   std::vector<char> physical_joint;  // per state: its DOF is a physical joint (not the camera's)
   // Consider parameters: 3 per link with geometry with model_error (the
-  // link shifts, image_information.h), then one per entry of `lengths`.
+  // link shifts, image_information.h), then one per entry of `lengths`,
+  // then with depth_scale_std > 0 the depth's scale (every return (1 + c)
+  // times the truth; ImageInformation::depth_scale_cross_information()).
+  // Like a length, the images cannot size it: the camera offset moves along
+  // its optical axis to take it up (docs/accuracy.md, "A camera's
+  // calibration").
   int num_consider = 0;
   // uncertainty.link_length_std_m > 0: a joint origin whose length the real
   // robot may not have (the URDF's link lengths are measured, machined and
@@ -76,6 +82,7 @@ struct ReportedCovarianceSetup {
   };
   std::vector<LengthParameter> lengths;
   double link_length_std_m = 0;
+  double depth_scale_std = 0;  // a fraction
   ImageInformationParams information;
   double reopened_bias_var_rad2 = 0;  // (acquisition.bias_std_rad)^2
   double image_information_scale = 1;
