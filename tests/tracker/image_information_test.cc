@@ -514,7 +514,7 @@ TEST(ImageInformation, MotionFieldSeesNoInformationInRoundShapesTurnedAboutThems
 // as OBJ text: what a robot maker's mesh of a round part is.
 std::string faceted_cylinder_obj(int sides, double r, double l) {
   std::string obj;
-  char line[128];
+  char line[192];  // 12 ints of up to 11 characters and the format: no truncation
   for (int end = 0; end < 2; ++end)
     for (int k = 0; k < sides; ++k) {
       const double a = 2 * std::numbers::pi * k / sides;

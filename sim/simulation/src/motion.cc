@@ -194,7 +194,10 @@ void JointTrajectory::add(const RandomMotion& part, std::mt19937_64& rng) {
     double amplitude = 0.0, centre = 0.5 * (lim.lower_rad + lim.upper_rad);
     if (hi >= lo) {
       amplitude = std::min(part.amplitude_rad, 0.5 * (hi - lo));
-      centre = std::clamp(home_rad_[j], lo + amplitude, hi - amplitude);
+      // With the room exactly 2 A, lo + A can round above hi - A: std::clamp
+      // with its bounds the wrong way round is undefined.
+      const double lowest = lo + amplitude, highest = std::max(lowest, hi - amplitude);
+      centre = std::clamp(home_rad_[j], lowest, highest);
     }
     RandomTerm term{centre - home_rad_[j], part.fade_in_s, {}, {}, {}};
     std::vector<double> nu(K);
