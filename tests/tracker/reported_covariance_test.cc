@@ -379,6 +379,46 @@ TEST(ReportedCovariance, ALengthAboveABareLinkShiftsTheNearestLinksWithGeometryB
   EXPECT_EQ(shifted("lower"), Names{"lower"});
 }
 
+// A stated tolerance's tests: images of the planar arm at (0.4, -0.6) as
+// `real` shows it, tracked with `model`, model error off and each image
+// counted whole (the effect is clear), the camera's default priors (the
+// camera offset is estimated).
+struct OnePoseImages {
+  OnePoseImages(std::shared_ptr<const RobotModel> tracked, const RobotModel& real)
+      : model(std::move(tracked)), likelihood(config.depth_model), renderer(*model, kCamera) {
+    likelihood.set_observation(render_truth(real, 0.4, -0.6));
+    mean[std::size_t(model->joint_index("shoulder"))] = 0.4;
+    mean[std::size_t(model->joint_index("elbow"))] = -0.6;
+  }
+  static TrackerConfig base_config() {
+    TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+    c.model_error = false;
+    c.discount_correlated_residuals = false;
+    c.camera_translation = TrackerConfig{}.camera_translation;
+    c.camera_rotation = TrackerConfig{}.camera_rotation;
+    return c;
+  }
+  // The reported covariance with configuration `c` after an image at each of `times_s`.
+  PosteriorCovariance after_images(const TrackerConfig& c, const std::vector<double>& times_s) {
+    const TrackerSetup setup(model, c, {"shoulder", "elbow"});
+    ReportedCovariance reported(setup, sampling_blocks(*model, c));
+    std::vector<char> reopened(n, 0);
+    TrackingHealth health;
+    for (double t : times_s) {
+      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
+      reported.end_image(t, health);
+    }
+    return reported.covariance();
+  }
+
+  TrackerConfig config = base_config();
+  std::shared_ptr<const RobotModel> model;
+  DepthLikelihood likelihood;
+  DepthRenderer renderer;
+  std::size_t n = std::size_t(model->num_joints());
+  std::vector<double> mean = std::vector<double>(n, 0.0), prior_std = std::vector<double>(n, 0.01);
+};
+
 // A stated length error is a consider parameter: it adds to the reported
 // covariance what its standard deviation squared times the gain's response
 // to it says (consider analysis is linear in the parameters' covariance:
@@ -387,34 +427,13 @@ TEST(ReportedCovariance, ALengthAboveABareLinkShiftsTheNearestLinksWithGeometryB
 // which the camera offset (not known here) absorbs in part; the real one
 // leans 8 mm further.
 TEST(ReportedCovariance, AStatedLengthErrorAddsItsSquareToTheCovariance) {
-  const auto real = arm_with_forearm_nearer(0.108);
-  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
-  c.model_error = false;
-  c.discount_correlated_residuals = false;  // the image counts whole: the effect is clear
-  c.camera_translation = TrackerConfig{}.camera_translation;
-  c.camera_rotation = TrackerConfig{}.camera_rotation;
-  const std::shared_ptr<const RobotModel> model = arm_with_forearm_nearer(0.1);
-  DepthLikelihood likelihood(c.depth_model);
-  likelihood.set_observation(render_truth(*real, 0.4, -0.6));
-  DepthRenderer renderer(*model, kCamera);
-  const std::size_t n = std::size_t(model->num_joints());
-  std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
-  mean[std::size_t(model->joint_index("shoulder"))] = 0.4;
-  mean[std::size_t(model->joint_index("elbow"))] = -0.6;
-  prior_std[std::size_t(model->joint_index("shoulder"))] = 0.05;
-  prior_std[std::size_t(model->joint_index("elbow"))] = 0.05;
+  OnePoseImages images(arm_with_forearm_nearer(0.1), *arm_with_forearm_nearer(0.108));
+  images.prior_std[std::size_t(images.model->joint_index("shoulder"))] = 0.05;
+  images.prior_std[std::size_t(images.model->joint_index("elbow"))] = 0.05;
   auto after_two_images = [&](double length_std_m) {
-    TrackerConfig cs = c;
-    cs.link_length_std_m = length_std_m;
-    const TrackerSetup setup(model, cs, {"shoulder", "elbow"});
-    ReportedCovariance reported(setup, sampling_blocks(*model, cs));
-    std::vector<char> reopened(n, 0);
-    TrackingHealth health;
-    for (double t : {1.0, 1.1}) {
-      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
-      reported.end_image(t, health);
-    }
-    return reported.covariance().covariance();
+    TrackerConfig c = images.config;
+    c.link_length_std_m = length_std_m;
+    return images.after_images(c, {1.0, 1.1}).covariance();
   };
   const Eigen::MatrixXd none = after_two_images(0), at_2mm = after_two_images(0.002),
                         at_4mm = after_two_images(0.004);
@@ -433,38 +452,21 @@ TEST(ReportedCovariance, AStatedLengthErrorAddsItsSquareToTheCovariance) {
 // images pin z to a small fraction of that. Linear in the stated variance, as any
 // consider parameter.
 TEST(ReportedCovariance, AStatedDepthScaleLeavesTheCameraAlongItsAxisThatUncertain) {
-  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
-  c.model_error = false;
-  c.discount_correlated_residuals = false;
-  c.camera_translation = TrackerConfig{}.camera_translation;
-  c.camera_rotation = TrackerConfig{}.camera_rotation;
-  const std::shared_ptr<const RobotModel> model = arm_model();
-  DepthLikelihood likelihood(c.depth_model);
-  likelihood.set_observation(render_truth(*model, 0.4, -0.6));
-  DepthRenderer renderer(*model, kCamera);
-  const std::size_t n = std::size_t(model->num_joints());
-  std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
-  mean[std::size_t(model->joint_index("shoulder"))] = 0.4;
-  mean[std::size_t(model->joint_index("elbow"))] = -0.6;
-  for (int j = 0; j < int(n); ++j)
-    if (model->joint_name(j).starts_with("camera_offset")) prior_std[std::size_t(j)] = 0.03;
+  OnePoseImages images(arm_model(), *arm_model());
+  const RobotModel& model = *images.model;
+  for (int j = 0; j < model.num_joints(); ++j)
+    if (model.joint_name(j).starts_with("camera_offset")) images.prior_std[std::size_t(j)] = 0.03;
+  std::vector<double> times_s;
+  for (int i = 0; i < 40; ++i) times_s.push_back(1 + i / 30.0);
   auto camera_z_std_m = [&](double scale_std) {
-    TrackerConfig cs = c;
-    cs.depth_scale_std = scale_std;
-    const TrackerSetup setup(model, cs, {"shoulder", "elbow"});
-    ReportedCovariance reported(setup, sampling_blocks(*model, cs));
-    EXPECT_EQ(reported.setup().num_consider, scale_std > 0 ? 1 : 0);
-    std::vector<char> reopened(n, 0);
-    TrackingHealth health;
-    for (int i = 0; i < 40; ++i) {
-      const double t = 1 + i / 30.0;
-      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
-      reported.end_image(t, health);
-    }
-    const auto& states = reported.covariance().states();
-    const int z = model->joint_index("camera_offset_z");
+    TrackerConfig c = images.config;
+    c.depth_scale_std = scale_std;
+    const PosteriorCovariance covariance = images.after_images(c, times_s);
+    EXPECT_EQ(covariance.num_consider(), scale_std > 0 ? 1 : 0);
+    const auto& states = covariance.states();
+    const int z = model.joint_index("camera_offset_z");
     for (std::size_t i = 0; i < states.size(); ++i)
-      if (states[i].dof == z) return std::sqrt(reported.covariance().covariance()(int(i), int(i)));
+      if (states[i].dof == z) return std::sqrt(covariance.covariance()(int(i), int(i)));
     ADD_FAILURE() << "no state for the camera's z";
     return 0.0;
   };

@@ -92,12 +92,15 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
       if (w->failed[std::size_t(p)]) used_[std::size_t(p)] = 0;
   pixels_used_ = 0;
   residual_sum_sq_ = 0;
+  if (params_.depth_scale) depth_scale_pixels_.setZero(num_pixels);
   for (int p = 0; p < num_pixels; ++p) {
     if (used_[std::size_t(p)]) {
       ++pixels_used_;
-      const double z = likelihood.observed_depth_m(p);
-      residuals_[p] = float((z - base_.depth_m[std::size_t(p)]) / likelihood.noise_std_at_m(z));
+      const double z = likelihood.observed_depth_m(p), r = base_.depth_m[std::size_t(p)];
+      const double sigma = likelihood.noise_std_at_m(z);
+      residuals_[p] = float((z - r) / sigma);
       residual_sum_sq_ += double(residuals_[p]) * residuals_[p];
+      if (params_.depth_scale) depth_scale_pixels_[p] = float(r / sigma);  // d r / d c = r
     } else {
       gradients_.row(p).setZero();
     }
@@ -113,11 +116,6 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
   }
   if (params_.depth_scale) {
-    depth_scale_pixels_.setZero(num_pixels);
-    for (int p = 0; p < num_pixels; ++p)
-      if (used_[std::size_t(p)])
-        depth_scale_pixels_[p] = float(base_.depth_m[std::size_t(p)] /
-                                       likelihood.noise_std_at_m(likelihood.observed_depth_m(p)));
     const Eigen::MatrixXf& G = params_.motion_field ? field_gradients_ : gradients_;
     depth_scale_cross_.noalias() = (G.transpose() * depth_scale_pixels_).cast<double>();
   }
