@@ -37,6 +37,22 @@ Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c) {
   return T;
 }
 
+bool rigid_fit_motion(const ImageInformation::RigidFit& fit, double max_var_m2,
+                      Eigen::Isometry3d& motion, Eigen::Matrix3d& translation_noise_m2) {
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> normal(fit.information);
+  if (fit.pixels == 0 || normal.info() != Eigen::Success || !(normal.vectorD().array() > 0).all())
+    return false;
+  const Eigen::Matrix<double, 6, 6> noise =
+      normal.solve(Eigen::Matrix<double, 6, 6>::Identity());  // m^2, rad^2
+  if (!(noise.diagonal().head<3>().maxCoeff() < max_var_m2)) return false;
+  translation_noise_m2 = noise.topLeftCorner<3, 3>();
+  const Eigen::Matrix<double, 6, 1> x = normal.solve(fit.gradient);
+  motion.setIdentity();
+  motion.linear() = rotation_of(x.tail<3>());
+  motion.translation() = fit.origin_m + x.head<3>() - motion.linear() * fit.origin_m;
+  return true;
+}
+
 EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
     : setup_(setup),
       estimates_(setup.ee_links.size()),
@@ -79,20 +95,8 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
   for (std::size_t f = 0; f < fit_links_.size(); ++f) {
     seen_[f] = false;
     if (f >= fits.size()) continue;
-    const ImageInformation::RigidFit& fit = fits[f];
-    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> normal(fit.information);
-    if (fit.pixels == 0 || normal.info() != Eigen::Success || !(normal.vectorD().array() > 0).all())
-      continue;
-    const Eigen::Matrix<double, 6, 6> noise =
-        normal.solve(Eigen::Matrix<double, 6, 6>::Identity());  // m^2, rad^2
-    if (!(noise.diagonal().head<3>().maxCoeff() < max_var_m2_))
+    if (!rigid_fit_motion(fits[f], max_var_m2_, motions_[f], noise_m2_[f]))
       continue;  // the image barely shows it
-    noise_m2_[f] = noise.topLeftCorner<3, 3>();
-    const Eigen::Matrix<double, 6, 1> x = normal.solve(fit.gradient);
-    Eigen::Isometry3d& motion = motions_[f];
-    motion.setIdentity();
-    motion.linear() = rotation_of(x.tail<3>());
-    motion.translation() = fit.origin_m + x.head<3>() - motion.linear() * fit.origin_m;
     seen_[f] = any = true;
   }
   // A held correction says less the longer no image has shown its hand:

@@ -78,6 +78,15 @@ using EndEffectorCorrection = Eigen::Matrix<double, 6, 1>;
 // exp of a correction: the rigid motion it stands for.
 Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c);
 
+// The rigid motion an image's fit says, camera axes (X -> R (X - o) + o +
+// t, one Gauss-Newton step: information^-1 gradient), and its
+// translation's noise covariance (information^-1's, m^2). False when the
+// fit is not determined (no pixels, information not positive definite) or
+// its translation's variance exceeds max_var_m2 along a camera axis (the
+// image barely shows the link).
+bool rigid_fit_motion(const ImageInformation::RigidFit& fit, double max_var_m2,
+                      Eigen::Isometry3d& motion, Eigen::Matrix3d& translation_noise_m2);
+
 // What the fits say about one end effector.
 struct EndEffectorFitEstimate {
   EndEffectorCorrection correction = EndEffectorCorrection::Zero();
