@@ -256,6 +256,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"end_effector_fit.max_std_m", "1", "1.1"},
     {"end_effector_fit.resolution_factor", "1", "0"},
     {"end_effector_fit.resolution_factor", "8", "9"},
+    {"end_effector_fit.axis_search_range_m", "0", "-0.001"},
+    {"end_effector_fit.axis_search_range_m", "0.05", "0.051"},
     {"acquisition.passes", "1", "0"},
     {"acquisition.passes", "10", "11"},
     {"acquisition.coarse_noise_std_m", "0.003", "0.0029"},  // depth_model.noise_std_m

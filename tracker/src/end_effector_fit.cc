@@ -82,7 +82,8 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
 
 void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
                             std::span<const double> mean_fitted, std::span<const double> mean_final,
-                            double model_error_std_m) {
+                            double model_error_std_m,
+                            std::span<const Eigen::Vector3d> axis_shifts_m) {
   if (!on_) return;
   const double dt = started_ ? std::max(0.0, time_s - last_time_s_) : 0.0;
   started_ = true;
@@ -97,6 +98,7 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     if (f >= fits.size()) continue;
     if (!rigid_fit_motion(fits[f], max_var_m2_, motions_[f], noise_m2_[f]))
       continue;  // the image barely shows it
+    if (f < axis_shifts_m.size()) motions_[f].translation() += axis_shifts_m[f];
     seen_[f] = any = true;
   }
   // A held correction says less the longer no image has shown its hand:

@@ -17,6 +17,9 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
       covariance_(setup, filter_.filter().blocks()),
       refinement_(setup, covariance_.setup().states),
       end_effector_fit_(setup),
+      axis_search_(*setup.model, end_effector_fit_.fit_links(),
+                   end_effector_fit_.on() ? setup.config.end_effector_fit.axis_search_range_m : 0,
+                   setup.config.end_effector_fit.max_std_m),
       prior_mean_(std::size_t(setup.n), 0.0),
       prior_std_(std::size_t(setup.n), 0.0),
       mean_fitted_(std::size_t(setup.n), 0.0),
@@ -139,8 +142,15 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
   // Not at the first image: its search has just placed the arms.
   if (informed && !first) {
     const std::vector<ImageInformation::RigidFit>* fine = fine_rigid_fits(fit_image, full_camera);
-    end_effector_fit_.update(time_s, fine ? *fine : covariance_.information().rigid_fits(),
-                             mean_fitted_, belief.mean_a, covariance_.model_error_std_m());
+    const std::vector<ImageInformation::RigidFit>& fits =
+        fine ? *fine : covariance_.information().rigid_fits();
+    std::span<const Eigen::Vector3d> shifts;
+    if (axis_search_.on())
+      shifts = fine ? axis_search_.search(fit_geometry_->renderer(), *fit_likelihood_, mean_fitted_,
+                                          fits)
+                    : axis_search_.search(renderer, likelihood, mean_fitted_, fits);
+    end_effector_fit_.update(time_s, fits, mean_fitted_, belief.mean_a,
+                             covariance_.model_error_std_m(), shifts);
   }
   check.update(belief.mean_a, image, stamp_s, renderer, health_);
   return search_ms;

@@ -173,6 +173,8 @@ void TrackerConfig::validate(const std::string& source) const {
   check("end_effector_fit.time_constant_s", end_effector_fit.time_constant_s, R::closed(1e-3, 1e4));
   check("end_effector_fit.max_std_m", end_effector_fit.max_std_m, R::closed(1e-6, 1));
   check("end_effector_fit.resolution_factor", end_effector_fit.resolution_factor, R::closed(1, 8));
+  check("end_effector_fit.axis_search_range_m", end_effector_fit.axis_search_range_m,
+        R::closed(0, 0.05));
 
   const Acquisition& a = acquisition;
   check("acquisition.passes", a.passes, R::closed(1, 10));
@@ -308,7 +310,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   fit.enabled = end_effector_fit.get<bool>("enabled", fit.enabled);
   read_numbers(end_effector_fit, {{"time_constant_s", &fit.time_constant_s},
                                   {"max_std_m", &fit.max_std_m},
-                                  {"resolution_factor", &fit.resolution_factor}});
+                                  {"resolution_factor", &fit.resolution_factor},
+                                  {"axis_search_range_m", &fit.axis_search_range_m}});
 
   TrackerConfig::Acquisition& a = c.acquisition;
   const ConfigNode acquisition = root.child("acquisition");

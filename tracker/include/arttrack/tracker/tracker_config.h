@@ -207,12 +207,16 @@ struct TrackerConfig {
   // averaged over time_constant_s. The fit sees the image at
   // resolution_factor times the likelihood's width and height (at most
   // the image's own): 1 is the likelihood's image (no extra cost), more
-  // pixels show the hand's length and axis.
+  // pixels show the hand's length and axis. axis_search_range_m: each
+  // fit is also searched along the direction it determines least, the
+  // whole pixel likelihood scored at shifts up to this far
+  // (end_effector_axis_search.h); 0: not searched.
   struct EndEffectorFitConfig {
     bool enabled = true;
     double time_constant_s = 1.0;
     double max_std_m = 0.002;
     int resolution_factor = 2;
+    double axis_search_range_m = 0;
   };
   EndEffectorFitConfig end_effector_fit;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the

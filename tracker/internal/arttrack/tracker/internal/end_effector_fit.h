@@ -118,9 +118,11 @@ class EndEffectorFit {
   // After an image at time_s: `fits` the image's rigid fits (fit_links()
   // order) at `mean_fitted`, `mean_final` the image's final mean (both
   // every DOF); `model_error_std_m` the links' shape error (above).
+  // `axis_shifts_m` (fit_links() order, camera axes; empty: none): added
+  // to each fit's translation (end_effector_axis_search.h).
   void update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
               std::span<const double> mean_fitted, std::span<const double> mean_final,
-              double model_error_std_m);
+              double model_error_std_m, std::span<const Eigen::Vector3d> axis_shifts_m = {});
 
   // Per end effector (TrackerConfig::end_effectors order): the averaged
   // correction and its uncertainty (a zero correction of weight 0 until an

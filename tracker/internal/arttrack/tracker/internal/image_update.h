@@ -7,7 +7,8 @@
 // the reported covariance (reported_covariance.h) with the mean's
 // refinement (refinement.h) between its halves; the end-effector fit
 // (end_effector_fit.h), on the image at its own, finer resolution with a
-// renderer, pixel model and ImageInformation of its own; and the health
+// renderer, pixel model and ImageInformation of its own, and optionally
+// its search along each hand (end_effector_axis_search.h); and the health
 // check of the result (health_check.h).
 //
 // Setup: the TrackerSetup and each component's own. Workspace: the
@@ -22,6 +23,7 @@
 
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/internal/acquisition.h"
+#include "arttrack/tracker/internal/end_effector_axis_search.h"
 #include "arttrack/tracker/internal/end_effector_fit.h"
 #include "arttrack/tracker/internal/image_filter.h"
 #include "arttrack/tracker/internal/joint_filter.h"
@@ -95,6 +97,7 @@ class ImageUpdate {
   ReportedCovariance covariance_;
   Refinement refinement_;
   EndEffectorFit end_effector_fit_;
+  EndEffectorAxisSearch axis_search_;
   // The end-effector fit's own view, at its finer resolution: the robot
   // drawn for that camera, the pixel model and the rigid fits (no DOFs).
   std::unique_ptr<RenderGeometry> fit_geometry_;
