@@ -66,10 +66,10 @@
 //   average, plus the links' shape error, at
 //   uncertainty.model_error_unpinned_scale times it along the direction
 //   the fits determine least), not the angles'. The angles, biases and
-//   their covariance are the filter's, unchanged. Optionally
-//   (end_effector_fit.axis_search_range_m > 0) each fit is also searched
-//   along that direction with the whole pixel likelihood, which sees a
-//   hand reaching past the model's silhouette.
+//   their covariance are the filter's, unchanged. Each fit is also
+//   searched along that direction with the whole pixel likelihood, which
+//   sees a hand reaching past the model's silhouette
+//   (end_effector_fit.axis_search_range_m, 1 cm; 0: not searched).
 // - An optional floor on the moment-matched variance
 //   (CoordinateParticleFilterParams::bandwidth_factor, off by default).
 //

@@ -216,7 +216,7 @@ struct TrackerConfig {
     double time_constant_s = 1.0;
     double max_std_m = 0.002;
     int resolution_factor = 2;
-    double axis_search_range_m = 0;
+    double axis_search_range_m = 0.01;
   };
   EndEffectorFitConfig end_effector_fit;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the
