@@ -7,8 +7,9 @@
 // the reported covariance (reported_covariance.h) with the mean's
 // refinement (refinement.h) between its halves; the end-effector fit
 // (end_effector_fit.h), on the image at its own, finer resolution with a
-// renderer, pixel model and ImageInformation of its own, and optionally
-// its search along each hand (end_effector_axis_search.h); and the health
+// renderer, pixel model and ImageInformation of its own, with its search
+// along each hand (end_effector_axis_search.h; on unless
+// end_effector_fit.axis_search_range_m is 0); and the health
 // check of the result (health_check.h).
 //
 // Setup: the TrackerSetup and each component's own. Workspace: the
