@@ -93,6 +93,11 @@ TEST(RobotModel, TreeOrderDofsLimitsAndVirtualJoints) {
     const std::string& name = model.link_name(l);
     EXPECT_EQ(bool(moved[l]), name == "upper" || name == "slider" || name == "tool") << name;
   }
+  // Below the shoulder's child link: the same subtree; below the tool: itself.
+  EXPECT_EQ(model.links_below(model.link_index("upper")), moved);
+  const LinkSet tool = model.links_below(model.link_index("tool"));
+  for (int l = 0; l < model.num_links(); ++l)
+    EXPECT_EQ(bool(tool[l]), model.link_name(l) == "tool") << model.link_name(l);
   // Links with geometry: base, upper, tool.
   EXPECT_EQ(model.links_with_geometry().size(), 3u);
 }

@@ -20,13 +20,7 @@ EndEffectorAxisSearch::EndEffectorAxisSearch(const RobotModel& model,
       scores_(2 * kSteps + 1, 0.0) {
   const int L = model.num_links();
   for (int fit_link : fit_links) {
-    // A link's parent has a smaller index: one pass in order marks the subtree.
-    LinkSet below(std::size_t(L), false);
-    below[std::size_t(fit_link)] = true;
-    for (int l = fit_link + 1; l < L; ++l) {
-      const int parent = model.link(l).parent;
-      if (parent >= 0 && below[std::size_t(parent)]) below[std::size_t(l)] = true;
-    }
+    LinkSet below = model.links_below(fit_link);
     LinkSet rest(std::size_t(L), true);
     for (int l = 0; l < L; ++l) rest[std::size_t(l)] = !below[std::size_t(l)];
     subtrees_.push_back(std::move(below));

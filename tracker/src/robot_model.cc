@@ -635,13 +635,25 @@ RobotModel RobotModel::with_simplified_meshes(double max_error_m, double* error_
   return out;
 }
 
+void RobotModel::add_links_below(LinkSet& links) const {
+  for (int l = 1; l < num_links(); ++l)
+    if (links[links_[l].parent]) links[l] = true;
+}
+
 LinkSet RobotModel::links_moved_by(int dof) const {
   LinkSet moved(links_.size(), false);
   moved[dof_link_[dof]] = true;
-  for (int l = 1; l < num_links(); ++l) {
-    if (moved[links_[l].parent] || links_[l].mimic_dof == dof) moved[l] = true;
-  }
+  for (int l = 1; l < num_links(); ++l)
+    if (links_[l].mimic_dof == dof) moved[l] = true;
+  add_links_below(moved);
   return moved;
+}
+
+LinkSet RobotModel::links_below(int link) const {
+  LinkSet below(links_.size(), false);
+  below[link] = true;
+  add_links_below(below);
+  return below;
 }
 
 }  // namespace arttrack

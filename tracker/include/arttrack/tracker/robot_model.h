@@ -175,6 +175,9 @@ class RobotModel {
   // The links whose pose depends on DOF `dof`: its child link's subtree and
   // the subtrees of the mimic joints that follow it.
   LinkSet links_moved_by(int dof) const;
+  // Link `link` and every link below it in the tree (mimic joints aside: a
+  // rigid motion of the link carries these).
+  LinkSet links_below(int link) const;
   // The links that have a mesh.
   const std::vector<int>& links_with_geometry() const { return geometry_links_; }
   // Triangles the renderer draws: every link mesh, less the tessellations of
@@ -208,6 +211,9 @@ class RobotModel {
                           const std::string& source, const RobotModelOptions& options);
   // Sets mimic_dof (and the chain's multiplier and offset) of mimic links.
   void resolve_mimics();
+  // Adds to `links` every link below one of them (a parent's index is
+  // smaller than its child's: one pass in order).
+  void add_links_below(LinkSet& links) const;
 
   std::string source_;
   RobotModelOptions options_;
