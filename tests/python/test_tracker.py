@@ -55,6 +55,9 @@ def test_python_fed_tracker_converges(dataset):
     # The end-effector fit's share: a few millimetres at most on this exact robot.
     assert e.ee_image_correction.shape == (2, 6, 1)
     assert np.linalg.norm(e.ee_image_correction[:, :3], axis=1).max() < 0.003
+    # Its search along each hand ran at the images that fitted a hand.
+    assert 0 <= e.health["hand_shifts_accepted"] <= e.health["hand_searches"]
+    assert e.health["hand_searches"] > 0
     cov = e.T_camera_ee_covariance
     assert np.allclose(cov, cov.transpose(0, 2, 1)) and (np.linalg.eigvalsh(cov) > -1e-12).all()
     # Left hand in the camera frame against the truth (ground_truth.csv), last row.

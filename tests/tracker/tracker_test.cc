@@ -213,6 +213,10 @@ TEST(TrackerTest, EndEffectorFitPutsTheToolWhereTheImagesShowIt) {
   ASSERT_EQ(fitted.ee_image_correction.size(), 1u);
   EXPECT_NEAR(fitted.ee_image_correction[0].head<3>().norm(), 0.008, 0.002);
   EXPECT_EQ(plain.ee_image_correction[0].norm(), 0.0);
+  // The fit's search along the hand ran at the fitted images, not without the fit.
+  EXPECT_GT(fitted.health.hand_searches, 0);
+  EXPECT_LE(fitted.health.hand_shifts_accepted, fitted.health.hand_searches);
+  EXPECT_EQ(plain.health.hand_searches, 0);
   EXPECT_EQ(fitted.angle_rad, plain.angle_rad);
   EXPECT_EQ(fitted.angle_std_rad, plain.angle_std_rad);
 }

@@ -149,6 +149,8 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
       shifts = fine ? axis_search_.search(fit_geometry_->renderer(), *fit_likelihood_, mean_fitted_,
                                           fits)
                     : axis_search_.search(renderer, likelihood, mean_fitted_, fits);
+    health_.hand_searches = axis_search_.searched();
+    health_.hand_shifts_accepted = axis_search_.accepted();
     end_effector_fit_.update(time_s, fits, mean_fitted_, belief.mean_a,
                              covariance_.model_error_std_m(), shifts);
   }

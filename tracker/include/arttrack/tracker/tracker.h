@@ -142,6 +142,14 @@ struct TrackingHealth {
   int chains_reacquired = 0;        // chains that took a search's result
   int refinements_accepted = 0;     // Gauss-Newton steps taken (tracker.h)
   double last_acquisition_ms = 0;   // wall time of the newest search
+  // The end-effector fit's search along each hand (end_effector_fit.
+  // axis_search_range_m): fitted hands searched so far, and the searches
+  // whose shift along the hand beat the fit's own pose. A share accepted
+  // near 1 says a hand is longer or shorter along itself than its URDF (or
+  // its mesh larger or smaller than the real hand): ee_image_correction
+  // says by how much.
+  int hand_searches = 0;
+  int hand_shifts_accepted = 0;
   // How far the robot's links seem to be from the model's: the standard
   // deviation of a link's surface shift the residuals show (uncertainty.
   // model_error), metres; 0 when the model fits the images (or it is off).
