@@ -44,7 +44,9 @@ def mm(v):
 
 
 def pct(v):
-    return "-" if v is None else f"{100 * v:.0f}%"
+    """A share within 2 sigma, to a tenth of a percent: the band asked is
+    80-99%, and a whole percent would print 99.4% (over it) as 99%."""
+    return "-" if v is None else f"{100 * v:.1f}%"
 
 
 def print_header():
