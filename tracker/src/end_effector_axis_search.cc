@@ -18,13 +18,10 @@ EndEffectorAxisSearch::EndEffectorAxisSearch(const RobotModel& model,
       moved_(model),
       q_(Eigen::VectorXd::Zero(model.num_joints())),
       scores_(2 * kSteps + 1, 0.0) {
-  const int L = model.num_links();
   for (int fit_link : fit_links) {
-    LinkSet below = model.links_below(fit_link);
-    LinkSet rest(std::size_t(L), true);
-    for (int l = 0; l < L; ++l) rest[std::size_t(l)] = !below[std::size_t(l)];
-    subtrees_.push_back(std::move(below));
-    others_.push_back(std::move(rest));
+    subtrees_.push_back(model.links_below(fit_link));
+    others_.push_back(subtrees_.back());
+    others_.back().flip();  // the rest of the robot
   }
 }
 
