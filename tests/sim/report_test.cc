@@ -615,6 +615,49 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
   EXPECT_EQ(tag_problem(html), "");
 }
 
+// TrackingHealth's counters: each run's last estimate (the counts so far),
+// summed over runs, in summary.json and the terminal table; a method that
+// counted nothing (encoders only) gets no line.
+TEST(RunOutputs, TheTrackersCountsAreSummedOverRuns) {
+  ScenarioResult r = two_hands_result();
+  for (std::size_t k = 0; k < 2; ++k) {
+    std::vector<EstimateSample>& samples = r.runs[k].methods[1].samples;
+    TrackingHealth& earlier = samples[samples.size() - 2].health;  // must not count
+    earlier.acquisitions = 100, earlier.hand_searches = 1000;
+    TrackingHealth& last = samples.back().health;
+    last.acquisitions = int(k) + 1, last.chains_reacquired = int(k);
+    last.refinements_accepted = 40 + int(k);
+    last.hand_searches = 300, last.hand_shifts_accepted = k == 0 ? 100 : 125;
+  }
+  for (std::size_t m = 0; m < r.method_results.size(); ++m)
+    r.method_results[m].counts = health_counts(r.runs, m);
+  const HealthCounts& c = r.method_results[1].counts;
+  EXPECT_EQ(c.runs, 2);
+  EXPECT_EQ(c.acquisitions, 3);
+  EXPECT_EQ(c.chains_reacquired, 1);
+  EXPECT_EQ(c.refinements_accepted, 81);
+  EXPECT_EQ(c.hand_searches, 600);
+  EXPECT_EQ(c.hand_shifts_accepted, 225);
+  EXPECT_EQ(r.method_results[0].counts.hand_searches, 0);
+
+  const std::string json = summary_json(r);
+  EXPECT_NE(json.find("\"health_counts\": {\n        \"runs\": 2,\n        \"acquisitions\": 3,\n"
+                      "        \"chains_reacquired\": 1,\n        \"refinements_accepted\": 81,\n"
+                      "        \"hand_searches\": 600,\n        \"hand_shifts_accepted\": 225\n"
+                      "      }"),
+            std::string::npos)
+      << json;
+  EXPECT_EQ(count(json, "health_counts"), 2u);  // every method, encoders_only's zeros too
+  std::ostringstream table;
+  print_summary_table(table, r);
+  EXPECT_NE(table.str().find("full_fusion, counts summed over runs (2): searches 3 (chains that "
+                             "took one's result 1), refinement steps taken 81, hand fits searched "
+                             "along the hand 600 (shifted 225, 38%)\n"),
+            std::string::npos)
+      << table.str();
+  EXPECT_EQ(table.str().find("encoders_only, counts"), std::string::npos);
+}
+
 // Two hands, two runs of 20 s, each estimate scored by score_estimate as a
 // run scores it. full_fusion's pose errors spread 2 mm and 10 mrad per
 // component; it reports half that before 10 s (too sure) and that after,

@@ -153,6 +153,14 @@ TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
   EXPECT_EQ(timing.joint_update_us.count, 4001u);
   EXPECT_EQ(timing.image_update_ms.count, 121u);
   EXPECT_GT(timing.evaluations_per_image, 0);
+  // The tracker's counts of what it did: full fusion searched at its first
+  // image and took Gauss-Newton steps; encoders only did neither.
+  const HealthCounts& counts = r.method("full_fusion")->counts;
+  EXPECT_EQ(counts.runs, 1);
+  EXPECT_GE(counts.acquisitions, 1);
+  EXPECT_GT(counts.refinements_accepted, 0);
+  EXPECT_EQ(counts.hand_searches, run.methods[1].samples.back().health.hand_searches);
+  EXPECT_EQ(r.method("encoders_only")->counts.acquisitions, 0);
   ASSERT_EQ(r.frames.size(), 4u);
   for (const KeptFrame& f : r.frames) {
     EXPECT_EQ(f.observed.width, 160);

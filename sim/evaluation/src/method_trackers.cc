@@ -226,6 +226,7 @@ void summarise_methods(ScenarioResult& result, const std::vector<MethodScores>& 
     r.timing.evaluations_per_image = images ? double(evaluations) / double(images) : 0.0;
     if (result.recipe.realtime) r.timing.image_latency_ms = percentiles(latency_ms);
     r.links = link_model_fits(result.runs, i);
+    r.counts = health_counts(result.runs, i);
     result.method_results.push_back(std::move(r));
   }
 }

@@ -29,6 +29,21 @@ std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, st
   return fits;
 }
 
+HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t method) {
+  HealthCounts counts;
+  for (const RunResult& run : runs) {
+    if (method >= run.methods.size() || run.methods[method].samples.empty()) continue;
+    const TrackingHealth& h = run.methods[method].samples.back().health;  // counts so far
+    ++counts.runs;
+    counts.acquisitions += h.acquisitions;
+    counts.chains_reacquired += h.chains_reacquired;
+    counts.refinements_accepted += h.refinements_accepted;
+    counts.hand_searches += h.hand_searches;
+    counts.hand_shifts_accepted += h.hand_shifts_accepted;
+  }
+  return counts;
+}
+
 const MethodResult* ScenarioResult::method(const std::string& name) const {
   for (const MethodResult& m : method_results)
     if (m.method == name) return &m;

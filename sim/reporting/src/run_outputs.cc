@@ -129,6 +129,15 @@ Json links_json(const std::vector<LinkModelFit>& links) {
   return j;
 }
 
+Json counts_json(const HealthCounts& c) {
+  return Json{{"runs", c.runs},
+              {"acquisitions", c.acquisitions},
+              {"chains_reacquired", c.chains_reacquired},
+              {"refinements_accepted", c.refinements_accepted},
+              {"hand_searches", c.hand_searches},
+              {"hand_shifts_accepted", c.hand_shifts_accepted}};
+}
+
 Json recipe_json(const RunRecipe& p) {
   if (p.scenario_yaml.empty()) return nullptr;
   return Json{{"version", p.version},
@@ -182,6 +191,7 @@ std::string summary_json(const ScenarioResult& r) {
     method["converged_consistency"] = consistency_json(s.converged);
     method["joints"] = joints_json(s);
     if (!m.links.empty()) method["links_model_error"] = links_json(m.links);
+    method["health_counts"] = counts_json(m.counts);
     methods[m.method] = method;
   }
   j["methods"] = methods;
@@ -459,6 +469,20 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
             << pinned[k].median_shift_m * mm << " mm";
     out << "; " << m.links.size() - pinned.size() << " of " << m.links.size()
         << " links never pinned\n";
+  }
+  // What the tracker did to get there: a share of hand shifts accepted near
+  // 1 says a hand is longer or shorter along itself than its URDF or mesh.
+  for (const MethodResult& m : r.method_results) {
+    const HealthCounts& c = m.counts;
+    if (c.acquisitions == 0 && c.refinements_accepted == 0 && c.hand_searches == 0) continue;
+    out << m.method << ", counts summed over runs (" << c.runs << "): searches " << c.acquisitions
+        << " (chains that took one's result " << c.chains_reacquired << "), refinement steps taken "
+        << c.refinements_accepted << ", hand fits searched along the hand " << c.hand_searches
+        << " (shifted " << c.hand_shifts_accepted;
+    if (c.hand_searches > 0)
+      out << ", " << std::lround(100.0 * double(c.hand_shifts_accepted) / double(c.hand_searches))
+          << "%";
+    out << ")\n";
   }
   out << "(-: not estimated, or no truth; end effectors: each position and rotation component\n"
          "of the reported pose against its reported sd; model error: the links' surface shift the\n"

@@ -167,6 +167,17 @@ struct LinkModelFit {
 // RunResult::methods.
 std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method);
 
+// The tracker's own counts of what it did to get there (TrackingHealth's
+// counters: searches, Gauss-Newton steps, the end-effector fit's search
+// along each hand), summed over the runs' last estimates; `method` indexes
+// RunResult::methods. A run without samples adds nothing.
+struct HealthCounts {
+  int runs = 0;  // runs counted
+  long long acquisitions = 0, chains_reacquired = 0, refinements_accepted = 0;
+  long long hand_searches = 0, hand_shifts_accepted = 0;
+};
+HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t method);
+
 // Everything about one method over all runs.
 struct MethodResult {
   std::string method;
@@ -177,6 +188,7 @@ struct MethodResult {
   MethodSummary summary;
   MethodTiming timing;
   std::vector<LinkModelFit> links;  // link_model_fits
+  HealthCounts counts;              // health_counts
 };
 
 // What reproduces a run (summary.json "reproduce"; arttrack rerun): the

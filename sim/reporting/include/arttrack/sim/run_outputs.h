@@ -42,7 +42,10 @@ namespace arttrack::sim {
 //        "joints": {J: {"angle_abs_error_rad", "bias_abs_error_rad",
 //                       "converged_angle_abs_error_rad", "converged_bias_abs_error_rad",
 //                       "angle_within_2sigma", "bias_within_2sigma"}},
-//        "links_model_error": {L: {"pinned_shift_m", "runs_pinned"}}}},
+//        "links_model_error": {L: {"pinned_shift_m", "runs_pinned"}},
+//        "health_counts": {"runs", "acquisitions", "chains_reacquired",
+//                          "refinements_accepted", "hand_searches",
+//                          "hand_shifts_accepted"}}},
 //    "timing": {"joint_update_us": {"p50","p99"}, "image_update_ms": {"p50","p99"},
 //               "evaluations_per_image"},
 //    "dropped": {METHOD: {"joint_measurements", "images_bad_stamp"}},
@@ -70,7 +73,11 @@ namespace arttrack::sim {
 // quantity the method does not estimate (standard deviation 0).
 // "links_model_error" (only with uncertainty.model_error): per link with
 // geometry, its pinned surface shift (TrackingHealth::links) in the runs'
-// last estimates, the median over the runs that pinned it. Timing is
+// last estimates, the median over the runs that pinned it. "health_counts"
+// (HealthCounts): the tracker's counters in each run's last estimate, summed
+// over the runs (TrackingHealth: annealed searches, chains that took a
+// search's result, Gauss-Newton steps taken, end-effector fits searched
+// along the hand and those whose shift was accepted). Timing is
 // that of full_fusion (else of the first method run): joint updates measured
 // by the runner around each call, image updates as the tracker reports them.
 // Non-finite numbers are written as null.
