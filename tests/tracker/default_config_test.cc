@@ -247,11 +247,13 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
   f.elements("joints.per_joint", &C::joint_overrides, [](FieldList<JointFilterOverride>&) {});
   f.nested("camera_offset.translation_", &C::camera_translation, [](FieldList<V>& v) {
     v(key("diffusion_m_per_sqrt_s", &V::diffusion_per_sqrt_s),
-      key("initial_std_m", &V::initial_std));
+      key("initial_std_m", &V::initial_std),
+      key("diffusion_m_per_sqrt_rad", &V::motion_diffusion_per_sqrt_rad));
   });
   f.nested("camera_offset.rotation_", &C::camera_rotation, [](FieldList<V>& v) {
     v(key("diffusion_deg_per_sqrt_s", &V::diffusion_per_sqrt_s, kRadPerDeg),
-      key("initial_std_deg", &V::initial_std, kRadPerDeg));
+      key("initial_std_deg", &V::initial_std, kRadPerDeg),
+      key("diffusion_deg_per_sqrt_rad", &V::motion_diffusion_per_sqrt_rad, kRadPerDeg));
   });
   f(key("vision_only.angle_diffusion_deg_per_sqrt_s",
         &C::vision_only_angle_diffusion_rad_per_sqrt_s, kRadPerDeg),

@@ -115,6 +115,25 @@ TEST(PosteriorCovariance, ConsiderParametersLeaveTheFitsErrorFloor) {
   EXPECT_TRUE(with.covariance().isApprox(plain.covariance(), 1e-12));
 }
 
+// Process noise other than time's: added to the filter's and the reported
+// variance of that state alone, the correlations kept.
+TEST(PosteriorCovariance, AddedVarianceGrowsOneStateInBothCovariances) {
+  PosteriorCovariance cov({{0, Kind::kAngle, 0, 0.1}, {1, Kind::kBias, 0.05, 0.003}}, 2);
+  cov.reset(Eigen::Vector2d(1, 2), 0);
+  Eigen::Matrix2d info;
+  info << 3, 1, 1, 2;
+  cov.update(info, Eigen::MatrixXd::Constant(2, 2, 0.5), 1);
+  const Eigen::MatrixXd reported = cov.covariance(), nominal = cov.nominal_covariance();
+  cov.add_variance(1, 0.25);
+  Eigen::Matrix2d added = Eigen::Matrix2d::Zero();
+  added(1, 1) = 0.25;
+  EXPECT_LT((cov.covariance() - reported - added).norm(), 1e-15);
+  EXPECT_LT((cov.nominal_covariance() - nominal - added).norm(), 1e-15);
+  EXPECT_THROW(cov.add_variance(2, 0.1), InputError);
+  EXPECT_THROW(cov.add_variance(0, -0.1), InputError);
+  EXPECT_THROW(cov.add_variance(0, std::nan("")), InputError);
+}
+
 TEST(PosteriorCovariance, RejectsBadInput) {
   EXPECT_THROW(PosteriorCovariance({{0, Kind::kBias, -1, 0.1}}), InputError);
   PosteriorCovariance cov({{0, Kind::kAngle, 0, 0.1}});

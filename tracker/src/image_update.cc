@@ -20,8 +20,10 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
       axis_search_(*setup.model, end_effector_fit_.fit_links(),
                    end_effector_fit_.on() ? setup.config.end_effector_fit.axis_search_range_m : 0,
                    setup.config.end_effector_fit.max_std_m),
+      carrier_motion_(*setup.model, *setup.filter_model, setup.config),
       prior_mean_(std::size_t(setup.n), 0.0),
       prior_std_(std::size_t(setup.n), 0.0),
+      carrier_added_var_(std::size_t(setup.n), 0.0),
       mean_fitted_(std::size_t(setup.n), 0.0),
       reopened_(std::size_t(setup.n), 0),
       proposal_std_(std::size_t(setup.n), 0.0) {
@@ -105,6 +107,12 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
                           const CameraIntrinsics& full_camera, double stamp_s, double time_s,
                           std::span<const double> reading_at_time, JointBelief& belief) {
   const int n = setup_.n;
+  // The camera offset's walk with the head that carries it, before the
+  // image samples it.
+  if (carrier_motion_.on()) {
+    carrier_motion_.added_variance(belief.mean_a, carrier_added_var_);
+    for (int j = 0; j < n; ++j) belief.var_a[j] += carrier_added_var_[j];
+  }
   for (int j = 0; j < n; ++j) prior_std_[j] = std::sqrt(std::max(0.0, belief.var_a[j]));
   std::copy(belief.mean_a.begin(), belief.mean_a.end(), prior_mean_.begin());
   const DepthLikelihood& likelihood = filter_.likelihood();
@@ -134,6 +142,7 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
     std::copy(belief.mean_a.begin(), belief.mean_a.end(), mean_fitted_.begin());
   const bool informed = covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a,
                                                 renderer, likelihood, &filter_.pool());
+  if (carrier_motion_.on()) covariance_.add_variance(carrier_added_var_);
   if (informed && refinement_.on())
     health_.refinements_accepted +=
         refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,

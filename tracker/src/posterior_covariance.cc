@@ -92,6 +92,13 @@ void PosteriorCovariance::predict_to(double time_s) {
   time_s_ = time_s;
 }
 
+void PosteriorCovariance::add_variance(int i, double variance) {
+  if (i < 0 || i >= size() || !(variance >= 0) || !std::isfinite(variance))
+    throw InputError("posterior covariance: bad added variance for state " + std::to_string(i));
+  P_(i, i) += variance;
+  if (num_consider_ > 0) Q_ee_(i, i) += variance;
+}
+
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  double information_scale) {
   update(angle_information, nullptr, nullptr, nullptr, information_scale);

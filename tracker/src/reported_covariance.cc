@@ -130,6 +130,14 @@ bool ReportedCovariance::begin_image(double time_s, std::span<const double> prio
   return !any_reopened && information_.pixels_used() > 0;
 }
 
+void ReportedCovariance::add_variance(std::span<const double> added_var) {
+  const auto& states = covariance_.states();
+  for (int i = 0; i < covariance_.size(); ++i) {
+    const double v = added_var[std::size_t(states[std::size_t(i)].dof)];
+    if (v > 0) covariance_.add_variance(i, v);
+  }
+}
+
 void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   if (covariance_.size() == 0) return;
   const Eigen::MatrixXd& info = information_.motion_field_information();

@@ -136,6 +136,10 @@ void TrackerConfig::validate(const std::string& source) const {
         R::closed(0, 1e4), kRadPerDeg);
   check("camera_offset.rotation_initial_std_deg", camera_rotation.initial_std,
         R::open_closed(0, 180), kRadPerDeg);
+  check("camera_offset.translation_diffusion_m_per_sqrt_rad",
+        camera_translation.motion_diffusion_per_sqrt_rad, R::closed(0, 10));
+  check("camera_offset.rotation_diffusion_deg_per_sqrt_rad",
+        camera_rotation.motion_diffusion_per_sqrt_rad, R::closed(0, 1e4), kRadPerDeg);
   check("vision_only.angle_diffusion_deg_per_sqrt_s", vision_only_angle_diffusion_rad_per_sqrt_s,
         R::closed(0, 1e5), kRadPerDeg);
   check("vision_only.initial_std_deg", vision_only_initial_std_rad, R::closed(0, 180), kRadPerDeg);
@@ -240,7 +244,11 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
       {{"translation_diffusion_m_per_sqrt_s", &c.camera_translation.diffusion_per_sqrt_s},
        {"translation_initial_std_m", &c.camera_translation.initial_std},
        {"rotation_diffusion_deg_per_sqrt_s", &c.camera_rotation.diffusion_per_sqrt_s, kRadPerDeg},
-       {"rotation_initial_std_deg", &c.camera_rotation.initial_std, kRadPerDeg}});
+       {"rotation_initial_std_deg", &c.camera_rotation.initial_std, kRadPerDeg},
+       {"translation_diffusion_m_per_sqrt_rad",
+        &c.camera_translation.motion_diffusion_per_sqrt_rad},
+       {"rotation_diffusion_deg_per_sqrt_rad", &c.camera_rotation.motion_diffusion_per_sqrt_rad,
+        kRadPerDeg}});
   read_numbers(root.child("vision_only"),
                {{"angle_diffusion_deg_per_sqrt_s", &c.vision_only_angle_diffusion_rad_per_sqrt_s,
                  kRadPerDeg},

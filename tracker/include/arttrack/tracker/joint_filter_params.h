@@ -111,6 +111,12 @@ struct VirtualJointParams {
   // Standard deviation of the initial belief around 0, m or rad: how far the
   // true camera may be from the kinematic model's camera.
   double initial_std = 0.03;
+  // Random-walk diffusion per square root of the radians (or metres) the
+  // joints that carry the camera travel, m/sqrt(rad) or rad/sqrt(rad): a
+  // camera on a pan-tilt head whose axes and origins are a little off its
+  // URDF sees its offset change as the head turns, not as time passes
+  // (camera_carrier_motion.h).
+  double motion_diffusion_per_sqrt_rad = 0;
 };
 
 }  // namespace arttrack

@@ -64,8 +64,8 @@ struct TrackerConfig {
   JointFilterParams prismatic_joint_defaults{1e-4, 1.0, 2e-4, 0.987, false};
   std::map<std::string, JointFilterOverride> joint_overrides;
   // Virtual camera joints: translation (m) and rotation (rad) noise.
-  VirtualJointParams camera_translation{0.002, 0.03};
-  VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg};
+  VirtualJointParams camera_translation{0.002, 0.03, 0.0};
+  VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg, 0.0};
 
   // Vision only: how fast angles may wander between images (rad/sqrt(s)) and
   // the standard deviation of the given initial configuration (rad).

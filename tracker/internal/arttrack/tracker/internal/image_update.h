@@ -1,7 +1,8 @@
 // One depth image's update of the joint belief (docs/method.md, "Image
 // update" and "Beyond the paper"), between the prior the tracker predicted
 // to the image's time and the re-filtering of the readings after it (paper
-// Sec. IV-C, the tracker's): the particle filter over the image
+// Sec. IV-C, the tracker's): the camera offset's walk with the joints that
+// carry the camera (camera_carrier_motion.h); the particle filter over the image
 // (image_filter.h), or at the first image the acquisition's search
 // (acquisition.h); the re-acquisition the health check's counts call for;
 // the reported covariance (reported_covariance.h) with the mean's
@@ -24,6 +25,7 @@
 
 #include "arttrack/tracker/camera.h"
 #include "arttrack/tracker/internal/acquisition.h"
+#include "arttrack/tracker/internal/camera_carrier_motion.h"
 #include "arttrack/tracker/internal/end_effector_axis_search.h"
 #include "arttrack/tracker/internal/end_effector_fit.h"
 #include "arttrack/tracker/internal/image_filter.h"
@@ -99,6 +101,7 @@ class ImageUpdate {
   Refinement refinement_;
   EndEffectorFit end_effector_fit_;
   EndEffectorAxisSearch axis_search_;
+  CameraCarrierMotion carrier_motion_;
   // The end-effector fit's own view, at its finer resolution: the robot
   // drawn for that camera, the pixel model and the rigid fits (no DOFs).
   std::unique_ptr<RenderGeometry> fit_geometry_;
@@ -114,6 +117,9 @@ class ImageUpdate {
   // Per image: the prior's angle means and standard deviations (DOF order),
   // and the DOFs re-acquisition moved.
   std::vector<double> prior_mean_, prior_std_;
+  // Per image: the variance the camera's carrying joints' motion adds (DOF
+  // order; carrier_motion_).
+  std::vector<double> carrier_added_var_;
   // The mean the image's information is computed at (before the refinement).
   std::vector<double> mean_fitted_;
   std::vector<char> reopened_;

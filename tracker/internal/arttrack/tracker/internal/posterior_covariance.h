@@ -72,6 +72,10 @@ class PosteriorCovariance {
   void restart_state(int i, double variance);
   // Moves the covariance to time_s (>= time_s()).
   void predict_to(double time_s);
+  // Adds process noise to state i's variance (>= 0), in the filter's and the
+  // reported covariance alike: a random walk driven by something other
+  // than time (camera_carrier_motion.h).
+  void add_variance(int i, double variance);
   // Folds in an image's information about the states' DOFs (their angles),
   // in states() order, times `information_scale` (with consider parameters:
   // an image that says nothing about them).

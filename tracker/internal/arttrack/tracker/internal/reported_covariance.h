@@ -118,6 +118,9 @@ class ReportedCovariance {
   bool begin_image(double time_s, std::span<const double> prior_std, std::vector<char>& reopened,
                    std::span<const double> mean, DepthRenderer& renderer,
                    const DepthLikelihood& likelihood, WorkerPool* pool = nullptr);
+  // After begin_image(): adds process noise other than time's to the DOFs'
+  // states (`added_var` per DOF, >= 0; camera_carrier_motion.h).
+  void add_variance(std::span<const double> added_var);
   // After begin_image(): the image's information, and what it knows.
   const ImageInformation& information() const { return information_; }
   // The rigid fits begin_image() computes too (ImageInformation::set_rigid_fit_links).
