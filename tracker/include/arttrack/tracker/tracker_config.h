@@ -65,7 +65,7 @@ struct TrackerConfig {
   std::map<std::string, JointFilterOverride> joint_overrides;
   // Virtual camera joints: translation (m) and rotation (rad) noise.
   VirtualJointParams camera_translation{0.002, 0.03, 0.0};
-  VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg, 0.0};
+  VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg, 0.25 * kRadPerDeg};
 
   // Vision only: how fast angles may wander between images (rad/sqrt(s)) and
   // the standard deviation of the given initial configuration (rad).

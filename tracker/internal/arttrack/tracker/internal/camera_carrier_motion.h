@@ -9,9 +9,10 @@
 // time passed. The paper's head (paper/base/apollo.yaml: axes tilted by 1.5
 // and 2.5 degrees) moves the true offset 0.5-0.8 degrees over its range.
 // With only the time diffusion the estimate lags it: on the exact-depth
-// both_fast file, whose head moves three times as fast, the offset stayed
-// 0.2 degrees and 1.3 mm off with a third of that claimed
-// (docs/accuracy.md, "The camera that turns with the head").
+// both_fast file, whose head moves three times as fast, the offset's roll
+// and y stayed 0.2 degrees and 1.3 mm off, against standard deviations of
+// 0.1 degrees and 0.8 mm (docs/accuracy.md, "The camera that turns with
+// the head").
 //
 // So at each image every virtual joint's variance grows by
 //   sigma_m^2 * sum over the carrying joints j of max(0, |dq_j| - sqrt(2) sigma_q,j),
