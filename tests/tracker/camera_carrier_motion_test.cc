@@ -68,7 +68,8 @@ TEST(CameraCarrierMotion, TheHeadsTurnLessEncoderNoiseGrowsTheCameraOffset) {
 }
 
 // A camera fixed to the robot's base (the planar arm's) is carried by no
-// joint, and a sigma_m of 0 grows nothing: both are off.
+// joint, a sigma_m of 0 grows nothing, and vision only has no encoder to
+// measure the travel: all three are off.
 TEST(CameraCarrierMotion, AFixedCameraOrNoDiffusionIsOff) {
   const auto arm = test_support::arm_model();
   TrackerConfig config = test_support::small_config(TrackingMethod::kFullFusion);
@@ -84,6 +85,11 @@ TEST(CameraCarrierMotion, AFixedCameraOrNoDiffusionIsOff) {
   none.camera_rotation.motion_diffusion_per_sqrt_rad = 0;
   const TrackerSetup setup(model, none, physical_joints(*model));
   EXPECT_FALSE(CameraCarrierMotion(*model, *setup.filter_model, none).on());
+  // Vision only: no encoder measures the head's travel apart from the images.
+  TrackerConfig vision;
+  vision.method = TrackingMethod::kVisionOnly;
+  const TrackerSetup vision_setup(model, vision, physical_joints(*model));
+  EXPECT_FALSE(CameraCarrierMotion(*model, *vision_setup.filter_model, vision).on());
 }
 
 TEST(CameraCarrierMotion, SizesAreChecked) {

@@ -20,15 +20,15 @@ CameraCarrierMotion::CameraCarrierMotion(const RobotModel& model, const JointFil
           p.motion_diffusion_per_sqrt_rad * p.motion_diffusion_per_sqrt_rad;
     } else if (model.links_moved_by(dof)[std::size_t(camera)]) {
       carrying_dofs_.push_back(dof);
-      // Vision only has no encoder: its angles come from the images alone,
-      // so only their spread between two images is allowed for.
-      const double var_q =
-          dof < filters.num_encoder_joints() ? filters.encoder_var_rad2()[std::size_t(dof)] : 0.0;
-      noise_allowance_.push_back(std::sqrt(2 * var_q));
+      noise_allowance_.push_back(std::sqrt(2 * filters.encoder_var_rad2()[std::size_t(dof)]));
     }
   }
   previous_.assign(carrying_dofs_.size(), 0.0);
-  on_ = !carrying_dofs_.empty() &&
+  // Vision only has no encoder: its head angles come from the images, as
+  // the offset does, and their image-to-image jitter is no measure of how
+  // far the head turned (with it, occlusion__constant_bias seed 3 lost
+  // the arm before the panel came).
+  on_ = config.method != TrackingMethod::kVisionOnly && !carrying_dofs_.empty() &&
         std::any_of(rate_var_.begin(), rate_var_.end(), [](double v) { return v > 0; });
 }
 

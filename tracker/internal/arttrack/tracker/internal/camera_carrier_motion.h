@@ -19,7 +19,8 @@
 // dq_j the change of joint j's estimated angle since the previous image,
 // less what two readings' encoder noise sigma_q,j moves it by (a still
 // head adds next to nothing). A camera fixed in the world, or carried by no
-// joint the tracker knows, gets nothing.
+// joint the tracker knows, gets nothing, and so does vision only (no
+// encoder measures the head's travel apart from the images).
 //
 // Setup: the model and the filters' noises. Workspace: the carrying joints'
 // angles at the previous image. Allocation-free after construction.
@@ -42,7 +43,8 @@ class CameraCarrierMotion {
   CameraCarrierMotion(const RobotModel& model, const JointFilterModel& filters,
                       const TrackerConfig& config);
 
-  // Whether any virtual joint can grow: a carrying joint and a sigma_m > 0.
+  // Whether any virtual joint can grow: a carrying joint, a sigma_m > 0 and
+  // a method with encoders (not vision only).
   bool on() const { return on_; }
   const std::vector<int>& carrying_dofs() const { return carrying_dofs_; }
 
