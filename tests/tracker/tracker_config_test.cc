@@ -30,6 +30,16 @@ TEST(TrackerConfigTest, ReadsGeometry) {
   EXPECT_FALSE(default_tracker_config().geometry.open_parts_both_sides);
 }
 
+TEST(TrackerConfigTest, CameraJointsAreTranslationThenRotation) {
+  TrackerConfig c;
+  c.camera_translation.initial_std = 0.01;
+  c.camera_rotation.initial_std = 0.02;
+  for (int k = 0; k < 6; ++k)
+    EXPECT_EQ(c.camera_joint_params(k).initial_std, k < 3 ? 0.01 : 0.02) << k;
+  EXPECT_THROW(c.camera_joint_params(-1), InputError);
+  EXPECT_THROW(c.camera_joint_params(6), InputError);
+}
+
 TEST(TrackerConfigTest, ReadsWhetherTheFirstSearchMovesTheCamera) {
   for (const bool value : {false, true})
     EXPECT_EQ(

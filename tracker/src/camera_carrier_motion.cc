@@ -11,11 +11,10 @@ CameraCarrierMotion::CameraCarrierMotion(const RobotModel& model, const JointFil
                                          const TrackerConfig& config)
     : rate_var_(std::size_t(model.num_joints()), 0.0) {
   const int camera = model.nominal_camera_link();
-  int virtual_seen = 0;  // translation x, y, z, then rotation (tracker_setup.cc)
+  int virtual_seen = 0;
   for (int dof = 0; dof < model.num_joints(); ++dof) {
     if (model.is_virtual_joint(dof)) {
-      const VirtualJointParams& p =
-          virtual_seen++ < 3 ? config.camera_translation : config.camera_rotation;
+      const VirtualJointParams& p = config.camera_joint_params(virtual_seen++);
       rate_var_[std::size_t(dof)] =
           p.motion_diffusion_per_sqrt_rad * p.motion_diffusion_per_sqrt_rad;
     } else if (model.links_moved_by(dof)[std::size_t(camera)]) {

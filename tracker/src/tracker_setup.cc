@@ -76,8 +76,7 @@ TrackerSetup::TrackerSetup(std::shared_ptr<const RobotModel> m, const TrackerCon
     phys_params.push_back(p);
   }
   std::vector<VirtualJointParams> virtual_params;
-  for (int k = 0; k < 6; ++k)
-    virtual_params.push_back(k < 3 ? config.camera_translation : config.camera_rotation);
+  for (int k = 0; k < 6; ++k) virtual_params.push_back(config.camera_joint_params(k));
   filter_model =
       std::make_unique<JointFilterModel>(phys_names, phys_params, virtual_names, virtual_params);
   bias_estimated.assign(n_phys, 0);

@@ -66,6 +66,10 @@ struct TrackerConfig {
   // Virtual camera joints: translation (m) and rotation (rad) noise.
   VirtualJointParams camera_translation{0.002, 0.03, 0.0};
   VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg, 0.25 * kRadPerDeg};
+  // The noise of the k-th virtual camera joint, k in [0, 6), in the model's
+  // order: translation along x, y, z (camera_translation), then rotation
+  // about x, y, z (camera_rotation). Throws InputError outside [0, 6).
+  const VirtualJointParams& camera_joint_params(int k) const;
 
   // Vision only: how fast angles may wander between images (rad/sqrt(s)) and
   // the standard deviation of the given initial configuration (rad).
