@@ -245,6 +245,11 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
            });
   // None in the shipped file; an entry's keys are any of the two above.
   f.elements("joints.per_joint", &C::joint_overrides, [](FieldList<JointFilterOverride>&) {});
+  f.nested("encoder_smoothing.", &C::encoder_smoothing, [](FieldList<C::EncoderSmoothing>& e) {
+    using E = C::EncoderSmoothing;
+    e(key("enabled", &E::enabled), key("rate_diffusion_deg_per_s_per_sqrt_s",
+                                       &E::rate_diffusion_rad_per_s_per_sqrt_s, kRadPerDeg));
+  });
   f.nested("camera_offset.translation_", &C::camera_translation, [](FieldList<V>& v) {
     v(key("diffusion_m_per_sqrt_s", &V::diffusion_per_sqrt_s),
       key("initial_std_m", &V::initial_std),

@@ -196,6 +196,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"camera_offset.rotation_initial_std_deg", "180", "181"},
     {"camera_offset.translation_diffusion_m_per_sqrt_rad", "0", "-0.001"},
     {"camera_offset.translation_diffusion_m_per_sqrt_rad", "10", "10.001"},
+    {"encoder_smoothing.rate_diffusion_deg_per_s_per_sqrt_s", "1e-6", "0"},
+    {"encoder_smoothing.rate_diffusion_deg_per_s_per_sqrt_s", "1e5", "1.01e5"},
     {"camera_offset.rotation_diffusion_deg_per_sqrt_rad", "0", "-1"},
     {"camera_offset.rotation_diffusion_deg_per_sqrt_rad", "10000", "10001"},
     {"vision_only.angle_diffusion_deg_per_sqrt_s", "0", "-1"},

@@ -12,6 +12,7 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/belief_buffer.h"
+#include "arttrack/tracker/internal/encoder_smoother.h"
 #include "arttrack/tracker/internal/estimate_report.h"
 #include "arttrack/tracker/internal/image_update.h"
 #include "arttrack/tracker/internal/joint_filter.h"
@@ -72,7 +73,8 @@ struct Tracker::Impl {
   bool initialized = false;
   double time_s = kNoTime;
   JointBelief belief;
-  std::vector<double> readings_bank;  // newest readings, DOF order (physical)
+  std::vector<double> readings_bank;          // newest readings, DOF order (physical)
+  std::unique_ptr<EncoderSmoother> smoother;  // config.encoder_smoothing; null: off
   std::unique_ptr<BeliefBuffer> buffer;
   double image_time_s = kNoTime;      // time of the newest applied image
   std::vector<double> image_state;    // belief right after it
@@ -110,6 +112,14 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
   const int n = setup.n, n_phys = setup.n_phys;
   belief = initial_joint_belief(*setup.filter_model, std::vector<double>(n_phys, 0.0));
   readings_bank.assign(n_phys, 0.0);
+  if (setup.use_encoders && setup.config.encoder_smoothing.enabled) {
+    std::vector<char> revolute(std::size_t(n_phys), 0);
+    for (int j = 0; j < n_phys; ++j)
+      revolute[std::size_t(j)] = setup.model->joint_type(j) != JointType::kPrismatic;
+    smoother = std::make_unique<EncoderSmoother>(
+        setup.filter_model->encoder_var_rad2().first(std::size_t(n_phys)), revolute,
+        setup.config.encoder_smoothing.rate_diffusion_rad_per_s_per_sqrt_s);
+  }
   buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, setup.config.buffer_capacity);
   image_state.assign(5 * n, 0.0);
   state_scratch.assign(5 * n, 0.0);
@@ -316,6 +326,9 @@ void Tracker::add_joint_measurement(double time_s, std::span<const double> angle
   }
   for (size_t k = 0; k < angles_rad.size(); ++k)
     s.readings_bank[s.setup.encoder_dof[k]] = angles_rad[k];
+  // Smoothed readings are what the filter, the buffer's re-filtering and
+  // encoders only's report take (encoder_smoother.h).
+  if (s.smoother) s.smoother->smooth(s.initialized ? time_s - s.time_s : 0.0, s.readings_bank);
   if (!s.initialized) {
     s.belief = initial_joint_belief(*s.setup.filter_model, s.readings_bank);
     s.initialized = true;

@@ -134,6 +134,8 @@ void TrackerConfig::validate(const std::string& source) const {
     if (!o.linear.value_or(false)) o.over(joint_defaults).validate(source, prefix);
     if (o.linear.value_or(true)) o.over(prismatic_joint_defaults).validate(source, prefix, true);
   }
+  check("encoder_smoothing.rate_diffusion_deg_per_s_per_sqrt_s",
+        encoder_smoothing.rate_diffusion_rad_per_s_per_sqrt_s, R::open_closed(0, 1e5), kRadPerDeg);
   check("camera_offset.translation_diffusion_m_per_sqrt_s", camera_translation.diffusion_per_sqrt_s,
         R::closed(0, 10));
   check("camera_offset.translation_initial_std_m", camera_translation.initial_std,
@@ -244,6 +246,11 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   const ConfigNode per_joint = joints.child("per_joint");
   for (const std::string& name : per_joint.keys())
     c.joint_overrides[name] = read_joint_override(per_joint.child(name));
+
+  const ConfigNode smoothing = root.child("encoder_smoothing");
+  c.encoder_smoothing.enabled = smoothing.get<bool>("enabled", c.encoder_smoothing.enabled);
+  read_numbers(smoothing, {{"rate_diffusion_deg_per_s_per_sqrt_s",
+                            &c.encoder_smoothing.rate_diffusion_rad_per_s_per_sqrt_s, kRadPerDeg}});
 
   read_numbers(
       root.child("camera_offset"),

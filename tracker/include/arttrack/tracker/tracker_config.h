@@ -63,6 +63,21 @@ struct TrackerConfig {
   JointFilterParams joint_defaults;
   JointFilterParams prismatic_joint_defaults{1e-4, 1.0, 2e-4, 0.987, false};
   std::map<std::string, JointFilterOverride> joint_overrides;
+  // Encoder smoothing (encoder_smoother.h): a constant-velocity Kalman
+  // filter on each revolute encoder's readings, ahead of the joint filter.
+  // Off, the joint filter takes each reading almost whole (its angle
+  // diffusion follows any motion) and the angle carries the reading's white
+  // noise between images: 0.057 degrees on every encoder took the dual
+  // arm's realistic p75 from 4.0 to 6.5 mm (docs/accuracy.md, "Encoders
+  // with noise"). Off by default: the simulated encoders have no noise.
+  struct EncoderSmoothing {
+    bool enabled = false;
+    // sigma_v: the rate's diffusion (white acceleration), rad/s per
+    // sqrt(s); in (0, 1e5] deg/s/sqrt(s). Smaller averages more readings
+    // and lags more behind an accelerating joint.
+    double rate_diffusion_rad_per_s_per_sqrt_s = 20 * kRadPerDeg;
+  };
+  EncoderSmoothing encoder_smoothing;
   // Virtual camera joints: translation (m) and rotation (rad) noise.
   VirtualJointParams camera_translation{0.002, 0.03, 0.0};
   VirtualJointParams camera_rotation{0.11 * kRadPerDeg, 1.7 * kRadPerDeg, 0.25 * kRadPerDeg};
