@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -118,6 +119,36 @@ TEST(TrackerTest, EncodersOnlyReportsTheRawReadings) {
   EXPECT_DOUBLE_EQ(e.angle_rad[model->joint_index("elbow")], 0.3);
   EXPECT_DOUBLE_EQ(e.angle_rad[model->joint_index("shoulder")], -0.2);
   ASSERT_EQ(e.T_camera_ee.size(), 1u);
+}
+
+// Encoder smoothing (encoder_smoother.h): the noisy readings of a joint
+// turning at a constant rate, averaged before the filter. Encoders only
+// reports them: off, its angle carries the readings' noise; on, a fraction
+// of it, and no lag.
+TEST(TrackerTest, EncoderSmoothingAveragesNoisyReadings) {
+  auto model = arm_model();
+  const auto rms_error = [&](bool smoothing) {
+    TrackerConfig c = small_config(TrackingMethod::kEncodersOnly);
+    c.encoder_smoothing.enabled = smoothing;
+    Tracker tracker(model, c, {"elbow", "shoulder"});
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> noise(0, c.joint_defaults.encoder_noise_rad);
+    double sum = 0;
+    int n = 0;
+    for (int i = 0; i <= 2000; ++i) {
+      const double t = 1e-3 * i, elbow = 0.3 + 0.4 * t;
+      tracker.add_joint_measurement(t, std::vector<double>{elbow + noise(rng), -0.2});
+      if (t < 1) continue;
+      const double e = tracker.estimate().angle_rad[model->joint_index("elbow")] - elbow;
+      sum += e * e;
+      ++n;
+    }
+    return std::sqrt(sum / n);
+  };
+  const double sigma_q =
+      small_config(TrackingMethod::kEncodersOnly).joint_defaults.encoder_noise_rad;
+  EXPECT_NEAR(rms_error(false), sigma_q, 0.1 * sigma_q);
+  EXPECT_LT(rms_error(true), 0.5 * sigma_q);
 }
 
 TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
