@@ -68,7 +68,7 @@ struct TrackerConfig {
   // Off, the joint filter takes each reading almost whole (its angle
   // diffusion follows any motion) and the angle carries the reading's white
   // noise between images: 0.057 degrees on every encoder took the dual
-  // arm's realistic p75 from 4.0 to 6.5 mm (docs/accuracy.md, "Encoders
+  // arm's realistic p75 from 4.0 to 6.3-6.7 mm (docs/accuracy.md, "Encoders
   // with noise"). Off by default: the simulated encoders have no noise.
   struct EncoderSmoothing {
     bool enabled = false;
