@@ -110,15 +110,15 @@ double TrackerConfig::Geometry::error_bound_m(const CameraIntrinsics& likelihood
                           : 0.0;
 }
 
-// Every range of the configuration, in the YAML's keys and units; the
-// structs' own validate functions hold theirs (depth model, joint filters,
-// particle filter).
 const VirtualJointParams& TrackerConfig::camera_joint_params(int k) const {
   if (k < 0 || k >= 6)
     throw InputError("virtual camera joint " + std::to_string(k) + ": expected 0 to 5");
   return k < 3 ? camera_translation : camera_rotation;
 }
 
+// Every range of the configuration, in the YAML's keys and units; the
+// structs' own validate functions hold theirs (depth model, joint filters,
+// particle filter).
 void TrackerConfig::validate(const std::string& source) const {
   const auto check = [&](const std::string& key, double value, const ConfigRange& range,
                          double unit = 1.0) { check_range(source, key, value, range, unit); };

@@ -1,6 +1,6 @@
 // Encoder smoothing: a constant-velocity Kalman filter over (angle, rate) on
 // each revolute encoder's readings, ahead of the joint filter
-// (TrackerConfig::EncoderSmoothing; docs/method.md "Encoder smoothing";
+// (TrackerConfig::EncoderSmoothing; docs/method.md "Joint filter";
 // docs/accuracy.md "Encoders with noise").
 //
 // The joint filter's angle is a random walk fast enough to follow any
