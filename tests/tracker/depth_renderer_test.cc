@@ -211,12 +211,21 @@ constexpr char kArm[] = R"(<robot name="arm">
 // Brute force: the nearest front-facing triangle hit by each pixel's ray
 // (any triangle with `both_sides`), intersected in double precision
 // (Moller-Trumbore), and the round shapes by sphere tracing; z >= near.
+// A ray meets a triangle in front of the camera only inside the box of its
+// projected corners, so each pixel tests only the triangles whose box, a
+// pixel wider on every side, holds it (those reaching behind the camera:
+// every pixel). The intersections themselves are as before, a hundred
+// times fewer of them (AddressSanitizer: 42 s for the clusters test).
 DepthImage ray_cast(const RobotModel& model, const KinematicsState& state,
                     const CameraIntrinsics& camera, double near, bool both_sides = false) {
   DepthImage depth(camera.width, camera.height);
   const Eigen::Isometry3d T_cam_root =
       state.T_root_link[model.camera_link()].inverse(Eigen::Isometry);
-  std::vector<std::array<Eigen::Vector3d, 3>> triangles;
+  struct Triangle {
+    std::array<Eigen::Vector3d, 3> p;
+    int u_min, u_max, v_min, v_max;  // the pixels whose rays may meet it
+  };
+  std::vector<Triangle> triangles;
   std::vector<std::pair<RoundShape, Eigen::Isometry3d>> shapes;  // with T_camera_shape
   for (int l : model.links_with_geometry()) {
     const Eigen::Isometry3d T = T_cam_root * state.T_root_link[l];
@@ -232,8 +241,22 @@ DepthImage ray_cast(const RobotModel& model, const KinematicsState& state,
       const Eigen::Vector3i& t = mesh.triangles[i];
       std::array<Eigen::Vector3d, 3> p;
       for (int k = 0; k < 3; ++k) p[k] = T * mesh.vertices_m[t[k]].cast<double>();
-      if (both_sides || (p[1] - p[0]).cross(p[2] - p[0]).dot(p[0]) < 0)  // faces us
-        triangles.push_back(p);
+      if (!both_sides && (p[1] - p[0]).cross(p[2] - p[0]).dot(p[0]) >= 0) continue;  // faces away
+      Triangle tri{p, 0, camera.width - 1, 0, camera.height - 1};
+      if (p[0].z() > 1e-9 && p[1].z() > 1e-9 && p[2].z() > 1e-9) {
+        double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
+        for (const Eigen::Vector3d& c : p) {
+          const double u = camera.fx * c.x() / c.z() + camera.cx - 0.5;  // pixel index
+          const double v = camera.fy * c.y() / c.z() + camera.cy - 0.5;
+          u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u);
+          v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+        }
+        tri.u_min = int(std::max(-1.0, std::floor(u_lo) - 1));
+        tri.u_max = int(std::min(double(camera.width), std::ceil(u_hi) + 1));
+        tri.v_min = int(std::max(-1.0, std::floor(v_lo) - 1));
+        tri.v_max = int(std::min(double(camera.height), std::ceil(v_hi) + 1));
+      }
+      triangles.push_back(tri);
     }
   }
   for (int v = 0; v < camera.height; ++v) {
@@ -241,7 +264,9 @@ DepthImage ray_cast(const RobotModel& model, const KinematicsState& state,
       const Eigen::Vector3d ray((u + 0.5 - camera.cx) / camera.fx,
                                 (v + 0.5 - camera.cy) / camera.fy, 1);
       double best = std::numeric_limits<double>::infinity();
-      for (const auto& p : triangles) {
+      for (const Triangle& tri : triangles) {
+        if (u < tri.u_min || u > tri.u_max || v < tri.v_min || v > tri.v_max) continue;
+        const std::array<Eigen::Vector3d, 3>& p = tri.p;
         const Eigen::Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0];
         const Eigen::Vector3d h = ray.cross(e2);
         const double det = e1.dot(h);
