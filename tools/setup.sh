@@ -40,7 +40,11 @@ fi
 
 [ "$mode" = deps ] && exit 0
 
-cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release
+# A unity build (each library's and program's sources compiled eight to a
+# file): compile CPU 864 s -> 551 s on 2 cores, the same binaries' outputs
+# (timeseries.csv byte for byte). An edited source recompiles its batch; a
+# developer who edits often configures a folder of their own without it.
+cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON
 cmake --build "$build_dir" -j "$jobs"
 
 case "$mode" in
@@ -50,9 +54,8 @@ case "$mode" in
   test)
     ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@"
     # Then the unit and sim tests again under AddressSanitizer + UBSan, built
-    # in a second folder (their programs only). SANITIZE=0 skips this.
-    # A unity build there: each library's sources compiled eight to a file,
-    # a quarter less compile CPU for the libraries (269 s -> 203 s).
+    # in a second folder (their programs only), unity too (the libraries'
+    # compile CPU 269 s -> 203 s there). SANITIZE=0 skips this.
     if [ "${SANITIZE:-1}" != 0 ]; then
       san_dir=${build_dir}-sanitize
       cmake -S . -B "$san_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DARTTRACK_SANITIZE=ON \
