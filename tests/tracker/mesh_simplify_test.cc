@@ -43,22 +43,53 @@ double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& 
 // Signed distances from each vertex of `original`'s triangles to the
 // surface of `simplified`, by brute force: to the nearest triangle, positive
 // on the side its normal points to (outside a closed mesh wound outwards).
+// A triangle within a ball is no nearer than the ball's surface, so one
+// whose ball is farther than some triangle is passed over: the same nearest
+// triangle, a few exact distances per vertex instead of one per triangle
+// (AddressSanitizer: 18 s for the straddle test).
 std::vector<double> signed_vertex_distances(const TriangleMesh& original,
                                             const TriangleMesh& simplified) {
+  struct Triangle {
+    Eigen::Vector3d a, b, c, centre;
+    double radius;
+  };
+  std::vector<Triangle> triangles;
+  for (const Eigen::Vector3i& t : simplified.triangles) {
+    Triangle tri{simplified.vertices_m[t[0]].cast<double>(),
+                 simplified.vertices_m[t[1]].cast<double>(),
+                 simplified.vertices_m[t[2]].cast<double>(),
+                 {},
+                 0};
+    tri.centre = (tri.a + tri.b + tri.c) / 3;
+    tri.radius = std::max(
+        {(tri.a - tri.centre).norm(), (tri.b - tri.centre).norm(), (tri.c - tri.centre).norm()});
+    triangles.push_back(tri);
+  }
   std::vector<bool> used(original.vertices_m.size(), false);
   for (const Eigen::Vector3i& t : original.triangles)
     for (int k = 0; k < 3; ++k) used[std::size_t(t[k])] = true;
-  std::vector<double> distances;
+  std::vector<double> distances, ball_distance(triangles.size());
   for (std::size_t i = 0; i < original.vertices_m.size(); ++i) {
     if (!used[i]) continue;
     const Eigen::Vector3d p = original.vertices_m[i].cast<double>();
+    if (triangles.empty()) {
+      distances.push_back(INFINITY);
+      continue;
+    }
+    for (std::size_t k = 0; k < triangles.size(); ++k)
+      ball_distance[k] = (p - triangles[k].centre).norm() - triangles[k].radius;
+    // The triangle whose ball is nearest bounds the distance; then every
+    // triangle in order that may be as near, so ties go to the first one.
+    const std::size_t first = std::size_t(
+        std::min_element(ball_distance.begin(), ball_distance.end()) - ball_distance.begin());
+    const Triangle& f = triangles[first];
+    const double bound = point_triangle_distance(p, f.a, f.b, f.c);
     double nearest = INFINITY, sign = 1;
-    for (const Eigen::Vector3i& t : simplified.triangles) {
-      const Eigen::Vector3d a = simplified.vertices_m[t[0]].cast<double>();
-      const Eigen::Vector3d b = simplified.vertices_m[t[1]].cast<double>();
-      const Eigen::Vector3d c = simplified.vertices_m[t[2]].cast<double>();
-      const double d = point_triangle_distance(p, a, b, c);
-      if (d < nearest) nearest = d, sign = (b - a).cross(c - a).dot(p - a) >= 0 ? 1 : -1;
+    for (std::size_t k = 0; k < triangles.size(); ++k) {
+      if (ball_distance[k] > bound + 1e-12) continue;
+      const Triangle& t = triangles[k];
+      const double d = point_triangle_distance(p, t.a, t.b, t.c);
+      if (d < nearest) nearest = d, sign = (t.b - t.a).cross(t.c - t.a).dot(p - t.a) >= 0 ? 1 : -1;
     }
     distances.push_back(sign * nearest);
   }
