@@ -205,10 +205,10 @@ TEST(PaperFindings, OcclusionFullFusionNeverMuchWorseThanEncodersVisionOnlyLoses
     SCOPED_TRACE(variant);
     int holds = 0;
     std::size_t lost = 0;
+    const bool constant_bias = std::string(variant) == "occlusion__constant_bias";
+    std::vector<std::string> methods = {"encoders_only", "full_fusion"};
+    if (constant_bias) methods.push_back("vision_only");
     for (const char* seed : {"seed=1", "seed=2", "seed=3"}) {
-      const bool constant_bias = std::string(variant) == "occlusion__constant_bias";
-      std::vector<std::string> methods = {"encoders_only", "full_fusion"};
-      if (constant_bias) methods.push_back("vision_only");
       const ScenarioResult r = run_paper(variant, 17, methods, {seed});
       lost += method(r, "full_fusion").summary.lost_runs();
       if (constant_bias) {
