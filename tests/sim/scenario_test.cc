@@ -358,6 +358,40 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
 // counts asked, sizes in their range with both signs, every candidate
 // drawn over many seeds, the same seed the same robot, on top of the
 // scenario's fixed mismatch.
+// arm7's fingers are a prismatic joint: an encoder group's degree keys
+// corrupt its revolute joints and its metre keys the fingers; a group with
+// only degree keys that takes in the fingers is an error naming them (until
+// stop 71 a finger read "0.057 degrees" of noise as 1 mm).
+TEST(Scenario, EncoderKeysComeInTheJointsUnits) {
+  const fs::path f = fs::path(ARTTRACK_SOURCE_DIR) / "scenarios" / "arm7" / "constant_bias.yaml";
+  expect_error(f,
+               {f.string(), "'encoders[1].joints'", "'arm7_finger_joint1'", "noise_deg", "noise_m"},
+               {"encoders=[{joints: [arm], offset_deg: 8.6}, {joints: [all], noise_deg: 0.057}]"});
+  expect_error(f, {"'encoders[0].noise_m'", "prismatic"},
+               {"encoders=[{joints: [arm], noise_m: 0.001}]"});
+  expect_error(f, {"'encoders[0].offset_deg'", "revolute"},
+               {"encoders=[{joints: [arm7_finger_joint1], offset_deg: 1, noise_m: 0.001}]"});
+  expect_error(f, {"'encoders[0].noise_m'", "out of range"},
+               {"encoders=[{joints: [arm7_finger_joint1], noise_m: -1}]"});
+
+  const Scenario s =
+      load_scenario(f, {"encoders=[{noise_deg: 0.057, noise_m: 0.0001, resolution_m: 1e-5}]"});
+  ASSERT_EQ(s.encoders.groups.size(), 2u);
+  const EncoderGroupCorruption& revolute = s.encoders.groups[0];
+  const EncoderGroupCorruption& prismatic = s.encoders.groups[1];
+  EXPECT_EQ(revolute.joints.size(), s.urdf.movable_joints.size() - 1);
+  EXPECT_DOUBLE_EQ(revolute.noise_sigma_rad, 0.057 * kRadPerDeg);
+  EXPECT_EQ(revolute.resolution_rad, 0.0);
+  EXPECT_EQ(prismatic.joints, (std::vector<std::string>{"arm7_finger_joint1"}));
+  EXPECT_DOUBLE_EQ(prismatic.noise_sigma_rad, 0.0001);
+  EXPECT_DOUBLE_EQ(prismatic.resolution_rad, 1e-5);
+
+  // Stated exact, the fingers need no group of their own to be left alone.
+  const Scenario exact = load_scenario(f, {"encoders=[{noise_deg: 0.057, noise_m: 0}]"});
+  ASSERT_EQ(exact.encoders.groups.size(), 2u);
+  EXPECT_EQ(exact.encoders.groups[1].noise_sigma_rad, 0.0);
+}
+
 TEST(Scenario, RandomModelErrorIsDrawnPerSeedWithinItsBudget) {
   const test::TestDir dir("scenario_random_mismatch");
   const fs::path f = dir.write("full.yaml", kFull);

@@ -225,21 +225,74 @@ void read_loads(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s) {
   }
 }
 
+// An encoder group's keys come in the units of the joints they corrupt:
+// degrees for revolute and continuous joints, metres for prismatic ones (a
+// gripper's fingers). A group that names both kinds is split in two; a
+// prismatic joint in a group whose keys are all in degrees is an error, not
+// a finger read 0.057 "degrees" = 1 mm off.
+constexpr const char* kEncoderDegreeKeys[] = {
+    "offset_deg", "step_amplitude_deg", "compliance_deg_per_Nm", "noise_deg", "resolution_deg"};
+constexpr const char* kEncoderMetreKeys[] = {"offset_m", "step_amplitude_m", "compliance_m_per_N",
+                                             "noise_m", "resolution_m"};
+
+// The first of `keys` that n sets, or nullptr.
+template <std::size_t N>
+const char* first_key_set(const ConfigNode& n, const char* const (&keys)[N]) {
+  for (const char* key : keys)
+    if (n.has(key)) return key;
+  return nullptr;
+}
+
 void read_encoders(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s) {
   for (const ConfigNode& n : root.list("encoders")) {
+    const std::vector<std::string> named = joint_list(n, s, false);
+    std::vector<std::string> revolute, prismatic;
+    for (const std::string& j : named.empty() ? urdf.movable_joints : named)
+      (urdf.is_prismatic(j) ? prismatic : revolute).push_back(j);
+    const char* degree_key = first_key_set(n, kEncoderDegreeKeys);
+    const char* metre_key = first_key_set(n, kEncoderMetreKeys);
+    if (!prismatic.empty() && degree_key && !metre_key)
+      n.fail("joints", "includes the prismatic joint " + quote_value(prismatic.front()) +
+                           " (metres) and the group's keys are in degrees (" + degree_key +
+                           "): give its corruption in metres (offset_m, step_amplitude_m, "
+                           "compliance_m_per_N, noise_m, resolution_m; 0 for none) or leave "
+                           "it out of the group");
+    if (metre_key && prismatic.empty())
+      n.fail(metre_key, "is in metres, for prismatic joints, and the group has none");
+    if (degree_key && revolute.empty())
+      n.fail(degree_key, "is in degrees, for revolute joints, and the group has none");
+
     EncoderGroupCorruption g;
-    g.joints = joint_list(n, s, false);
-    g.offset_rad = kRadPerDeg * n.number("offset_deg", 0, -360, 360);
-    g.step_amplitude_rad = kRadPerDeg * n.number("step_amplitude_deg", 0, -360, 360);
     g.step_period_s = n.number("step_period_s", g.step_period_s, 1e-6, 1e6);
     g.step_ramp_time_s = n.number("step_ramp_time_s", g.step_ramp_time_s, 0, 1e6);
-    g.compliance_rad_per_Nm = kRadPerDeg * n.number("compliance_deg_per_Nm", 0, 0, 1e3);
     g.stretch_time_constant_s =
         n.number("stretch_time_constant_s", g.stretch_time_constant_s, 0, 1e6);
+    EncoderGroupCorruption metres = g;
+    g.offset_rad = kRadPerDeg * n.number("offset_deg", 0, -360, 360);
+    g.step_amplitude_rad = kRadPerDeg * n.number("step_amplitude_deg", 0, -360, 360);
+    g.compliance_rad_per_Nm = kRadPerDeg * n.number("compliance_deg_per_Nm", 0, 0, 1e3);
     g.noise_sigma_rad = kRadPerDeg * n.number("noise_deg", 0, 0, 360);
     g.resolution_rad = kRadPerDeg * n.number("resolution_deg", 0, 0, 360);
-    checked(n, [&] { g.validate(); });
-    s.encoders.groups.push_back(g);
+    metres.offset_rad = n.number("offset_m", 0, -10, 10);
+    metres.step_amplitude_rad = n.number("step_amplitude_m", 0, -10, 10);
+    metres.compliance_rad_per_Nm = n.number("compliance_m_per_N", 0, 0, 1);
+    metres.noise_sigma_rad = n.number("noise_m", 0, 0, 10);
+    metres.resolution_rad = n.number("resolution_m", 0, 0, 10);
+    checked(n, [&] {
+      g.validate();
+      metres.validate();
+    });
+    if (prismatic.empty()) {
+      g.joints = named;  // empty: every joint, all revolute
+      s.encoders.groups.push_back(g);
+      continue;
+    }
+    if (!revolute.empty()) {
+      g.joints = revolute;
+      s.encoders.groups.push_back(g);
+    }
+    metres.joints = prismatic;
+    s.encoders.groups.push_back(metres);
   }
   // Cross-group rules (one step, stretch or quantisation per joint).
   try {

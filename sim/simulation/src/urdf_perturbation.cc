@@ -112,6 +112,11 @@ int UrdfSummary::movable_index(const std::string& name) const {
   return it == movable_joints.end() ? -1 : int(it - movable_joints.begin());
 }
 
+bool UrdfSummary::is_prismatic(const std::string& name) const {
+  const int i = movable_index(name);
+  return i >= 0 && movable_prismatic[std::size_t(i)] != 0;
+}
+
 UrdfSummary read_urdf_summary(const fs::path& urdf) {
   const std::string where = urdf.string();
   XMLDocument doc;
@@ -140,6 +145,7 @@ UrdfSummary read_urdf_summary(const fs::path& urdf) {
     }
     s.movable_joints.push_back(name);
     s.movable_limits.push_back(limit);
+    s.movable_prismatic.push_back(t == "prismatic");
   }
   check_model_count(where, s.link_names.size(), ModelLimits::kMaxLinks, "links");
   check_model_count(where, s.joint_names.size(), ModelLimits::kMaxJoints, "joints");

@@ -145,6 +145,9 @@ struct Scenario {
   std::vector<OutOfViewMotion> out_of_view;
   std::vector<LinkLoad> loads;
 
+  // Encoder corruption; a file's group that names revolute and prismatic
+  // joints is two groups here (degree keys for the one, metre keys for the
+  // other), with the joints named in full.
   EncoderCorruptionParams encoders;
   CameraTiming camera_timing;
   DepthCorruptionParams depth_corruption;

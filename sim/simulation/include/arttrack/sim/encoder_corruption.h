@@ -29,6 +29,9 @@
 namespace arttrack::sim {
 
 // Corruption of a group of joints. Every component is off at its default.
+// The _rad values are metres for a prismatic joint (and compliance metres
+// per newton), as the simulator's joint values are: a scenario gives a
+// group's prismatic joints keys in metres (scenario.h).
 struct EncoderGroupCorruption {
   // Joints of the group; empty: every joint.
   std::vector<std::string> joints;

@@ -35,11 +35,14 @@ struct UrdfSummary {
   // document order, and their position limits (infinite if none).
   std::vector<std::string> movable_joints;
   std::vector<JointLimit> movable_limits;
+  std::vector<char> movable_prismatic;  // per movable joint: metres, not radians
 
   bool has_link(const std::string& name) const;
   bool has_joint(const std::string& name) const;
   // Index in movable_joints, or -1.
   int movable_index(const std::string& name) const;
+  // Whether `name` is a movable prismatic joint.
+  bool is_prismatic(const std::string& name) const;
 };
 
 // Reads `urdf`. Missing file, malformed XML, nameless links or joints, past
