@@ -57,10 +57,7 @@ std::size_t index_of(const std::vector<std::string>& names, const std::string& n
 
 TEST(ScenarioRunner, EncodersOnlyShowsTheBiasAndFullFusionRemovesIt) {
   const test::TestDir dir("runner_bias");
-  // The encoders' own readings, to the last bit: the encoder smoothing (on
-  // by default) would average them.
-  const Scenario scenario = load_scenario(dir.write("bias.yaml", kBiasScenario),
-                                          {"tracker_overrides.encoder_smoothing.enabled=false"});
+  const Scenario scenario = load_scenario(dir.write("bias.yaml", kBiasScenario));
   const ScenarioResult r = run_scenario(scenario);
   ASSERT_EQ(r.methods, (std::vector<std::string>{"encoders_only", "full_fusion"}));
   ASSERT_EQ(r.runs.size(), 1u);

@@ -69,10 +69,9 @@ struct TrackerConfig {
   // diffusion follows any motion) and the angle carries the reading's white
   // noise between images: 0.057 degrees on every encoder took the dual
   // arm's realistic p75 from 4.0 to 6.3-6.7 mm (docs/accuracy.md, "Encoders
-  // with noise"); with it, 4.3-4.4. On by default since stop 71: real
-  // encoders have noise, and on exact readings it changes little.
+  // with noise"). Off by default: the simulated encoders have no noise.
   struct EncoderSmoothing {
-    bool enabled = true;
+    bool enabled = false;
     // sigma_v: the rate's diffusion (white acceleration), rad/s per
     // sqrt(s); in (0, 1e5] deg/s/sqrt(s). Smaller averages more readings
     // and lags more behind an accelerating joint.
