@@ -353,11 +353,6 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
                {"tracker_overrides={particle_filter: 3, particle_filter.particles: 1}"});
 }
 
-// model_mismatch.random: the candidates read (groups expanded, a fixed
-// joint by name), and run_model_error's draws within the budget: the
-// counts asked, sizes in their range with both signs, every candidate
-// drawn over many seeds, the same seed the same robot, on top of the
-// scenario's fixed mismatch.
 // arm7's fingers are a prismatic joint: an encoder group's degree keys
 // corrupt its revolute joints and its metre keys the fingers; a group with
 // only degree keys that takes in the fingers is an error naming them (until
@@ -392,6 +387,11 @@ TEST(Scenario, EncoderKeysComeInTheJointsUnits) {
   EXPECT_EQ(exact.encoders.groups[1].noise_sigma_rad, 0.0);
 }
 
+// model_mismatch.random: the candidates read (groups expanded, a fixed
+// joint by name), and run_model_error's draws within the budget: the
+// counts asked, sizes in their range with both signs, every candidate
+// drawn over many seeds, the same seed the same robot, on top of the
+// scenario's fixed mismatch.
 TEST(Scenario, RandomModelErrorIsDrawnPerSeedWithinItsBudget) {
   const test::TestDir dir("scenario_random_mismatch");
   const fs::path f = dir.write("full.yaml", kFull);

@@ -251,12 +251,15 @@ void read_encoders(const ConfigNode& root, const UrdfSummary& urdf, Scenario& s)
       (urdf.is_prismatic(j) ? prismatic : revolute).push_back(j);
     const char* degree_key = first_key_set(n, kEncoderDegreeKeys);
     const char* metre_key = first_key_set(n, kEncoderMetreKeys);
-    if (!prismatic.empty() && degree_key && !metre_key)
+    if (!prismatic.empty() && degree_key && !metre_key) {
+      std::string metre_keys;
+      for (const char* key : kEncoderMetreKeys)
+        metre_keys += (metre_keys.empty() ? "" : ", ") + std::string(key);
       n.fail("joints", "includes the prismatic joint " + quote_value(prismatic.front()) +
                            " (metres) and the group's keys are in degrees (" + degree_key +
-                           "): give its corruption in metres (offset_m, step_amplitude_m, "
-                           "compliance_m_per_N, noise_m, resolution_m; 0 for none) or leave "
-                           "it out of the group");
+                           "): give its corruption in metres (" + metre_keys +
+                           "; 0 for none) or leave it out of the group");
+    }
     if (metre_key && prismatic.empty())
       n.fail(metre_key, "is in metres, for prismatic joints, and the group has none");
     if (degree_key && revolute.empty())
