@@ -356,7 +356,8 @@ TEST(Scenario, ImpossibleValuesAreNamed) {
 // arm7's fingers are a prismatic joint: an encoder group's degree keys
 // corrupt its revolute joints and its metre keys the fingers; a group with
 // only degree keys that takes in the fingers is an error naming them (until
-// stop 71 a finger read "0.057 degrees" of noise as 1 mm).
+// stop 71 a finger read "0.057 degrees" of noise as 1 mm). Motion keys are
+// all in degrees, so a motion group that takes in a finger is an error.
 TEST(Scenario, EncoderKeysComeInTheJointsUnits) {
   const fs::path f = fs::path(ARTTRACK_SOURCE_DIR) / "scenarios" / "arm7" / "constant_bias.yaml";
   expect_error(f,
@@ -368,6 +369,11 @@ TEST(Scenario, EncoderKeysComeInTheJointsUnits) {
                {"encoders=[{joints: [arm7_finger_joint1], offset_deg: 1, noise_m: 0.001}]"});
   expect_error(f, {"'encoders[0].noise_m'", "out of range"},
                {"encoders=[{joints: [arm7_finger_joint1], noise_m: -1}]"});
+  // Motion keys are in degrees too, and motion moves revolute joints only.
+  expect_error(f, {f.string(), "'motion.random[0].joints'", "'arm7_finger_joint1'", "degrees"},
+               {"motion.random=[{joints: [all], amplitude_deg: 15}]"});
+  expect_error(f, {"'motion.sinusoids[0].joints'", "'arm7_finger_joint2'"},
+               {"motion.sinusoids=[{joints: [arm7_finger_joint2], amplitude_deg: 1}]"});
 
   const Scenario s =
       load_scenario(f, {"encoders=[{noise_deg: 0.057, noise_m: 0.0001, resolution_m: 1e-5}]"});

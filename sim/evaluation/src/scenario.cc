@@ -140,6 +140,18 @@ std::vector<double> home_configuration(const Scenario& s) {
   return home;
 }
 
+// A motion group's joints: its keys are in degrees, so a prismatic joint
+// (metres) in one is an error, not a finger moved 15 "degrees" = 0.26 m.
+std::vector<std::string> motion_joints(const ConfigNode& n, const Scenario& s) {
+  std::vector<std::string> joints = joint_list(n, s, true);
+  for (const std::string& j : joints)
+    if (s.urdf.is_prismatic(j))
+      n.fail("joints", "includes the prismatic joint " + quote_value(j) +
+                           " (metres) and motion keys are in degrees: motion moves revolute "
+                           "joints only; leave it out of the group");
+  return joints;
+}
+
 void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   // Each part on its own trajectory, so that an error names its key.
   const std::vector<double> home = home_configuration(s);
@@ -156,7 +168,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   };
   for (const ConfigNode& n : m.list("sinusoids")) {
     SinusoidMotion p;
-    p.joints = joint_list(n, s, true);
+    p.joints = motion_joints(n, s);
     p.amplitude_rad =
         kRadPerDeg * n.number("amplitude_deg", p.amplitude_rad / kRadPerDeg, -360, 360);
     p.frequency_hz = n.number("frequency_hz", p.frequency_hz, 1e-6, 100);
@@ -168,7 +180,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   }
   for (const ConfigNode& n : m.list("waypoints")) {
     WaypointMotion p;
-    p.joints = joint_list(n, s, true);
+    p.joints = motion_joints(n, s);
     p.times_s = numbers(n, "times_s", 1.0);
     if (!n.has("times_s")) n.fail("times_s", "is required but missing");
     if (!n.has("positions_deg")) n.fail("positions_deg", "is required but missing");
@@ -184,7 +196,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   }
   for (const ConfigNode& n : m.list("random")) {
     RandomMotion p;
-    p.joints = joint_list(n, s, true);
+    p.joints = motion_joints(n, s);
     p.amplitude_rad =
         kRadPerDeg * n.number("amplitude_deg", p.amplitude_rad / kRadPerDeg, 1e-6, 360);
     p.speed_scale = n.number("speed_scale", p.speed_scale, 1e-6, 1e3);
@@ -198,7 +210,7 @@ void read_motion(const ConfigNode& m, const UrdfSummary& urdf, Scenario& s) {
   }
   for (const ConfigNode& n : m.list("out_of_view")) {
     OutOfViewMotion p;
-    p.joints = joint_list(n, s, true);
+    p.joints = motion_joints(n, s);
     if (!n.has("out_of_view_deg")) n.fail("out_of_view_deg", "is required but missing");
     p.out_of_view_rad = numbers(n, "out_of_view_deg", kRadPerDeg);
     p.leave_s = n.number("leave_s", p.leave_s, 0, 1e6);
