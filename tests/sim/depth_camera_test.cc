@@ -139,7 +139,7 @@ TEST(DepthCamera, ObliqueOffAxisBox) {
 }
 
 // A head camera looking down at an arm of a box, a cylinder and a sphere.
-constexpr char kArmUrdf[] = R"(<robot name="arm">
+constexpr char kPrimitivesArmUrdf[] = R"(<robot name="arm">
   <link name="base_link"><visual><origin xyz="0.3 0 0.1"/><geometry><box size="0.3 0.3 0.2"/></geometry></visual></link>
   <joint name="shoulder" type="continuous"><parent link="base_link"/><child link="upper"/>
     <origin xyz="0.6 0 0.3"/><axis xyz="0 0 1"/></joint>
@@ -160,7 +160,7 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
 // intrinsics, the row order and the tessellation, pixel by pixel.
 TEST(DepthCamera, AgreesWithExactRayCasting) {
   SceneDescription scene = camera_scene();
-  scene.urdf_path = write_scratch_file("arm.urdf", kArmUrdf);
+  scene.urdf_path = write_scratch_file("arm.urdf", kPrimitivesArmUrdf);
   const auto model = build_sim_model(scene);
   Simulator sim(model);
   DepthCamera camera(model, 320, 240);

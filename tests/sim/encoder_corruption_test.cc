@@ -13,7 +13,6 @@ namespace {
 
 using test_support::expect_error_naming;
 
-constexpr double kPi = std::numbers::pi;
 const std::vector<std::string> kJoints = {"j1", "j2", "j3"};
 
 EncoderCorruptionParams one_group(const EncoderGroupCorruption& g) {
@@ -51,22 +50,22 @@ TEST(EncoderCorruption, ConstantOffsetOnAGroup) {
 TEST(EncoderCorruption, AlternatingStepClosedForm) {
   // Period 10 s, ramps of 2 s: +A on [0, 3), ramp to -A on [3, 5), -A on
   // [5, 8), ramp to +A on [8, 10).
-  const double A = 5.0 * kPi / 180.0;
+  const double A = 5.0 * std::numbers::pi / 180.0;
   auto step = [&](double t) { return alternating_step_rad(t, A, 10.0, 2.0); };
   EXPECT_EQ(step(0.0), A);
   EXPECT_EQ(step(2.9), A);
-  EXPECT_NEAR(step(3.5), A * std::cos(kPi / 4), 1e-15);
+  EXPECT_NEAR(step(3.5), A * std::cos(std::numbers::pi / 4), 1e-15);
   EXPECT_NEAR(step(4.0), 0.0, 1e-15);
-  EXPECT_NEAR(step(4.5), -A * std::cos(kPi / 4), 1e-15);
+  EXPECT_NEAR(step(4.5), -A * std::cos(std::numbers::pi / 4), 1e-15);
   EXPECT_NEAR(step(5.0), -A, 1e-15);
   EXPECT_EQ(step(7.9), -A);
   EXPECT_NEAR(step(9.0), 0.0, 1e-15);
   EXPECT_NEAR(step(10.0), A, 1e-15);
-  EXPECT_NEAR(step(13.5), A * std::cos(kPi / 4), 1e-15);
-  EXPECT_NEAR(step(23.5), A * std::cos(kPi / 4), 1e-15);
+  EXPECT_NEAR(step(13.5), A * std::cos(std::numbers::pi / 4), 1e-15);
+  EXPECT_NEAR(step(23.5), A * std::cos(std::numbers::pi / 4), 1e-15);
   // Continuous: slope at most A pi / r rad/s.
   for (double t = 0.0; t < 40.0; t += 1e-3)
-    EXPECT_LE(std::abs(step(t + 1e-3) - step(t)), A * kPi / 2.0 * 1e-3 * 1.0001) << t;
+    EXPECT_LE(std::abs(step(t + 1e-3) - step(t)), A * std::numbers::pi / 2.0 * 1e-3 * 1.0001) << t;
   // Abrupt steps with no ramp.
   EXPECT_EQ(alternating_step_rad(4.99, A, 10.0, 0.0), A);
   EXPECT_EQ(alternating_step_rad(5.01, A, 10.0, 0.0), -A);

@@ -13,8 +13,6 @@ namespace {
 
 using test_support::expect_error_naming;
 
-constexpr double kPi = std::numbers::pi;
-
 // Three joints: a shoulder with wide limits, an elbow whose home sits on its
 // lower limit, and a wrist with a narrow range.
 JointTrajectory make_trajectory() {
@@ -39,7 +37,7 @@ TEST(Motion, SinusoidMatchesClosedForm) {
   s.phase_rad = 0.7;
   s.centre_rad = {0.5, 1.0};
   traj.add(s);
-  const double omega = 2 * kPi * 0.3;
+  const double omega = 2 * std::numbers::pi * 0.3;
   for (double t = 0.0; t < 20.0; t += 0.137) {
     const std::vector<double> q = traj.position(t), qd = traj.velocity(t);
     EXPECT_NEAR(q[0], 0.5 + 0.4 * std::sin(omega * t + 0.7), 1e-12);
@@ -57,13 +55,14 @@ TEST(Motion, SinusoidDefaultCentreIsHomeAndFadeInStartsAtHome) {
   s.joints = {"shoulder"};
   s.amplitude_rad = 0.3;
   s.frequency_hz = 0.5;
-  s.phase_rad = kPi / 2;  // would start at the crest without the fade
+  s.phase_rad = std::numbers::pi / 2;  // would start at the crest without the fade
   s.fade_in_s = 2.0;
   traj.add(s);
   EXPECT_EQ(traj.position(0.0)[0], 0.1);
   EXPECT_EQ(traj.velocity(0.0)[0], 0.0);
   for (double t = 2.0; t < 10.0; t += 0.25)
-    EXPECT_NEAR(traj.position(t)[0], 0.1 + 0.3 * std::sin(kPi * t + kPi / 2), 1e-12);
+    EXPECT_NEAR(traj.position(t)[0],
+                0.1 + 0.3 * std::sin(std::numbers::pi * t + std::numbers::pi / 2), 1e-12);
 }
 
 TEST(Motion, WaypointsAreHitExactlyAndHeld) {
@@ -131,7 +130,7 @@ TEST(Motion, PartsOnOneJointAdd) {
   traj.add(o);
   traj.add(s);
   // At 3 s: out-of-view angle plus the sinusoid's displacement about home.
-  EXPECT_NEAR(traj.position(3.25)[0], 1.0 + 0.2 * std::sin(2 * kPi * 3.25), 1e-12);
+  EXPECT_NEAR(traj.position(3.25)[0], 1.0 + 0.2 * std::sin(2 * std::numbers::pi * 3.25), 1e-12);
 }
 
 TEST(Motion, LimitsClampAndStopTheVelocity) {

@@ -18,7 +18,7 @@ namespace arttrack::sim {
 namespace {
 
 // Images arrive 50 ms after capture; the tracker is small (5 particles).
-constexpr char kScenario[] = R"(
+constexpr char kRealtimeScenario[] = R"(
 scene: scene.yaml
 duration_s: 1.5
 seed: 3
@@ -33,7 +33,7 @@ scoring: {converged_after_s: 0.5, end_effectors: [left_ee]}
 
 TEST(RealtimeRun, PacesTheSimulationAndMeasuresTheLatencyOfEveryAppliedImage) {
   const test::TestDir dir("realtime_run");
-  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario));
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kRealtimeScenario));
   RunOptions options;
   options.realtime = true;
   const auto start = std::chrono::steady_clock::now();
@@ -71,7 +71,7 @@ TEST(RealtimeRun, PacesTheSimulationAndMeasuresTheLatencyOfEveryAppliedImage) {
 
 TEST(RealtimeRun, OffByDefaultWithoutLatencies) {
   const test::TestDir dir("realtime_off");
-  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario));
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kRealtimeScenario));
   const ScenarioResult r = run_scenario(scenario);
   const MethodRun& fusion = r.runs.at(0).methods.at(1);
   EXPECT_TRUE(fusion.image_latency_ms.empty());
@@ -85,7 +85,7 @@ TEST(RealtimeRun, OffByDefaultWithoutLatencies) {
 // real time, sample for sample.
 TEST(RealtimeRun, ReplaysTheSimulatedMeasurementsAndTruth) {
   const test::TestDir dir("realtime_replay");
-  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario));
+  const Scenario scenario = load_scenario(dir.write("rt.yaml", kRealtimeScenario));
   RunOptions options;
   options.methods = {"encoders_only"};
   const ScenarioResult at_once = run_scenario(scenario, options);
@@ -104,7 +104,8 @@ TEST(RealtimeRun, ReplaysTheSimulatedMeasurementsAndTruth) {
 // it is simulated, naming the scenario and what to change.
 TEST(RealtimeRun, RefusesARunTooLongToKeep) {
   const test::TestDir dir("realtime_too_long");
-  const Scenario scenario = load_scenario(dir.write("rt.yaml", kScenario), {"duration_s=30000"});
+  const Scenario scenario =
+      load_scenario(dir.write("rt.yaml", kRealtimeScenario), {"duration_s=30000"});
   RunOptions options;
   options.realtime = true;
   const auto start = std::chrono::steady_clock::now();

@@ -27,7 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kJoints = {"shoulder", "elbow", "wrist"};
+const std::vector<std::string> kReportJoints = {"shoulder", "elbow", "wrist"};
 constexpr double kDt = 0.1, kDuration = 12.0;
 
 // Translation error of each method at time t, m (NaN: lost).
@@ -45,7 +45,7 @@ ScenarioResult synthetic_result() {
   r.duration_s = kDuration;
   r.seeds = {4242};
   r.methods = {"encoders_only", "full_fusion", "vision_only"};
-  r.joint_names = kJoints;
+  r.joint_names = kReportJoints;
   r.end_effectors = {"left_ee"};
   r.scoring.converged_after_s = 5.0;
   r.scoring.convergence_threshold_m = 0.01;
@@ -90,7 +90,7 @@ ScenarioResult synthetic_result() {
   r.runs.push_back(run);
 
   for (const MethodRun& mr : r.runs[0].methods) {
-    MethodResult m{mr.method, MethodScores(mr.method, kJoints, r.end_effectors), {}, {}, {}};
+    MethodResult m{mr.method, MethodScores(mr.method, kReportJoints, r.end_effectors), {}, {}, {}};
     m.scores.begin_run();
     for (std::size_t i = 0; i < mr.samples.size(); ++i)
       m.scores.add(r.runs[0].truth[i].time_s, mr.samples[i].ee_error[0]);
@@ -202,7 +202,7 @@ TEST(Report, EveryChartIsThere) {
                                   "error-time",          "consistency-time",
                                   "consistency-legend",  "colours-0",
                                   "bias-legend",         "camera-legend"};
-  for (const std::string& j : kJoints) ids.push_back("bias-" + j);
+  for (const std::string& j : kReportJoints) ids.push_back("bias-" + j);
   for (const char* k : {"x", "y", "z", "roll", "pitch", "yaw"})
     ids.push_back(std::string("camera-") + k);
   for (const std::string& id : ids) EXPECT_NE(chart(html, id), "") << id;

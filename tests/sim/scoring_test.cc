@@ -17,8 +17,6 @@ namespace {
 
 using test_support::expect_error_naming;
 
-constexpr double kPi = std::numbers::pi;
-
 // A random pose and a random unit axis.
 Eigen::Vector3d random_axis(std::mt19937_64& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
@@ -34,7 +32,8 @@ Eigen::Isometry3d random_pose(std::mt19937_64& rng) {
 
 TEST(PoseError, TranslationAndAngleAgainstConstruction) {
   std::mt19937_64 rng(1);
-  for (double angle : {0.0, 1e-9, 1e-6, 1e-3, 0.5, 2.0, 3.0, kPi - 1e-7, kPi}) {
+  for (double angle :
+       {0.0, 1e-9, 1e-6, 1e-3, 0.5, 2.0, 3.0, std::numbers::pi - 1e-7, std::numbers::pi}) {
     for (int trial = 0; trial < 5; ++trial) {
       const Eigen::Isometry3d T_est = random_pose(rng);
       // The truth: the estimate rotated by `angle` about a random axis in its
@@ -49,7 +48,7 @@ TEST(PoseError, TranslationAndAngleAgainstConstruction) {
       // absolute 1e-12 elsewhere.
       EXPECT_NEAR(e.rotation_rad, angle, std::max(1e-12, 1e-7 * angle)) << angle;
       EXPECT_GE(e.rotation_rad, 0.0);
-      EXPECT_LE(e.rotation_rad, kPi);
+      EXPECT_LE(e.rotation_rad, std::numbers::pi);
       // Symmetric.
       EXPECT_NEAR(pose_error(T_true, T_est).rotation_rad, e.rotation_rad, 1e-12);
     }
@@ -58,7 +57,7 @@ TEST(PoseError, TranslationAndAngleAgainstConstruction) {
 
 TEST(PoseError, VectorIsTheEstimateMinusTheTruthInTheCameraAxes) {
   std::mt19937_64 rng(2);
-  for (double angle : {0.0, 1e-9, 1e-4, 0.3, 2.5, kPi - 1e-6}) {
+  for (double angle : {0.0, 1e-9, 1e-4, 0.3, 2.5, std::numbers::pi - 1e-6}) {
     const Eigen::Isometry3d T_true = random_pose(rng);
     // The estimate: the truth turned by a known rotation vector in the
     // camera frame (left), and shifted by a known vector.

@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() { return test_support::program_scratch_dir().path(); }
+fs::path model_scratch_dir() { return test_support::program_scratch_dir().path(); }
 
 using test_support::write_scratch_file;
 
@@ -185,7 +185,7 @@ TEST(SimModel, ConvertsEveryMeshFormatWithScaleAndUniqueNames) {
           mesh_link("pkg", 8, "package://my_pkg/box.stl") +
           mesh_link("pkg2", 9, "package://other_pkg/box.stl") + "</robot>");
   SceneDescription scene = robot_scene(urdf);
-  scene.package_paths["other_pkg"] = test_dir() / "elsewhere";
+  scene.package_paths["other_pkg"] = model_scratch_dir() / "elsewhere";
   const auto model = build_sim_model(scene);
   Simulator sim(model);
   const mjModel* m = model->mj.get();
@@ -229,7 +229,7 @@ TEST(SimModel, ConvertsEveryMeshFormatWithScaleAndUniqueNames) {
   }
 }
 
-constexpr char kArmUrdf[] = R"(<robot name="arm">
+constexpr char kTiltedShoulderUrdf[] = R"(<robot name="arm">
   <link name="base_link"/>
   <joint name="shoulder" type="revolute">
     <parent link="base_link"/><child link="upper"/>
@@ -249,7 +249,8 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
 </robot>)";
 
 TEST(SimModel, BodyFramesAreUrdfFramesAtFullPrecision) {
-  const auto model = build_sim_model(robot_scene(write_scratch_file("arm.urdf", kArmUrdf)));
+  const auto model =
+      build_sim_model(robot_scene(write_scratch_file("arm.urdf", kTiltedShoulderUrdf)));
   const mjModel* m = model->mj.get();
   const int upper = mj_name2id(m, mjOBJ_BODY, "upper");
   EXPECT_EQ(m->body_pos[3 * upper], 0.1234567890123);
@@ -267,7 +268,7 @@ TEST(SimModel, BodyFramesAreUrdfFramesAtFullPrecision) {
 }
 
 TEST(SimModel, SceneAssembly) {
-  SceneDescription s = robot_scene(write_scratch_file("arm2.urdf", kArmUrdf));
+  SceneDescription s = robot_scene(write_scratch_file("arm2.urdf", kTiltedShoulderUrdf));
   s.camera_link = "camera_optical_frame";
   s.shapes.push_back({});
   s.shapes.back().name = "crate";
@@ -312,8 +313,8 @@ std::string build_error(const SceneDescription& s) {
 }
 
 TEST(SimModel, BadInputNamesTheItem) {
-  const fs::path arm = write_scratch_file("arm3.urdf", kArmUrdf);
-  SceneDescription s = robot_scene(test_dir() / "no_such_robot.urdf");
+  const fs::path arm = write_scratch_file("arm3.urdf", kTiltedShoulderUrdf);
+  SceneDescription s = robot_scene(model_scratch_dir() / "no_such_robot.urdf");
   EXPECT_NE(build_error(s).find("no_such_robot.urdf"), std::string::npos) << build_error(s);
 
   s = robot_scene(arm);

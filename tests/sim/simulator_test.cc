@@ -21,7 +21,7 @@ using test_support::write_scratch_file;
 // A planar two-link arm swinging about horizontal y axes. The joints are
 // listed tip first, so URDF order differs from MuJoCo's tree order. Each link
 // is a 2 kg point-like mass 0.25 m out along its x axis.
-constexpr char kArmUrdf[] = R"(<robot name="arm">
+constexpr char kPlanarArmUrdf[] = R"(<robot name="arm">
   <link name="base_link"/>
   <joint name="b_elbow" type="revolute">
     <parent link="upper"/><child link="fore"/>
@@ -60,7 +60,7 @@ constexpr char kArmUrdf[] = R"(<robot name="arm">
 
 SceneDescription arm_scene(double kp, double kv) {
   SceneDescription s;
-  s.urdf_path = write_scratch_file("arm.urdf", kArmUrdf);
+  s.urdf_path = write_scratch_file("arm.urdf", kPlanarArmUrdf);
   s.end_effector_links = {"tool"};
   s.default_gains = {kp, kv};
   s.armature_kg_m2 = 0.01;

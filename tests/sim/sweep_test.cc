@@ -33,7 +33,7 @@ using arttrack::test_support::error_of;
 
 namespace fs = std::filesystem;
 
-const std::string kScenario =
+const std::string kSweepScenario =
     test::short_scenario(5, "[encoders_only, full_fusion]", "particle_filter.particles: 8, ");
 
 std::string read_file(const fs::path& p) {
@@ -95,7 +95,7 @@ TEST(SweepGrid, ShardsAreValidated) {
 
 TEST(SweepGrid, UnknownKeysAndBadIndicesAreErrorsNamingTheSpec) {
   const test::TestDir dir("sweep_keys");
-  const fs::path scenario = dir.write("s.yaml", kScenario);
+  const fs::path scenario = dir.write("s.yaml", kSweepScenario);
   auto resolve = [&](const std::string& spec) {
     return error_of([&] {
       SweepSpec s;
@@ -118,7 +118,7 @@ TEST(SweepGrid, UnknownKeysAndBadIndicesAreErrorsNamingTheSpec) {
 
 TEST(SweepGrid, ListElementsCanBeSwept) {
   const test::TestDir dir("sweep_index");
-  const fs::path scenario = dir.write("s.yaml", kScenario);
+  const fs::path scenario = dir.write("s.yaml", kSweepScenario);
   const Scenario s = load_scenario(
       scenario, {"encoders[0].offset_deg=2.5", "occluders=[]", "camera.latency_s=0.01"});
   ASSERT_EQ(s.encoders.groups.size(), 1u);
@@ -168,7 +168,7 @@ SweepSpec small_sweep(const fs::path& scenario) {
 
 TEST(Sweep, ShardedAndUnshardedGiveIdenticalOutputs) {
   const test::TestDir dir("sweep_shards");
-  const SweepSpec spec = small_sweep(dir.write("s.yaml", kScenario));
+  const SweepSpec spec = small_sweep(dir.write("s.yaml", kSweepScenario));
   EXPECT_EQ(spec.methods, (std::vector<std::string>{"encoders_only", "full_fusion"}));
   EXPECT_EQ(spec.runs, 1);
   EXPECT_EQ(spec.scenario_seed, 5u);
@@ -253,7 +253,7 @@ TEST(Sweep, GnuParallelShardsMergeIntoTheUnshardedOutputs) {
   const fs::path arttrack = find_arttrack();
   if (arttrack.empty()) GTEST_SKIP() << "the arttrack program is not built next to this test";
   const test::TestDir dir("sweep_parallel");
-  const fs::path scenario = dir.write("s.yaml", kScenario);
+  const fs::path scenario = dir.write("s.yaml", kSweepScenario);
   // Paths quoted for the shell.
   auto quoted = [](const fs::path& p) {
     std::string q = "'";
@@ -288,7 +288,7 @@ std::string svg_of(const std::string& html, const std::string& id) {
   return html.substr(begin, html.find("</svg>", at) + 6 - begin);
 }
 
-std::size_t count(const std::string& text, const std::string& what) {
+std::size_t occurrences(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
@@ -340,10 +340,10 @@ TEST(SweepPage, HeatMapsNameTheirAxesAndMarkWhereAMethodFails) {
   EXPECT_NE(map.find(">camera.latency_s</text>"), std::string::npos);
   for (const char* v : {">0</text>", ">5</text>", ">10</text>", ">0.05</text>"})
     EXPECT_NE(map.find(v), std::string::npos) << v;
-  EXPECT_EQ(count(map, "class=\"hv\""), 4u);  // 4 cells with values: 4, 4, 100, 100 mm
-  EXPECT_EQ(count(map, ">100</text>"), 2u);
-  EXPECT_EQ(count(map, "stroke=\"#ff00ff\""), 2u);
-  EXPECT_EQ(count(map, "stroke=\"#000\" stroke-width=\"3\""), 2u);
+  EXPECT_EQ(occurrences(map, "class=\"hv\""), 4u);  // 4 cells with values: 4, 4, 100, 100 mm
+  EXPECT_EQ(occurrences(map, ">100</text>"), 2u);
+  EXPECT_EQ(occurrences(map, "stroke=\"#ff00ff\""), 2u);
+  EXPECT_EQ(occurrences(map, "stroke=\"#000\" stroke-width=\"3\""), 2u);
   EXPECT_NE(map.find("FAILED: value &lt;rejected&gt;"), std::string::npos);
   EXPECT_NE(map.find("not run in this part"), std::string::npos);
   EXPECT_EQ(map.find("nan"), std::string::npos);

@@ -201,12 +201,12 @@ TEST(TuningCandidates, WrittenYamlLoadsWithItsValues) {
   EXPECT_EQ(tracker_config_from_yaml(doc).particle_filter.num_particles, 33);
 }
 
-const std::string kScenario = test::short_scenario(3, "[full_fusion]");
+const std::string kTinyScenario = test::short_scenario(3, "[full_fusion]");
 
 TEST(Tuning, TinySearchIsNoWorseThanTheDefault) {
   const test::TestDir dir("tuning_search");
   TuningOptions o;
-  o.scenarios = {dir.write("tiny.yaml", kScenario)};
+  o.scenarios = {dir.write("tiny.yaml", kTinyScenario)};
   o.base_config = fs::path(ARTTRACK_SOURCE_DIR) / "tracker/config/default.yaml";
   o.parameter_specs = {"depth_model.occlusion_prior=0.1:0.5"};
   o.objective = parse_objective("mean_converged_p75_translation_m");

@@ -35,12 +35,13 @@ std::string hand_urdf(double wrist_z) {
 </robot>)";
 }
 
-const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(160, 120, 60 * kRadPerDeg);
+const CameraIntrinsics kCamera160x120 =
+    CameraIntrinsics::from_vertical_fov(160, 120, 60 * kRadPerDeg);
 
 DepthImage render(const RobotModel& model) {
   KinematicsState state(model);
   forward_kinematics(model, Eigen::VectorXd::Zero(model.num_joints()), state);
-  DepthRenderer renderer(model, kCamera);
+  DepthRenderer renderer(model, kCamera160x120);
   DepthImage image;
   renderer.render(state, image);
   return image;
@@ -71,11 +72,11 @@ Searched search(const DepthImage& observed) {
   fit.information.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() / (1e-3 * 1e-3);
 
   DepthModelParams params;
-  params.width = kCamera.width;
-  params.height = kCamera.height;
+  params.width = kCamera160x120.width;
+  params.height = kCamera160x120.height;
   DepthLikelihood likelihood(params);
   likelihood.set_observation(observed);
-  DepthRenderer renderer(model, kCamera);
+  DepthRenderer renderer(model, kCamera160x120);
   EndEffectorAxisSearch axis_search(model, {hand}, 0.01, 0.002);
   EXPECT_TRUE(axis_search.on());
   const std::vector<double> q(std::size_t(model.num_joints()), 0.0);
@@ -114,11 +115,11 @@ TEST(EndEffectorAxisSearch, APlateInFrontOfTheHandDoesNotDragIt) {
   const RobotModel nominal = RobotModel::from_urdf_string(hand_urdf(0.3), ".");
   DepthImage observed = render(nominal);
   int covered = 0;
-  for (int v = 0; v < kCamera.height; ++v)
-    for (int u = 0; u < kCamera.width; ++u) {
-      float& z = observed.depth_m[std::size_t(v) * kCamera.width + u];
+  for (int v = 0; v < kCamera160x120.height; ++v)
+    for (int u = 0; u < kCamera160x120.width; ++u) {
+      float& z = observed.depth_m[std::size_t(v) * kCamera160x120.width + u];
       // The hand's upper half: above the camera's centre row (z 0.36 m).
-      if (z > 0 && v < kCamera.cy) {
+      if (z > 0 && v < kCamera160x120.cy) {
         z -= 0.05f;
         ++covered;
       }

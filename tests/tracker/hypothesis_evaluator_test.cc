@@ -57,7 +57,7 @@ TEST(DualArmHomePose, IsThePoseTheUrdfDocuments) {
   }
 }
 
-const CameraIntrinsics kCamera = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kRadPerDeg);
+const CameraIntrinsics kCamera80x60 = CameraIntrinsics::from_vertical_fov(80, 60, 45 * kRadPerDeg);
 
 // What a camera sees: the robot a little away from the home pose and the
 // camera a little off, a wall behind it, a box occluding part of one arm,
@@ -70,7 +70,7 @@ DepthImage observation(const RobotModel& model) {
   q[model.joint_index("camera_offset_pitch")] = 0.3 * kRadPerDeg;
   KinematicsState state(model);
   forward_kinematics(model, q, state);
-  DepthRenderer renderer(model, kCamera);
+  DepthRenderer renderer(model, kCamera80x60);
   DepthImage image;
   renderer.render(state, image);
   std::mt19937_64 rng(3);
@@ -104,7 +104,7 @@ std::vector<SamplingBlock> default_blocks(const RobotModel& model) {
 class Comparing : public LogLikelihoodEvaluator {
  public:
   Comparing(HypothesisEvaluator& fast, HypothesisEvaluator& reference, const DepthImage& observed)
-      : fast_(fast), reference_(reference), observed_(observed), renderer_(robot(), kCamera) {}
+      : fast_(fast), reference_(reference), observed_(observed), renderer_(robot(), kCamera80x60) {}
 
   void evaluate(const ParticleBatch& batch, std::span<double> out, WorkerPool& pool) override {
     fast_.evaluate(batch, out, pool);
@@ -179,8 +179,8 @@ void check_against_reference(const std::vector<SamplingBlock>& blocks, int parti
   Prior prior = prior_around_home(model, 3 * kRadPerDeg);
   for (const std::string& name : held) prior.std[std::size_t(model.joint_index(name))] = 0;
   for (int run = 0; run < runs; ++run) {
-    fast.begin_run(kCamera, likelihood, prior.mean);
-    reference.begin_run(kCamera, likelihood, prior.mean);
+    fast.begin_run(kCamera80x60, likelihood, prior.mean);
+    reference.begin_run(kCamera80x60, likelihood, prior.mean);
     cpf.run(prior.mean, prior.std, comparing, rng, pool);
     // The next run starts from this one's posterior (as the tracker's next image would).
     for (int j = 0; j < model.num_joints(); ++j) prior.mean[j] = cpf.mean()[j];
@@ -303,7 +303,7 @@ TEST(HypothesisEvaluator, AHeldCameraBlockScoresAsRenderingWould) {
   CoordinateParticleFilter cpf(model.num_joints(), blocks, params);
   WorkerPool pool(2);
   std::mt19937_64 rng(7);
-  fast.begin_run(kCamera, likelihood, prior.mean);
+  fast.begin_run(kCamera80x60, likelihood, prior.mean);
   cpf.run(prior.mean, prior.std, recording, rng, pool);
   int block = 0;
   while (blocks[std::size_t(block)].coordinates[0] != camera_x) ++block;
@@ -316,7 +316,7 @@ TEST(HypothesisEvaluator, AHeldCameraBlockScoresAsRenderingWould) {
     std::vector<double> elsewhere = x;
     elsewhere[std::size_t(camera_x)] += 1e-3;
     HypothesisEvaluator drawing(model, {blocks[std::size_t(block)]});
-    drawing.begin_run(kCamera, likelihood, elsewhere);
+    drawing.begin_run(kCamera80x60, likelihood, elsewhere);
     const std::vector<int> parents = {0};
     ParticleBatch batch;
     batch.coordinates = blocks[std::size_t(block)].coordinates;
@@ -347,7 +347,7 @@ TEST(HypothesisEvaluator, ResultsDoNotDependOnTheWorkers) {
     WorkerPool pool(workers);
     std::mt19937_64 rng(5);
     for (int run = 0; run < 2; ++run) {
-      fast.begin_run(kCamera, likelihood, prior.mean);
+      fast.begin_run(kCamera80x60, likelihood, prior.mean);
       cpf.run(prior.mean, prior.std, fast, rng, pool);
     }
     means.emplace_back(cpf.mean().begin(), cpf.mean().end());
