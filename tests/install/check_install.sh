@@ -28,7 +28,7 @@ for pkg in mujoco GTest benchmark NLopt CLI11 nlohmann_json; do
     fail "the tracker-only configure looked for $pkg"
   fi
 done
-if grep -qE "/(arttrack_sim[a-z_]*|arttrack|scenario_test)\.dir" \
+if grep -qE "/(arttrack_sim[a-z_]*|arttrack|[a-z]+_tests)\.dir" \
   "$tmp/tracker-only/CMakeFiles/TargetDirectories.txt"; then
   fail "the tracker-only configure has simulator, tool or test targets"
 fi
