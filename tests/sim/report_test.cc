@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "../scratch_dir.h"
+#include "../text_search.h"
 #include "arttrack/sim/method_trackers.h"
 #include "arttrack/sim/run_outputs.h"
 #include "arttrack/tracker/error.h"
@@ -24,6 +25,8 @@
 
 namespace arttrack::sim {
 namespace {
+
+using test_support::count_occurrences;
 
 namespace fs = std::filesystem;
 
@@ -128,12 +131,6 @@ std::string chart(const std::string& html, const std::string& id) {
   return html.substr(begin, end + 6 - begin);
 }
 
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 // Every opened element is closed in order (void elements and "/>" aside).
 // Returns the first problem, or "" if none.
 std::string tag_problem(const std::string& html) {
@@ -206,16 +203,16 @@ TEST(Report, EveryChartIsThere) {
   for (const char* k : {"x", "y", "z", "roll", "pitch", "yaw"})
     ids.push_back(std::string("camera-") + k);
   for (const std::string& id : ids) EXPECT_NE(chart(html, id), "") << id;
-  EXPECT_EQ(count(html, "<svg"), ids.size());
-  EXPECT_EQ(count(html, "</svg>"), ids.size());
+  EXPECT_EQ(count_occurrences(html, "<svg"), ids.size());
+  EXPECT_EQ(count_occurrences(html, "</svg>"), ids.size());
   // One box per method in each box plot, one line per method over time.
   for (const char* id : {"box-translation-all", "box-rotation-converged"})
-    EXPECT_EQ(count(chart(html, id), "<rect"), 3u) << id;
-  EXPECT_EQ(count(chart(html, "error-time"), "stroke-width=\"1.6\""), 3u);
+    EXPECT_EQ(count_occurrences(chart(html, id), "<rect"), 3u) << id;
+  EXPECT_EQ(count_occurrences(chart(html, "error-time"), "stroke-width=\"1.6\""), 3u);
   // Bias: estimate and truth lines and the band; camera: the two estimating
   // methods and the truth.
-  EXPECT_EQ(count(chart(html, "bias-elbow"), "<path"), 3u);
-  EXPECT_EQ(count(chart(html, "camera-yaw"), "<path"), 3u);
+  EXPECT_EQ(count_occurrences(chart(html, "bias-elbow"), "<path"), 3u);
+  EXPECT_EQ(count_occurrences(chart(html, "camera-yaw"), "<path"), 3u);
   // 42 mm against 0.2 mm: the translation axis is logarithmic and says so.
   EXPECT_NE(chart(html, "box-translation-all").find("(log scale)"), std::string::npos);
   EXPECT_NE(chart(html, "error-time").find("(log scale)"), std::string::npos);
@@ -260,8 +257,9 @@ TEST(Report, SelfContainedAndWellFormed) {
   const std::string html = report_html(synthetic_result());
   EXPECT_EQ(html.find("http"), std::string::npos);
   EXPECT_EQ(html.find("<script"), std::string::npos);
-  EXPECT_EQ(count(html, "src=\"data:image/png;base64,"), count(html, "src=\""));  // only data URIs
-  EXPECT_EQ(count(html, "src=\""), 1u);
+  EXPECT_EQ(count_occurrences(html, "src=\"data:image/png;base64,"),
+            count_occurrences(html, "src=\""));  // only data URIs
+  EXPECT_EQ(count_occurrences(html, "src=\""), 1u);
   EXPECT_EQ(html.find("url(http"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
   EXPECT_TRUE(html.starts_with("<!DOCTYPE html>"));
@@ -307,8 +305,9 @@ TEST(Report, ShowsTheSummaryNumbers) {
   // the first sample after is at 1.5 s; the others never converge.
   EXPECT_NE(html.find("<td>1.5</td>"), std::string::npos);
   // In the summary table (the verdict at the top says "never" for them too).
-  EXPECT_EQ(count(html.substr(html.find("<h2>End-effector errors")), "<td>never</td>"), 2u);
-  EXPECT_EQ(count(html, "<td>never</td>"), 4u);
+  EXPECT_EQ(count_occurrences(html.substr(html.find("<h2>End-effector errors")), "<td>never</td>"),
+            2u);
+  EXPECT_EQ(count_occurrences(html, "<td>never</td>"), 4u);
   // The JSON itself, folded in.
   EXPECT_NE(html.find(summary_json(r)), std::string::npos);
   // Header facts.
@@ -476,8 +475,8 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
 
   // The report: the same rows, the lost run, consistency.
   const std::string html = report_html(r);
-  EXPECT_EQ(count(html, "<td class=\"m\">right_ee</td>"), 4u);  // 2 methods x 2 tables
-  EXPECT_EQ(count(html, "<td class=\"m\">worst</td>"), 4u);
+  EXPECT_EQ(count_occurrences(html, "<td class=\"m\">right_ee</td>"), 4u);  // 2 methods x 2 tables
+  EXPECT_EQ(count_occurrences(html, "<td class=\"m\">worst</td>"), 4u);
   EXPECT_NE(html.find("<td>1 of 2</td>"), std::string::npos);
   EXPECT_NE(html.find("<li>full_fusion: run 1 (seed 22), right_ee, from 12.00&nbsp;s"),
             std::string::npos);
@@ -551,7 +550,8 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
             std::string::npos);
   EXPECT_NE(camera_html.find("<td>0.0% / 0.0%</td><td>100.0% / 100.0%</td></tr>"),
             std::string::npos);
-  EXPECT_EQ(count(camera_html, "<td>100.0% / 100.0%</td>"), 5u);  // encoders_only has no row
+  EXPECT_EQ(count_occurrences(camera_html, "<td>100.0% / 100.0%</td>"),
+            5u);  // encoders_only has no row
   EXPECT_EQ(tag_problem(camera_html), "");
 }
 
@@ -590,7 +590,7 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
                       "\"pinned_shift_m\": null,\n          \"runs_pinned\": 0"),
             std::string::npos)
       << json;
-  EXPECT_EQ(count(json, "links_model_error"), 1u);  // full_fusion only
+  EXPECT_EQ(count_occurrences(json, "links_model_error"), 1u);  // full_fusion only
   std::ostringstream table;
   print_summary_table(table, r);
   EXPECT_NE(table.str().find("full_fusion, links furthest from the model (pinned surface shift, "
@@ -647,7 +647,8 @@ TEST(RunOutputs, TheTrackersCountsAreSummedOverRuns) {
                       "      }"),
             std::string::npos)
       << json;
-  EXPECT_EQ(count(json, "health_counts"), 2u);  // every method, encoders_only's zeros too
+  EXPECT_EQ(count_occurrences(json, "health_counts"),
+            2u);  // every method, encoders_only's zeros too
   std::ostringstream table;
   print_summary_table(table, r);
   EXPECT_NE(table.str().find("full_fusion, counts summed over runs (2): searches 3 (chains that "
@@ -767,8 +768,8 @@ TEST(Report, ConsistencyOverTimeCountsTheEndEffectorPosesAsTheScorerDoes) {
   const std::string legend = chart(html, "consistency-legend");
   for (const char* dash : {"8 3 1.5 3", "8 3 1.5 3 1.5 3"}) {
     const std::string attribute = std::string("stroke-dasharray=\"") + dash + "\"";
-    EXPECT_EQ(count(lines, attribute), 1u) << dash;
-    EXPECT_EQ(count(legend, attribute), 1u) << dash;
+    EXPECT_EQ(count_occurrences(lines, attribute), 1u) << dash;
+    EXPECT_EQ(count_occurrences(legend, attribute), 1u) << dash;
   }
   // The legend's sample of an entry: its markup after the previous entry's name.
   const auto sample_of = [&legend](const std::string& name) {

@@ -12,19 +12,16 @@
 #include <regex>
 #include <sstream>
 
+#include "../text_search.h"
 #include "arttrack/sim/internal/colour_map.h"
 
 namespace arttrack::sim::chart {
 namespace {
 
+using test_support::count_occurrences;
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
 
 // The texts of the <text class="cls"> elements, in order.
 std::vector<std::string> texts(const std::string& svg, const std::string& cls) {
@@ -183,8 +180,8 @@ TEST(SvgChart, LineChartHasAxesLegendAndGapsNoNaN) {
   const std::regex path("<path d=\"([^\"]*)\" fill=\"none\" stroke=\"#009E73\"");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(svg, m, path));
-  EXPECT_EQ(count(m[1], "M"), 2u);
-  EXPECT_EQ(count(svg, "<circle"), 6u + 1u);  // and the legend's dot
+  EXPECT_EQ(count_occurrences(m[1], "M"), 2u);
+  EXPECT_EQ(count_occurrences(svg, "<circle"), 6u + 1u);  // and the legend's dot
   // The legend draws each entry like its series: the dashed line dashed.
   const std::string legend = svg.substr(svg.find("<g class=\"legend\">"));
   EXPECT_NE(legend.find("stroke=\"#009E73\" stroke-width=\"2.5\" stroke-dasharray=\"6 4\"/>"
@@ -209,8 +206,8 @@ TEST(SvgChart, LegendWrapsIntoRowsThatTheChartMakesRoomFor) {
   std::ostringstream o;
   line_chart(o, c);
   // Rows 18 px apart from 36; the plot area starts below the last one.
-  EXPECT_EQ(count(o.str(), ">camera_offset_only: contradicted</text>"), 12u);
-  EXPECT_EQ(count(o.str(), "y=\"72.0\">camera_offset_only"), 4u);  // row 3
+  EXPECT_EQ(count_occurrences(o.str(), ">camera_offset_only: contradicted</text>"), 12u);
+  EXPECT_EQ(count_occurrences(o.str(), "y=\"72.0\">camera_offset_only"), 4u);  // row 3
   EXPECT_EQ(o.str().find("y=\"90.0\">camera_offset_only"), std::string::npos);
   EXPECT_NE(o.str().find("<line x1=\"62.0\" y1=\"256.0\" x2=\"62.0\" y2=\"84.0\" class=\"axis\"/>"),
             std::string::npos)
@@ -223,9 +220,9 @@ TEST(SvgChart, BoxPlotSaysNoSamplesAndMarksLostEstimates) {
                             {"c", "#333", kNaN, kNaN, kNaN, kNaN, kNaN, 0}};
   std::ostringstream o;
   box_plot(o, "box", "Box", "error, mm", boxes, linear_axis(0, 6, 6));
-  EXPECT_EQ(count(o.str(), "<rect"), 2u);
-  EXPECT_EQ(count(o.str(), ">lost</text>"), 1u);
-  EXPECT_EQ(count(o.str(), ">no samples</text>"), 1u);
+  EXPECT_EQ(count_occurrences(o.str(), "<rect"), 2u);
+  EXPECT_EQ(count_occurrences(o.str(), ">lost</text>"), 1u);
+  EXPECT_EQ(count_occurrences(o.str(), ">no samples</text>"), 1u);
   EXPECT_NE(o.str().find(">error, mm</text>"), std::string::npos);
   EXPECT_EQ(o.str().find("nan"), std::string::npos);
 }
@@ -239,9 +236,9 @@ TEST(SvgChart, BarsFromZeroWithALegendAndNoBarForNoValue) {
   std::ostringstream o;
   bar_chart(o, c);
   const std::string svg = o.str();
-  EXPECT_EQ(count(svg, "fill=\"#0072B2\">"), 2u);  // tuned's two bars
-  EXPECT_EQ(count(svg, "fill=\"#999999\">"), 1u);  // default has one value
-  EXPECT_EQ(count(svg, ">&ndash;</text>"), 1u);
+  EXPECT_EQ(count_occurrences(svg, "fill=\"#0072B2\">"), 2u);  // tuned's two bars
+  EXPECT_EQ(count_occurrences(svg, "fill=\"#999999\">"), 1u);  // default has one value
+  EXPECT_EQ(count_occurrences(svg, ">&ndash;</text>"), 1u);
   EXPECT_NE(svg.find(">default</text>"), std::string::npos);
   EXPECT_NE(svg.find(">tuned</text>"), std::string::npos);
   const std::vector<std::string> ticks = texts(svg, "tl");
@@ -271,11 +268,11 @@ TEST(SvgChart, HeatMapCellsStatesOutlinesAndReadableText) {
   EXPECT_NE(svg.find("fill=\"" + hex(turbo(1)) + "\""), std::string::npos);    // 100: high end
   EXPECT_NE(svg.find("fill=\"" + hex(turbo(0.5)) + "\""), std::string::npos);  // 10: log middle
   EXPECT_NE(svg.find("fill=\"#111111\""), std::string::npos);                  // never
-  EXPECT_EQ(count(svg, "stroke=\"#ff00ff\""), 2u);                             // outlined
-  EXPECT_EQ(count(svg, "stroke-dasharray=\"2 2\""), 1u);                       // missing
-  EXPECT_EQ(count(svg, "stroke=\"#666\""), 1u);                                // failed: crossed
+  EXPECT_EQ(count_occurrences(svg, "stroke=\"#ff00ff\""), 2u);                 // outlined
+  EXPECT_EQ(count_occurrences(svg, "stroke-dasharray=\"2 2\""), 1u);           // missing
+  EXPECT_EQ(count_occurrences(svg, "stroke=\"#666\""), 1u);                    // failed: crossed
   // Boundaries between groups 0 and 1: right of cell (0,0), above (1,0)...
-  EXPECT_EQ(count(svg, "stroke=\"#000\" stroke-width=\"3\""), 2u);
+  EXPECT_EQ(count_occurrences(svg, "stroke=\"#000\" stroke-width=\"3\""), 2u);
   // Values written in the class the CSS sets at 12 px; dark cells get white text.
   EXPECT_EQ(texts(svg, "hv").size(), 4u);
   EXPECT_NE(svg.find("fill=\"#fff\">never</text>"), std::string::npos);
@@ -301,7 +298,7 @@ TEST(SvgChart, ColourBarTicksStayInsideItsRange) {
     EXPECT_LE(v, 1.37);
   }
   EXPECT_EQ(ticks.back(), "depth, m");
-  EXPECT_EQ(count(o.str(), "<stop "), 17u);
+  EXPECT_EQ(count_occurrences(o.str(), "<stop "), 17u);
   // Reversed: the first stop is the high end of the map.
   EXPECT_NE(o.str().find("<stop offset=\"0.0%\" stop-color=\"" + hex(turbo(1)) + "\"/>"),
             std::string::npos);

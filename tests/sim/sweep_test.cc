@@ -22,12 +22,15 @@
 #include <sstream>
 
 #include "../error_of.h"
+#include "../text_search.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/units.h"
 #include "scenario_test_robot.h"
 
 namespace arttrack::sim {
 namespace {
+
+using test_support::count_occurrences;
 
 using arttrack::test_support::error_of;
 
@@ -288,12 +291,6 @@ std::string svg_of(const std::string& html, const std::string& id) {
   return html.substr(begin, html.find("</svg>", at) + 6 - begin);
 }
 
-std::size_t occurrences(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 // A 3 x 2 sweep's results made by hand (no simulation): 4 mm everywhere,
 // except encoders_only's 20 mm per degree of encoders[0].offset_deg (fails
 // above 50 mm from 5 degrees); cell 4 failed to run, cell 5 is in another
@@ -340,10 +337,10 @@ TEST(SweepPage, HeatMapsNameTheirAxesAndMarkWhereAMethodFails) {
   EXPECT_NE(map.find(">camera.latency_s</text>"), std::string::npos);
   for (const char* v : {">0</text>", ">5</text>", ">10</text>", ">0.05</text>"})
     EXPECT_NE(map.find(v), std::string::npos) << v;
-  EXPECT_EQ(occurrences(map, "class=\"hv\""), 4u);  // 4 cells with values: 4, 4, 100, 100 mm
-  EXPECT_EQ(occurrences(map, ">100</text>"), 2u);
-  EXPECT_EQ(occurrences(map, "stroke=\"#ff00ff\""), 2u);
-  EXPECT_EQ(occurrences(map, "stroke=\"#000\" stroke-width=\"3\""), 2u);
+  EXPECT_EQ(count_occurrences(map, "class=\"hv\""), 4u);  // 4 cells with values: 4, 4, 100, 100 mm
+  EXPECT_EQ(count_occurrences(map, ">100</text>"), 2u);
+  EXPECT_EQ(count_occurrences(map, "stroke=\"#ff00ff\""), 2u);
+  EXPECT_EQ(count_occurrences(map, "stroke=\"#000\" stroke-width=\"3\""), 2u);
   EXPECT_NE(map.find("FAILED: value &lt;rejected&gt;"), std::string::npos);
   EXPECT_NE(map.find("not run in this part"), std::string::npos);
   EXPECT_EQ(map.find("nan"), std::string::npos);
