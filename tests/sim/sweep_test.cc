@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -239,48 +238,6 @@ TEST(Sweep, ShardedAndUnshardedGiveIdenticalOutputs) {
     merge_sweep_parts({dir.path() / "part0", dir.path() / "other"}, dir.path() / "m4");
   });
   EXPECT_NE(msg.find("holds another sweep"), std::string::npos) << msg;
-}
-
-// The arttrack program next to this test's build tree, if built.
-fs::path find_arttrack() {
-  std::error_code ec;
-  fs::path dir = fs::read_symlink("/proc/self/exe", ec).parent_path();
-  for (int up = 0; up < 4 && !dir.empty(); ++up, dir = dir.parent_path())
-    if (fs::is_regular_file(dir / "arttrack")) return dir / "arttrack";
-  return {};
-}
-
-TEST(Sweep, GnuParallelShardsMergeIntoTheUnshardedOutputs) {
-  if (std::system("parallel --version > /dev/null 2>&1") != 0)
-    GTEST_SKIP() << "GNU parallel is not installed (apt-get install parallel)";
-  const fs::path arttrack = find_arttrack();
-  if (arttrack.empty()) GTEST_SKIP() << "the arttrack program is not built next to this test";
-  const test::TestDir dir("sweep_parallel");
-  const fs::path scenario = dir.write("s.yaml", kSweepScenario);
-  // Paths quoted for the shell.
-  auto quoted = [](const fs::path& p) {
-    std::string q = "'";
-    q += p.string();
-    q += "'";
-    return q;
-  };
-  std::string sweep = quoted(arttrack);
-  sweep += " sweep ";
-  sweep += quoted(scenario);
-  sweep += " --grid camera.drop_probability=0,1 --grid camera.latency_s=0,0.03";
-  const std::string d = quoted(dir.path());
-  ASSERT_EQ(std::system((sweep + " --out " + d + "/all > /dev/null 2>&1").c_str()), 0);
-  ASSERT_EQ(std::system(("cd " + d + " && parallel --will-cite -j 2 " + sweep +
-                         " --shard {}/2 --out parts/{} '>' /dev/null '2>&1' ::: 0 1")
-                            .c_str()),
-            0);
-  ASSERT_EQ(std::system(
-                ("cd " + d + " && " + quoted(arttrack) + " merge parts/* --out merged > /dev/null")
-                    .c_str()),
-            0);
-  const std::string all = read_file(dir.path() / "all" / "sweep.csv");
-  EXPECT_GT(all.size(), 1000u);
-  EXPECT_EQ(all, read_file(dir.path() / "merged" / "sweep.csv"));
 }
 
 // The <svg> element of `html` whose data-chart is `id` ("" if none).

@@ -7,15 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <limits>
 #include <numeric>
 #include <random>
 #include <stdexcept>
 #include <thread>
-
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include "../expect_error.h"
 #include "arttrack/tracker/error.h"
@@ -552,36 +548,6 @@ TEST(WorkerPool, RefusesMoreThanTheBound) {
   const std::string message =
       test_support::error_of([] { WorkerPool pool(kMaxWorkerThreads + 1); });
   EXPECT_NE(message.find(std::to_string(kMaxWorkerThreads)), std::string::npos) << message;
-}
-
-// Starts kMaxWorkerThreads workers under an address-space limit that leaves
-// room for a few thread stacks only; exits 0 when that is the documented
-// error, 3 for another error, 4 when the limit did not bite.
-[[noreturn]] void start_pool_beyond_the_address_space() {
-  long pages = 0;
-  std::ifstream("/proc/self/statm") >> pages;
-  const rlim_t room = rlim_t(pages) * rlim_t(sysconf(_SC_PAGESIZE)) + (rlim_t(64) << 20);
-  const rlimit limit{room, room};
-  setrlimit(RLIMIT_AS, &limit);
-  try {
-    WorkerPool pool(kMaxWorkerThreads);
-  } catch (const std::runtime_error& e) {
-    std::_Exit(std::string(e.what()).find("cannot start worker thread") == 0 ? 0 : 3);
-  }
-  std::_Exit(4);
-}
-
-// A thread count the system cannot start is an error, not a deadlock or a
-// std::terminate from threads destroyed unjoined. In a child process, so the
-// limit does not reach the other tests.
-TEST(WorkerPoolDeathTest, ThreadsTheSystemCannotStartAreAnError) {
-#ifdef __SANITIZE_ADDRESS__
-  // AddressSanitizer reserves terabytes of shadow address space at start:
-  // an address-space limit cannot leave "room for a few stacks" under it.
-  GTEST_SKIP() << "relies on RLIMIT_AS, which AddressSanitizer's shadow memory defeats";
-#endif
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  EXPECT_EXIT(start_pool_beyond_the_address_space(), ::testing::ExitedWithCode(0), "");
 }
 
 }  // namespace
