@@ -49,6 +49,8 @@ encoders:
 miscalibration:
   camera_offset: {xyz_m: [0.01, -0.01, 0.02], rpy_deg: [1, -1, 0.5]}
 scoring: {converged_after_s: 2.5, end_effectors: [left_ee]}
+# Encoders only then reports the raw readings, which the test checks exactly.
+tracker_overrides: {encoder_smoothing.enabled: false}
 )";
 
 std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
