@@ -70,8 +70,9 @@ struct TrackerConfig {
   // noise between images: 0.057 degrees on every encoder took the dual
   // arm's realistic p75 from 4.0 to 6.3-6.7 mm (docs/accuracy.md, "Encoders
   // with noise"). On by default (stop 74): real encoders have noise, and
-  // with exact readings it changes the paper's exact-depth files by under
-  // 0.1 mm at p75 (stop 71); off, encoders only reports the raw readings.
+  // with exact readings it moved the paper's exact-depth files' p75 by
+  // under 0.1 mm, up to 0.8 mm on the in/out/in and occlusion files (stop
+  // 71); off, encoders only reports the raw readings.
   struct EncoderSmoothing {
     bool enabled = true;
     // sigma_v: the rate's diffusion (white acceleration), rad/s per
