@@ -53,6 +53,20 @@ TEST(TrackerConfigTest, ReadsWhetherTheFirstSearchMovesTheCamera) {
             std::string::npos);
 }
 
+TEST(TrackerConfigTest, ReadsWhetherUnseenJointsKeepTheirPrior) {
+  EXPECT_TRUE(default_tracker_config().keep_unseen_prior);
+  for (const bool value : {false, true})
+    EXPECT_EQ(
+        tracker_config_from_yaml(load_yaml_string("particle_filter: {keep_unseen_prior: " +
+                                                      std::string(value ? "true" : "false") + "}\n",
+                                                  "t.yaml"))
+            .keep_unseen_prior,
+        value);
+  EXPECT_NE(tracker_config_error("particle_filter: {keep_unseen_prior: 2}\n")
+                .find("particle_filter.keep_unseen_prior"),
+            std::string::npos);
+}
+
 TEST(TrackerConfigTest, ReadsInputChecks) {
   const TrackerConfig c = tracker_config_from_yaml(load_yaml_string(
       "input_checks: {joint_limit_margin_deg: 10, max_image_clock_offset_s: 2}\n", "t.yaml"));

@@ -676,6 +676,53 @@ TEST(TrackerTest, HealthMarksAPartTheImageDoesNotShowAsUnconfirmed) {
   }
 }
 
+// An arm out of view: the camera, narrow, sees only the wall behind it.
+// The particle filter's draws that bring the arm into view are
+// contradicted by the wall and the others score alike, so its moments are
+// the prior cut off at the view's edge; taken at every image, they walk the
+// mean away from the view and the joint filter reads the walk as encoder
+// bias. With keep_unseen_prior the arm stays where its encoders put it
+// (unseen_joints.h); without, the same images move it.
+TEST(TrackerTest, AnArmOutOfViewStaysWhereItsEncodersPutIt) {
+  auto model = arm_model();
+  const int shoulder = model->joint_index("shoulder"), elbow = model->joint_index("elbow");
+  const CameraIntrinsics narrow = CameraIntrinsics::from_vertical_fov(64, 48, 20 * kRadPerDeg);
+  const double q0 = 1.45;  // the arm laid sideways, just out of the narrow view
+  auto pixels_at = [&](double shoulder_rad) {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model->num_joints());
+    q[shoulder] = shoulder_rad;
+    KinematicsState state(*model);
+    forward_kinematics(*model, q, state);
+    DepthRenderer renderer(*model, narrow);
+    DepthImage image;
+    renderer.render(state, image);
+    return std::count_if(image.depth_m.begin(), image.depth_m.end(), [](float z) { return z > 0; });
+  };
+  ASSERT_EQ(pixels_at(q0), 0);
+  ASSERT_GT(pixels_at(q0 - 10 * kRadPerDeg), 20);  // within the prior's spread: a draw sees it
+  const DepthImage wall(64, 48, 1.6f);
+  for (const bool keep : {true, false}) {
+    SCOPED_TRACE(keep);
+    TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+    config.acquisition.passes = 1;  // no search: every image one plain filter run
+    config.keep_unseen_prior = keep;
+    Tracker tracker(model, config, {"shoulder", "elbow"});
+    for (int k = 0; k <= 700; ++k) {
+      const double t = 0.001 * k;
+      tracker.add_joint_measurement(t, std::vector<double>{q0, 0.0});
+      if (k % 33 == 0) tracker.add_depth_image(t, wall, narrow);
+    }
+    const TrackerEstimate e = tracker.estimate();
+    if (keep) {
+      EXPECT_NEAR(e.angle_rad[shoulder], q0, 1e-9);
+      EXPECT_NEAR(e.angle_rad[elbow], 0.0, 1e-9);
+      EXPECT_EQ(e.bias_rad[shoulder], 0.0);
+    } else {
+      EXPECT_GT(std::abs(e.angle_rad[shoulder] - q0), 2 * kRadPerDeg);  // measured: 7.3 degrees
+    }
+  }
+}
+
 // An encoder that slips while the arm stands still moves the estimate to
 // where the camera sees nothing (no depth there, so nothing contradicts it).
 // The health check must still notice: the arm it explained is still in the

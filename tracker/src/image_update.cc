@@ -16,6 +16,7 @@ ImageUpdate::ImageUpdate(const TrackerSetup& setup)
       acquisition_(setup),
       covariance_(setup, filter_.filter().blocks()),
       refinement_(setup, covariance_.setup().states),
+      unseen_joints_(setup, covariance_.setup().dofs),
       end_effector_fit_(setup),
       axis_search_(*setup.model, end_effector_fit_.fit_links(),
                    end_effector_fit_.on() ? setup.config.end_effector_fit.axis_search_range_m : 0,
@@ -122,9 +123,12 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
   }
   double search_ms = 0;
   const bool first = images_seen_++ == 0;
+  bool unseen_found = false;  // UnseenJoints::find() ran on this image's prior
   if (acquisition_.on() && first) {
     search_ms = acquisition_.acquire_first(filter_, image, prior_std_, time_s, belief, health_);
   } else {
+    unseen_found = unseen_joints_.on();
+    if (unseen_found) unseen_joints_.find(belief, filter_.geometry().renderer());
     filter_.run(belief.mean_a, prior_std_, belief.mean_a, proposal_std_in_turn());
     fold_angle_posteriors(filter_.filter().mean(), filter_.filter().variance(), belief);
   }
@@ -134,6 +138,7 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
     if (kind != SearchKind::kNone) {
       acquisition_.reacquire(kind, filter_, image, check, reading_at_time, time_s, belief, health_,
                              reopened_);
+      unseen_found = false;  // the search's result is its own
       search_ms = health_.last_acquisition_ms;
     }
   }
@@ -143,6 +148,7 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
   const bool informed = covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a,
                                                 renderer, likelihood, &filter_.pool());
   if (carrier_motion_.on()) covariance_.add_variance(carrier_added_var_);
+  if (unseen_found) unseen_joints_.keep_priors(covariance_.information().pixels_per_dof(), belief);
   if (informed && refinement_.on())
     health_.refinements_accepted +=
         refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,

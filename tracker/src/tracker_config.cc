@@ -302,6 +302,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"likelihood_exponent", &c.likelihood_exponent},
                     {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);
+  c.keep_unseen_prior = pf.get<bool>("keep_unseen_prior", c.keep_unseen_prior);
   for (const ConfigNode& b : pf.list("blocks")) {
     c.blocks.push_back(
         {b.required<std::string>("name"), b.required<std::vector<std::string>>("joints")});

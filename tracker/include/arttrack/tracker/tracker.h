@@ -48,6 +48,11 @@
 //   coordinate-wise particles lag. Each state moves at most the particles'
 //   spread, or its reported standard deviation while the step is longer
 //   than refinement.widen_beyond_sigma of them (the mean still converging).
+// - Joints out of view (particle_filter.keep_unseen_prior). A joint none of
+//   whose links the camera draws at the image's prior mean, and that no
+//   explained pixel depends on at the particles' mean, keeps its prior
+//   through the image: the particles would read "not in view" as new
+//   evidence at every image and walk a hidden arm away from the view.
 // - Reported uncertainty. The standard deviations of the biases, angles and
 //   camera offsets are the marginals of a full covariance updated with each
 //   image's Gauss-Newton information (posterior_covariance.h,

@@ -140,6 +140,14 @@ struct TrackerConfig {
   // robot's image update. min_evaluations counts the blocks sampled. 6:
   // every block each image, the paper's.
   int camera_blocks_per_image = 2;
+  // Full fusion: a joint none of whose links the camera draws at an image's
+  // prior mean, and that no explained pixel depends on at the particle
+  // filter's mean, keeps its prior through the image (unseen_joints.h in
+  // the tracker's internals): the filter would otherwise take the image's
+  // "not in view" as evidence again at every image and walk the hidden
+  // chain away from the view (docs/accuracy.md, "The hidden arm keeps its
+  // prior"). false: the particle filter's moments, as the paper.
+  bool keep_unseen_prior = true;
   // Sampling blocks: named lists of joint names. Empty: one block per
   // physical joint whose bias is estimated (every physical joint for
   // vision_only; a joint whose bias is not estimated, like a mimic joint,

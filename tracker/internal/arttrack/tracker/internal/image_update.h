@@ -5,6 +5,8 @@
 // carry the camera (camera_carrier_motion.h); the particle filter over the image
 // (image_filter.h), or at the first image the acquisition's search
 // (acquisition.h); the re-acquisition the health check's counts call for;
+// the joints the image cannot see given their prior back (unseen_joints.h;
+// not after a search);
 // the reported covariance (reported_covariance.h) with the mean's
 // refinement (refinement.h) between its halves; the end-effector fit
 // (end_effector_fit.h), on the image at its own, finer resolution with a
@@ -34,6 +36,7 @@
 #include "arttrack/tracker/internal/refinement.h"
 #include "arttrack/tracker/internal/reported_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
+#include "arttrack/tracker/internal/unseen_joints.h"
 #include "arttrack/tracker/tracker.h"
 
 namespace arttrack {
@@ -99,6 +102,7 @@ class ImageUpdate {
   Acquisition acquisition_;
   ReportedCovariance covariance_;
   Refinement refinement_;
+  UnseenJoints unseen_joints_;
   EndEffectorFit end_effector_fit_;
   EndEffectorAxisSearch axis_search_;
   CameraCarrierMotion carrier_motion_;

@@ -1,0 +1,90 @@
+#include "arttrack/tracker/internal/unseen_joints.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "arttrack/tracker/depth_renderer.h"
+#include "arttrack/tracker/units.h"
+#include "planar_arm.h"
+
+namespace arttrack {
+namespace {
+
+using arttrack::test_support::arm_model;
+using arttrack::test_support::small_config;
+
+// A camera that sees the arm standing up (shoulder 0) but nothing of it
+// laid sideways (shoulder 1.5 rad): 20 degrees of view at a metre.
+const CameraIntrinsics kNarrow = CameraIntrinsics::from_vertical_fov(64, 48, 20 * kRadPerDeg);
+
+JointBelief belief_at(const RobotModel& model, double shoulder, double elbow) {
+  JointBelief b;
+  const std::size_t n = std::size_t(model.num_joints());
+  for (auto* v : {&b.mean_a, &b.mean_b, &b.var_a, &b.cov_ab, &b.var_b}) v->assign(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    b.var_a[j] = 0.01;
+    b.var_b[j] = 0.009;
+    b.cov_ab[j] = -0.009;
+  }
+  b.mean_a[std::size_t(model.joint_index("shoulder"))] = shoulder;
+  b.mean_a[std::size_t(model.joint_index("elbow"))] = elbow;
+  b.mean_b[std::size_t(model.joint_index("shoulder"))] = 0.05;
+  return b;
+}
+
+TEST(UnseenJointsTest, FindsTheJointsWhoseLinksTheCameraDoesNotDraw) {
+  auto model = arm_model();
+  const TrackerSetup setup(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const int shoulder = model->joint_index("shoulder"), elbow = model->joint_index("elbow");
+  UnseenJoints unseen(setup, {shoulder, elbow});
+  ASSERT_TRUE(unseen.on());
+  DepthRenderer renderer(*model, kNarrow);
+  EXPECT_EQ(unseen.find(belief_at(*model, 0.0, 0.0), renderer), 0);
+  EXPECT_EQ(unseen.find(belief_at(*model, 1.5, 0.0), renderer), 2);
+  // The forearm bent back into view: both joints move it.
+  EXPECT_EQ(unseen.find(belief_at(*model, 1.5, -2.0), renderer), 0);
+}
+
+TEST(UnseenJointsTest, GivesAnUnseenJointItsPriorBackUnlessExplainedPixelsDependOnIt) {
+  auto model = arm_model();
+  const TrackerSetup setup(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const int shoulder = model->joint_index("shoulder"), elbow = model->joint_index("elbow");
+  UnseenJoints unseen(setup, {shoulder, elbow});
+  DepthRenderer renderer(*model, kNarrow);
+  const JointBelief prior = belief_at(*model, 1.5, 0.0);
+  ASSERT_EQ(unseen.find(prior, renderer), 2);
+  // What a particle filter did to them: means moved, variances cut.
+  JointBelief after = prior;
+  for (int j : {shoulder, elbow}) {
+    after.mean_a[std::size_t(j)] += 0.02;
+    after.mean_b[std::size_t(j)] -= 0.02;
+    after.var_a[std::size_t(j)] = 0.001;
+  }
+  // The elbow's mean now explains pixels: kept; the shoulder's back.
+  EXPECT_EQ(unseen.keep_priors(std::vector<int>{0, 12}, after), 1);
+  for (auto field : {&JointBelief::mean_a, &JointBelief::mean_b, &JointBelief::var_a,
+                     &JointBelief::cov_ab, &JointBelief::var_b})
+    EXPECT_EQ((after.*field)[std::size_t(shoulder)], (prior.*field)[std::size_t(shoulder)]);
+  EXPECT_EQ(after.mean_a[std::size_t(elbow)], prior.mean_a[std::size_t(elbow)] + 0.02);
+  EXPECT_EQ(after.var_a[std::size_t(elbow)], 0.001);
+  // A joint found in view is never given its prior back.
+  ASSERT_EQ(unseen.find(belief_at(*model, 0.0, 0.0), renderer), 0);
+  JointBelief seen = belief_at(*model, 0.1, 0.0);
+  EXPECT_EQ(unseen.keep_priors(std::vector<int>{0, 0}, seen), 0);
+  EXPECT_EQ(seen.mean_a[std::size_t(shoulder)], 0.1);
+}
+
+TEST(UnseenJointsTest, OffWithTheOptionOrOutsideFullFusion) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  config.keep_unseen_prior = false;
+  EXPECT_FALSE(UnseenJoints(TrackerSetup(model, config, {"shoulder", "elbow"}), {0}).on());
+  EXPECT_FALSE(UnseenJoints(TrackerSetup(model, small_config(TrackingMethod::kVisionOnly),
+                                         {"shoulder", "elbow"}),
+                            {0})
+                   .on());
+}
+
+}  // namespace
+}  // namespace arttrack

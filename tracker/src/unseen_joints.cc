@@ -1,0 +1,57 @@
+#include "arttrack/tracker/internal/unseen_joints.h"
+
+#include <utility>
+
+namespace arttrack {
+
+UnseenJoints::UnseenJoints(const TrackerSetup& setup, std::vector<int> state_dofs)
+    : on_(setup.config.method == TrackingMethod::kFullFusion && setup.config.keep_unseen_prior),
+      model_(setup.model.get()),
+      state_dofs_(std::move(state_dofs)),
+      kinematics_(*setup.model),
+      q_(Eigen::VectorXd::Zero(setup.n)),
+      prior_(std::size_t(setup.n)),
+      one_link_(std::size_t(setup.model->num_links()), false),
+      link_drawn_(std::size_t(setup.model->num_links()), 0),
+      unseen_(state_dofs_.size(), 0) {
+  for (int dof : state_dofs_) state_links_.push_back(links_affecting_depth(*model_, {dof}));
+}
+
+int UnseenJoints::find(const JointBelief& prior, DepthRenderer& renderer) {
+  for (int j = 0; j < q_.size(); ++j) {
+    q_[j] = prior.mean_a[std::size_t(j)];
+    prior_[std::size_t(j)] = prior.joint(j);
+  }
+  forward_kinematics(*model_, q_, kinematics_);
+  // Each link alone, so that one behind another link still counts as drawn:
+  // only the view's edges and its near plane hide a link here.
+  for (int l : model_->links_with_geometry()) {
+    one_link_[std::size_t(l)] = true;
+    link_drawn_[std::size_t(l)] =
+        !renderer.render_links(kinematics_, one_link_, link_image_).empty();
+    one_link_[std::size_t(l)] = false;
+  }
+  int count = 0;
+  for (std::size_t i = 0; i < state_dofs_.size(); ++i) {
+    bool drawn = false;
+    for (int l : model_->links_with_geometry())
+      drawn = drawn || (state_links_[i][std::size_t(l)] && link_drawn_[std::size_t(l)]);
+    unseen_[i] = !drawn;
+    count += unseen_[i];
+  }
+  return count;
+}
+
+int UnseenJoints::keep_priors(std::span<const int> pixels_per_state, JointBelief& belief) const {
+  int moved = 0;
+  for (std::size_t i = 0; i < state_dofs_.size(); ++i) {
+    if (!unseen_[i] || (i < pixels_per_state.size() && pixels_per_state[i] > 0)) continue;
+    const int dof = state_dofs_[i];
+    const AngleBiasGaussian& g = prior_[std::size_t(dof)];
+    moved += belief.mean_a[std::size_t(dof)] != g.mean_a;
+    belief.set_joint(dof, g);
+  }
+  return moved;
+}
+
+}  // namespace arttrack
