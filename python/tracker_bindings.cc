@@ -145,7 +145,8 @@ py::dict health_dict(const TrackingHealth& h) {
       "state"_a = health_state_name(h.state), "image_stamp_s"_a = h.image_stamp_s,
       "whole"_a = chain_health_dict(h.whole), "chains"_a = chains,
       "acquisitions"_a = h.acquisitions, "chains_reacquired"_a = h.chains_reacquired,
-      "refinements_accepted"_a = h.refinements_accepted, "hand_searches"_a = h.hand_searches,
+      "refinements_accepted"_a = h.refinements_accepted,
+      "unseen_priors_kept"_a = h.unseen_priors_kept, "hand_searches"_a = h.hand_searches,
       "hand_shifts_accepted"_a = h.hand_shifts_accepted,
       "last_acquisition_ms"_a = h.last_acquisition_ms, "model_error_std_m"_a = h.model_error_std_m,
       "links"_a = links, "weakest_part_explained_fraction"_a = h.weakest_part_explained_fraction(),
@@ -466,7 +467,8 @@ void bind_tracker(py::module_& m) {
           "('no_image', 'tracking', 'lost'), image_stamp_s, whole and chains (per kinematic "
           "chain: name, rendered_pixels, explained_fraction, contradicted_fraction, "
           "abandoned_fraction, weakest_part_joint, weakest_part_explained_fraction, "
-          "unconfirmed), acquisitions, chains_reacquired, refinements_accepted, hand_searches, "
+          "unconfirmed), acquisitions, chains_reacquired, refinements_accepted, "
+          "unseen_priors_kept, hand_searches, "
           "hand_shifts_accepted, "
           "last_acquisition_ms, model_error_std_m (m), links (per link with geometry: link, "
           "shift_m, the surface shift the images pin, NaN before one does, and images), "

@@ -717,7 +717,9 @@ TEST(TrackerTest, AnArmOutOfViewStaysWhereItsEncodersPutIt) {
       EXPECT_NEAR(e.angle_rad[shoulder], q0, 1e-9);
       EXPECT_NEAR(e.angle_rad[elbow], 0.0, 1e-9);
       EXPECT_EQ(e.bias_rad[shoulder], 0.0);
+      EXPECT_GT(e.health.unseen_priors_kept, 0);
     } else {
+      EXPECT_EQ(e.health.unseen_priors_kept, 0);
       EXPECT_GT(std::abs(e.angle_rad[shoulder] - q0), 2 * kRadPerDeg);  // measured: 7.3 degrees
     }
   }

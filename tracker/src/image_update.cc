@@ -148,7 +148,9 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
   const bool informed = covariance_.begin_image(time_s, prior_std_, reopened_, belief.mean_a,
                                                 renderer, likelihood, &filter_.pool());
   if (carrier_motion_.on()) covariance_.add_variance(carrier_added_var_);
-  if (unseen_found) unseen_joints_.keep_priors(covariance_.information().pixels_per_dof(), belief);
+  if (unseen_found)
+    health_.unseen_priors_kept +=
+        unseen_joints_.keep_priors(covariance_.information().pixels_per_dof(), belief);
   if (informed && refinement_.on())
     health_.refinements_accepted +=
         refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,

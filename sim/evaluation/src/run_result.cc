@@ -38,6 +38,7 @@ HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t metho
     counts.acquisitions += h.acquisitions;
     counts.chains_reacquired += h.chains_reacquired;
     counts.refinements_accepted += h.refinements_accepted;
+    counts.unseen_priors_kept += h.unseen_priors_kept;
     counts.hand_searches += h.hand_searches;
     counts.hand_shifts_accepted += h.hand_shifts_accepted;
   }

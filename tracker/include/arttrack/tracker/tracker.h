@@ -146,7 +146,11 @@ struct TrackingHealth {
   int acquisitions = 0;             // annealed searches run so far
   int chains_reacquired = 0;        // chains that took a search's result
   int refinements_accepted = 0;     // Gauss-Newton steps taken (tracker.h)
-  double last_acquisition_ms = 0;   // wall time of the newest search
+  // Joints an image could not see whose particle-filter step was undone
+  // (particle_filter.keep_unseen_prior), summed over images: a chain out
+  // of view is where its encoders and learned biases put it.
+  int unseen_priors_kept = 0;
+  double last_acquisition_ms = 0;  // wall time of the newest search
   // The end-effector fit's search along each hand (end_effector_fit.
   // axis_search_range_m): fitted hands searched so far, and the searches
   // whose shift along the hand beat the fit's own pose. A share accepted

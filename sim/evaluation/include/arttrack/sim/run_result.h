@@ -168,12 +168,14 @@ struct LinkModelFit {
 std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method);
 
 // The tracker's own counts of what it did to get there (TrackingHealth's
-// counters: searches, Gauss-Newton steps, the end-effector fit's search
-// along each hand), summed over the runs' last estimates; `method` indexes
+// counters: searches, Gauss-Newton steps, joints out of view kept at
+// their prior, the end-effector fit's search along each hand), summed over
+// the runs' last estimates; `method` indexes
 // RunResult::methods. A run without samples adds nothing.
 struct HealthCounts {
   int runs = 0;  // runs counted
   long long acquisitions = 0, chains_reacquired = 0, refinements_accepted = 0;
+  long long unseen_priors_kept = 0;
   long long hand_searches = 0, hand_shifts_accepted = 0;
 };
 HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t method);
