@@ -60,9 +60,6 @@ class UnseenJoints {
   // its joint's prior back in `belief`. Returns how many joints moved back.
   int keep_priors(std::span<const int> pixels_per_state, JointBelief& belief) const;
 
-  // Per state, whether the last find() found it unseen.
-  const std::vector<char>& unseen() const { return unseen_; }
-
  private:
   // Setup.
   bool on_ = false;
