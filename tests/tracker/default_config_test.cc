@@ -278,6 +278,7 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("particle_filter.camera_blocks_per_image", &C::camera_blocks_per_image),
     key("particle_filter.likelihood_exponent", &C::likelihood_exponent),
     key("particle_filter.keep_unseen_prior", &C::keep_unseen_prior),
+    key("particle_filter.unseen_below_pixels", &C::unseen_below_pixels),
     key("particle_filter.seed", &C::seed), key("particle_filter.threads", &C::threads));
   f(key("uncertainty.image_information_scale", &C::image_information_scale),
     key("uncertainty.discount_correlated_residuals", &C::discount_correlated_residuals),

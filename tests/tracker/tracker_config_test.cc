@@ -67,6 +67,20 @@ TEST(TrackerConfigTest, ReadsWhetherUnseenJointsKeepTheirPrior) {
             std::string::npos);
 }
 
+TEST(TrackerConfigTest, ReadsHowFewPixelsCountAsOutOfView) {
+  EXPECT_EQ(default_tracker_config().unseen_below_pixels, 30);
+  EXPECT_EQ(tracker_config_from_yaml(
+                load_yaml_string("particle_filter: {unseen_below_pixels: 12}\n", "t.yaml"))
+                .unseen_below_pixels,
+            12);
+  for (const char* bad : {"0", "-3", "2.5"})
+    EXPECT_NE(
+        tracker_config_error("particle_filter: {unseen_below_pixels: " + std::string(bad) + "}\n")
+            .find("particle_filter.unseen_below_pixels"),
+        std::string::npos)
+        << bad;
+}
+
 TEST(TrackerConfigTest, ReadsInputChecks) {
   const TrackerConfig c = tracker_config_from_yaml(load_yaml_string(
       "input_checks: {joint_limit_margin_deg: 10, max_image_clock_offset_s: 2}\n", "t.yaml"));
@@ -259,6 +273,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"particle_filter.min_evaluations", "1000000", "1000001"},
     {"particle_filter.camera_blocks_per_image", "1", "0"},
     {"particle_filter.camera_blocks_per_image", "6", "7"},
+    {"particle_filter.unseen_below_pixels", "1", "0"},
+    {"particle_filter.unseen_below_pixels", "1000000", "1000001"},
     {"particle_filter.threads", kMaxThreads, std::to_string(kMaxWorkerThreads + 1)},
     {"uncertainty.image_information_scale", "1e-6", "1e-7"},
     {"uncertainty.image_information_scale", "1", "1.1"},

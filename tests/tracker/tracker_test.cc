@@ -725,6 +725,60 @@ TEST(TrackerTest, AnArmOutOfViewStaysWhereItsEncodersPutIt) {
   }
 }
 
+// The same arm at the view's edge, a few of its pixels in view at its
+// encoders' reading. Where the wall shows instead, those pixels say only
+// where the arm is not: the particles' moments push it out of view by
+// degrees and cut its variance, and a chain pushed out comes back into view
+// that far off. With unseen_below_pixels above its pixel count it counts
+// as out of view and keeps its prior; at 1 (only a chain wholly out of
+// view) the same images move it. Where the image shows the arm, its pixels
+// hold it either way.
+TEST(TrackerTest, AnArmAtTheViewsEdgeStaysWhereItsEncodersPutIt) {
+  auto model = arm_model();
+  const int shoulder = model->joint_index("shoulder");
+  const CameraIntrinsics narrow = CameraIntrinsics::from_vertical_fov(64, 48, 20 * kRadPerDeg);
+  DepthRenderer renderer(*model, narrow);
+  KinematicsState state(*model);
+  auto image_at = [&](double shoulder_rad) {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model->num_joints());
+    q[shoulder] = shoulder_rad;
+    forward_kinematics(*model, q, state);
+    DepthImage image;
+    renderer.render(state, image);
+    return image;
+  };
+  auto pixels = [](const DepthImage& image) {
+    return int(
+        std::count_if(image.depth_m.begin(), image.depth_m.end(), [](float z) { return z > 0; }));
+  };
+  double q0 = 1.45;  // just out of view (the test above): step in to a few pixels
+  while (pixels(image_at(q0)) < 3) q0 -= 0.002;
+  DepthImage arm_before_wall = image_at(q0);
+  ASSERT_LT(pixels(arm_before_wall), 10);
+  for (float& z : arm_before_wall.depth_m) z = z > 0 ? z : 1.6f;
+  const DepthImage wall(64, 48, 1.6f);
+  // The shoulder's farthest from its reading over 0.7 s of images.
+  auto worst_step_rad = [&](int below, const DepthImage& image) {
+    TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+    config.acquisition.passes = 1;  // no search: every image one plain filter run
+    config.unseen_below_pixels = below;
+    Tracker tracker(model, config, {"shoulder", "elbow"});
+    double worst = 0;
+    for (int k = 0; k <= 700; ++k) {
+      const double t = 0.001 * k;
+      tracker.add_joint_measurement(t, std::vector<double>{q0, 0.0});
+      if (k % 33 != 0) continue;
+      tracker.add_depth_image(t, image, narrow);
+      worst = std::max(worst, std::abs(tracker.estimate().angle_rad[shoulder] - q0));
+    }
+    return worst;
+  };
+  EXPECT_EQ(worst_step_rad(30, wall), 0.0);
+  EXPECT_GT(worst_step_rad(1, wall), 2 * kRadPerDeg);  // measured: 9.7 degrees
+  EXPECT_LT(worst_step_rad(30, arm_before_wall), 0.5 * kRadPerDeg);
+  EXPECT_LT(worst_step_rad(1, arm_before_wall), 0.5 * kRadPerDeg);  // measured: 0.3 degrees
+}
+
 // An encoder that slips while the arm stands still moves the estimate to
 // where the camera sees nothing (no depth there, so nothing contradicts it).
 // The health check must still notice: the arm it explained is still in the

@@ -75,6 +75,35 @@ TEST(UnseenJointsTest, GivesAnUnseenJointItsPriorBackUnlessExplainedPixelsDepend
   EXPECT_EQ(seen.mean_a[std::size_t(shoulder)], 0.1);
 }
 
+// unseen_below_pixels: a chain drawing fewer pixels than it counts as out of
+// view, and keeps its prior unless as many explained pixels depend on it.
+TEST(UnseenJointsTest, AChainDrawingFewerPixelsThanTheThresholdCountsAsUnseen) {
+  auto model = arm_model();
+  const int shoulder = model->joint_index("shoulder"), elbow = model->joint_index("elbow");
+  DepthRenderer renderer(*model, kNarrow);
+  const JointBelief standing = belief_at(*model, 0.0, 0.0);
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  config.unseen_below_pixels = 1;  // only a chain wholly out of view
+  EXPECT_EQ(UnseenJoints(TrackerSetup(model, config, {"shoulder", "elbow"}), {shoulder, elbow})
+                .find(standing, renderer),
+            0);
+  // More pixels than the whole view holds: the standing arm, which reaches
+  // past the narrow view's edge, is "unseen"; the same arm wholly inside a
+  // wide view is seen, however few its pixels.
+  config.unseen_below_pixels = kNarrow.width * kNarrow.height + 1;
+  UnseenJoints unseen(TrackerSetup(model, config, {"shoulder", "elbow"}), {shoulder, elbow});
+  DepthRenderer wide(*model, CameraIntrinsics::from_vertical_fov(64, 48, 60 * kRadPerDeg));
+  EXPECT_EQ(unseen.find(standing, wide), 0);
+  ASSERT_EQ(unseen.find(standing, renderer), 2);
+  JointBelief after = standing;
+  for (int j : {shoulder, elbow}) after.mean_a[std::size_t(j)] += 0.02;
+  // An explained pixel depends on the shoulder at the filter's mean: its
+  // step is kept, however few; none on the elbow: its prior is back.
+  EXPECT_EQ(unseen.keep_priors(std::vector<int>{1, 0}, after), 1);
+  EXPECT_EQ(after.mean_a[std::size_t(shoulder)], 0.02);
+  EXPECT_EQ(after.mean_a[std::size_t(elbow)], 0.0);
+}
+
 TEST(UnseenJointsTest, OffWithTheOptionOrOutsideFullFusion) {
   auto model = arm_model();
   TrackerConfig config = small_config(TrackingMethod::kFullFusion);

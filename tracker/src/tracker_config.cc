@@ -162,6 +162,7 @@ void TrackerConfig::validate(const std::string& source) const {
   check("particle_filter.threads", threads, R::closed(0, kMaxWorkerThreads));
   check("particle_filter.min_evaluations", min_evaluations, R::closed(0, 1000000));
   check("particle_filter.camera_blocks_per_image", camera_blocks_per_image, R::closed(1, 6));
+  check("particle_filter.unseen_below_pixels", unseen_below_pixels, R::closed(1, 1000000));
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     const std::string key = "particle_filter.blocks[" + std::to_string(i) + "]";
     if (blocks[i].name.empty()) fail_key(source, key + ".name", "is empty");
@@ -300,6 +301,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                     {"min_evaluations", &c.min_evaluations},
                     {"camera_blocks_per_image", &c.camera_blocks_per_image},
                     {"likelihood_exponent", &c.likelihood_exponent},
+                    {"unseen_below_pixels", &c.unseen_below_pixels},
                     {"threads", &c.threads}});
   c.seed = pf.get<unsigned long long>("seed", c.seed);
   c.keep_unseen_prior = pf.get<bool>("keep_unseen_prior", c.keep_unseen_prior);

@@ -6,13 +6,15 @@ namespace arttrack {
 
 UnseenJoints::UnseenJoints(const TrackerSetup& setup, std::vector<int> state_dofs)
     : on_(setup.config.method == TrackingMethod::kFullFusion && setup.config.keep_unseen_prior),
+      below_pixels_(setup.config.unseen_below_pixels),
       model_(setup.model.get()),
       state_dofs_(std::move(state_dofs)),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)),
       prior_(std::size_t(setup.n)),
       one_link_(std::size_t(setup.model->num_links()), false),
-      link_drawn_(std::size_t(setup.model->num_links()), 0),
+      link_pixels_(std::size_t(setup.model->num_links()), 0),
+      link_at_edge_(std::size_t(setup.model->num_links()), 0),
       unseen_(state_dofs_.size(), 0) {
   for (int dof : state_dofs_) state_links_.push_back(links_affecting_depth(*model_, {dof}));
 }
@@ -27,19 +29,38 @@ int UnseenJoints::find(const JointBelief& prior, DepthRenderer& renderer) {
   // only the view's edges and its near plane hide a link here.
   for (int l : model_->links_with_geometry()) {
     one_link_[std::size_t(l)] = true;
-    link_drawn_[std::size_t(l)] =
-        !renderer.render_links(kinematics_, one_link_, link_image_).empty();
+    const PixelRect rect = renderer.render_links(kinematics_, one_link_, link_image_);
     one_link_[std::size_t(l)] = false;
+    count_drawn(rect, link_pixels_[std::size_t(l)], link_at_edge_[std::size_t(l)]);
   }
   int count = 0;
   for (std::size_t i = 0; i < state_dofs_.size(); ++i) {
-    bool drawn = false;
-    for (int l : model_->links_with_geometry())
-      drawn = drawn || (state_links_[i][std::size_t(l)] && link_drawn_[std::size_t(l)]);
-    unseen_[i] = !drawn;
+    int drawn = 0;
+    bool at_edge = false;
+    for (int l : model_->links_with_geometry()) {
+      if (!state_links_[i][std::size_t(l)]) continue;
+      drawn += link_pixels_[std::size_t(l)];
+      at_edge = at_edge || link_at_edge_[std::size_t(l)];
+    }
+    // A chain small in the image but wholly in view is seen.
+    unseen_[i] = drawn == 0 || (drawn < below_pixels_ && at_edge);
     count += unseen_[i];
   }
   return count;
+}
+
+void UnseenJoints::count_drawn(const PixelRect& rect, int& drawn, char& at_edge) const {
+  const int w = link_image_.width, h = link_image_.height;
+  drawn = 0;
+  at_edge = false;
+  for (int v = rect.v0; v < rect.v1; ++v) {
+    const float* row = link_image_.depth_m.data() + std::size_t(v) * w;
+    for (int u = rect.u0; u < rect.u1; ++u) {
+      if (!(row[u] > 0.f)) continue;
+      ++drawn;
+      at_edge = at_edge || u == 0 || v == 0 || u == w - 1 || v == h - 1;
+    }
+  }
 }
 
 int UnseenJoints::keep_priors(std::span<const int> pixels_per_state, JointBelief& belief) const {

@@ -49,7 +49,8 @@
 //   spread, or its reported standard deviation while the step is longer
 //   than refinement.widen_beyond_sigma of them (the mean still converging).
 // - Joints out of view (particle_filter.keep_unseen_prior). A joint none of
-//   whose links the camera draws at the image's prior mean, and that no
+//   whose links the camera draws at the image's prior mean (or fewer than
+//   particle_filter.unseen_below_pixels, at the view's edge), and that no
 //   explained pixel depends on at the particles' mean, keeps its prior
 //   through the image: the particles would read "not in view" as new
 //   evidence at every image and walk a hidden arm away from the view.

@@ -148,6 +148,14 @@ struct TrackerConfig {
   // chain away from the view (docs/accuracy.md, "The hidden arm keeps its
   // prior"). false: the particle filter's moments, as the paper.
   bool keep_unseen_prior = true;
+  // With keep_unseen_prior: a joint whose links draw fewer than this many
+  // pixels (at the likelihood's resolution) at the prior mean, one of them
+  // on the view's border, counts as out of view too. 1: only a chain wholly
+  // out of view. A chain at the view's edge is seen by a pixel or two, which
+  // say mostly where it is not: the particles' mean then pushes it out of
+  // view by degrees in one image and their variance collapses
+  // (docs/accuracy.md, "A chain at the view's edge").
+  int unseen_below_pixels = 30;
   // Sampling blocks: named lists of joint names. Empty: one block per
   // physical joint whose bias is estimated (every physical joint for
   // vision_only; a joint whose bias is not estimated, like a mimic joint,

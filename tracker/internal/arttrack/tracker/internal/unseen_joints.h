@@ -2,10 +2,11 @@
 // with particle_filter.keep_unseen_prior; docs/method.md, "Joints out of
 // view"). A state of the reported covariance whose DOF moves no link the
 // camera draws at the image's prior mean (each link rendered alone, at the
-// likelihood's resolution), and that no explained pixel depends on at the
-// particle filter's mean either, gets its joint's prior back: mean and
-// variance, angle and bias, as the joint filter predicted them to the
-// image's time.
+// likelihood's resolution), or whose links draw fewer than
+// particle_filter.unseen_below_pixels there with one of them on the view's
+// border, and that no explained pixel depends on at the particle filter's
+// mean either, gets its joint's prior back: mean and variance, angle and
+// bias, as the joint filter predicted them to the image's time.
 //
 // Why: out of view, the image says only where such a chain is not. The
 // particle filter's draws that bring it into view are contradicted and the
@@ -20,6 +21,12 @@
 // neither. A filter mean that brings the chain into view where the image
 // explains it (some explained pixel depends on the DOF) is positive
 // evidence and is kept, so a chain coming back into view is followed.
+// A chain at the view's edge, a pixel or two in view at the prior, is the
+// same case: the filter pushed it out of view in one image, by up to three
+// prior sds with its variance cut to a sixth, and the chain came back into
+// view that far off (docs/accuracy.md, "A chain at the view's edge"). A
+// chain small in the image but wholly inside it is seen, however few its
+// pixels.
 //
 // Setup: per state, the links its DOF moves (links_affecting_depth).
 // Workspace: the prior's kinematics and joints, each link's render, the
@@ -51,7 +58,8 @@ class UnseenJoints {
 
   // Before the image's particle filter: keeps `prior` (every joint) and
   // finds the states none of whose links `renderer` (the likelihood's
-  // camera) draws a pixel of at the prior's mean. Returns how many.
+  // camera) draws a pixel of at the prior's mean, or fewer than
+  // unseen_below_pixels with one on the view's border. Returns how many.
   int find(const JointBelief& prior, DepthRenderer& renderer);
 
   // After the image's information at the filter's mean
@@ -61,8 +69,13 @@ class UnseenJoints {
   int keep_priors(std::span<const int> pixels_per_state, JointBelief& belief) const;
 
  private:
+  // The pixels link_image_ holds within `rect`, and whether one of them is
+  // on the view's border.
+  void count_drawn(const PixelRect& rect, int& drawn, char& at_edge) const;
+
   // Setup.
   bool on_ = false;
+  int below_pixels_ = 1;  // TrackerConfig::unseen_below_pixels
   const RobotModel* model_;
   std::vector<int> state_dofs_;
   std::vector<LinkSet> state_links_;
@@ -71,7 +84,8 @@ class UnseenJoints {
   Eigen::VectorXd q_;
   std::vector<AngleBiasGaussian> prior_;  // per DOF
   LinkSet one_link_;
-  std::vector<char> link_drawn_;  // per link
+  std::vector<int> link_pixels_;    // per link: pixels drawn at the prior mean
+  std::vector<char> link_at_edge_;  // per link: some drawn at the view's edge
   DepthImage link_image_;
   std::vector<char> unseen_;  // per state
 };
