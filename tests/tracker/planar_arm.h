@@ -4,6 +4,7 @@
 // components' (tests/tracker/*_test.cc).
 #pragma once
 
+#include <algorithm>
 #include <memory>
 
 #include <Eigen/Core>
@@ -57,17 +58,25 @@ inline TrackerConfig small_config(TrackingMethod method) {
 inline const CameraIntrinsics kCamera =
     CameraIntrinsics::from_vertical_fov(64, 48, 60 * kRadPerDeg);
 
-// The depth a perfect camera sees of the arm at angles q.
-inline DepthImage render_truth(const RobotModel& model, double q0, double q1) {
+// The depth a perfect camera (kCamera unless given) sees of the arm at
+// angles q.
+inline DepthImage render_truth(const RobotModel& model, double q0, double q1,
+                               const CameraIntrinsics& camera = kCamera) {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_joints());
   q[model.joint_index("shoulder")] = q0;
   q[model.joint_index("elbow")] = q1;
   KinematicsState state(model);
   forward_kinematics(model, q, state);
-  DepthRenderer renderer(model, kCamera);
+  DepthRenderer renderer(model, camera);
   DepthImage image;
   renderer.render(state, image);
   return image;
+}
+
+// The pixels `image` holds a depth in.
+inline int drawn_pixels(const DepthImage& image) {
+  return int(
+      std::count_if(image.depth_m.begin(), image.depth_m.end(), [](float z) { return z > 0; }));
 }
 
 }  // namespace arttrack::test_support

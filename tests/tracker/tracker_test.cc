@@ -23,6 +23,7 @@ namespace arttrack {
 namespace {
 
 using arttrack::test_support::arm_model;
+using arttrack::test_support::drawn_pixels;
 using arttrack::test_support::error_of;
 using arttrack::test_support::kCamera;
 using arttrack::test_support::render_truth;
@@ -689,14 +690,7 @@ TEST(TrackerTest, AnArmOutOfViewStaysWhereItsEncodersPutIt) {
   const CameraIntrinsics narrow = CameraIntrinsics::from_vertical_fov(64, 48, 20 * kRadPerDeg);
   const double q0 = 1.45;  // the arm laid sideways, just out of the narrow view
   auto pixels_at = [&](double shoulder_rad) {
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(model->num_joints());
-    q[shoulder] = shoulder_rad;
-    KinematicsState state(*model);
-    forward_kinematics(*model, q, state);
-    DepthRenderer renderer(*model, narrow);
-    DepthImage image;
-    renderer.render(state, image);
-    return std::count_if(image.depth_m.begin(), image.depth_m.end(), [](float z) { return z > 0; });
+    return drawn_pixels(render_truth(*model, shoulder_rad, 0.0, narrow));
   };
   ASSERT_EQ(pixels_at(q0), 0);
   ASSERT_GT(pixels_at(q0 - 10 * kRadPerDeg), 20);  // within the prior's spread: a draw sees it
@@ -737,24 +731,10 @@ TEST(TrackerTest, AnArmAtTheViewsEdgeStaysWhereItsEncodersPutIt) {
   auto model = arm_model();
   const int shoulder = model->joint_index("shoulder");
   const CameraIntrinsics narrow = CameraIntrinsics::from_vertical_fov(64, 48, 20 * kRadPerDeg);
-  DepthRenderer renderer(*model, narrow);
-  KinematicsState state(*model);
-  auto image_at = [&](double shoulder_rad) {
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(model->num_joints());
-    q[shoulder] = shoulder_rad;
-    forward_kinematics(*model, q, state);
-    DepthImage image;
-    renderer.render(state, image);
-    return image;
-  };
-  auto pixels = [](const DepthImage& image) {
-    return int(
-        std::count_if(image.depth_m.begin(), image.depth_m.end(), [](float z) { return z > 0; }));
-  };
   double q0 = 1.45;  // just out of view (the test above): step in to a few pixels
-  while (pixels(image_at(q0)) < 3) q0 -= 0.002;
-  DepthImage arm_before_wall = image_at(q0);
-  ASSERT_LT(pixels(arm_before_wall), 10);
+  while (drawn_pixels(render_truth(*model, q0, 0.0, narrow)) < 3) q0 -= 0.002;
+  DepthImage arm_before_wall = render_truth(*model, q0, 0.0, narrow);
+  ASSERT_LT(drawn_pixels(arm_before_wall), 10);
   for (float& z : arm_before_wall.depth_m) z = z > 0 ? z : 1.6f;
   const DepthImage wall(64, 48, 1.6f);
   // The shoulder's farthest from its reading over 0.7 s of images.
