@@ -433,8 +433,8 @@ TEST(RunOutputs, EveryEndEffectorHasItsRowsAndTheWorstAndLostRunsAreCounted) {
        {"\"end_effectors\": {", "\"left_ee\": {", "\"right_ee\": {", "\"lost_runs\": 1",
         "\"runs\": 1", "\"of\": 2", "\"end_effector\": \"right_ee\"", "\"seed\": 22",
         "\"from_s\": 12.0", "\"duration_s\": 8.0", "\"out_of_view_share\": 0.529",
-        "\"angles\": 0.0", "\"biases\": 1.0", "\"camera_offset\": null", "\"camera\": null",
-        "\"angle_within_2sigma\": 0.0"})
+        "\"stretches\": 1", "\"total_s\": 8.0", "\"angles\": 0.0", "\"biases\": 1.0",
+        "\"camera_offset\": null", "\"camera\": null", "\"angle_within_2sigma\": 0.0"})
     EXPECT_NE(fusion.find(key), std::string::npos) << key;
   const std::string encoders = json.substr(0, json.find("\"full_fusion\": {"));
   EXPECT_NE(encoders.find("\"biases\": null"), std::string::npos);  // not estimated, not 0%

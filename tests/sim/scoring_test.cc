@@ -284,6 +284,32 @@ TEST(Scoring, LostOnlyAfterMoreThanTheTimeAboveTheThreshold) {
   EXPECT_FALSE(lost_span(stretch_trace(10.0, 12.0), strict).has_value());
 }
 
+// A run lost again after it came back says so: the first stretch, with the
+// count and total time of every stretch that counts as lost.
+TEST(Scoring, LostSpanCountsEveryStretchThatCountsAsLost) {
+  const ScoringOptions opt;  // 2 cm for more than 1 s, from 10 s on
+  // Above from 10.0 to 11.5 s, 0.5 s (not lost) from 12.0 s, and 2 s from
+  // 13.0 to 15.0 s; below otherwise, to 16 s.
+  ErrorTrace t;
+  for (int i = 1000; i <= 1600; ++i) {
+    const bool above = (i <= 1150) || (i >= 1200 && i <= 1250) || (i >= 1300 && i <= 1500);
+    t.add(0.01 * i, {above ? 0.05 : 0.001, 0.0});
+  }
+  const std::optional<LostSpan> lost = lost_span(t, opt);
+  ASSERT_TRUE(lost.has_value());
+  EXPECT_NEAR(lost->from_s, 10.0, 1e-9);
+  EXPECT_NEAR(lost->duration_s, 1.5, 1e-9);
+  EXPECT_EQ(lost->stretches, 2);
+  EXPECT_NEAR(lost->total_s, 3.5, 1e-9);
+  EXPECT_EQ(more_stretches_note(*lost), "2 stretches, 3.5 s in all");
+  // One stretch: its own duration, and no note.
+  const std::optional<LostSpan> one = lost_span(stretch_trace(10.0, 11.5), opt);
+  ASSERT_TRUE(one.has_value());
+  EXPECT_EQ(one->stretches, 1);
+  EXPECT_NEAR(one->total_s, 1.5, 1e-9);
+  EXPECT_EQ(more_stretches_note(*one), "");
+}
+
 // A lost span says how much of it the end effector was out of view: an arm
 // no image can see is lost for another reason than one in a wrong mode.
 TEST(Scoring, LostSpanCountsTheSamplesOutOfView) {

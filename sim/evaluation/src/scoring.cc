@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "arttrack/tracker/error.h"
@@ -258,6 +259,7 @@ std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions&
   const double longer_than = options.lost_after_s + kTimeMatch_s;
   std::optional<double> from;
   std::size_t first = 0;  // the stretch's first sample
+  std::optional<LostSpan> span;
   for (std::size_t i = 0; i < t.size(); ++i) {
     if (t[i] < options.converged_after_s) continue;
     const bool above = !(e[i] <= options.lost_threshold_m);  // NaN is above
@@ -271,23 +273,35 @@ std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions&
     }
     // The stretch goes on while the next sample is above too.
     const bool ends = i + 1 == t.size() || e[i + 1] <= options.lost_threshold_m;
-    if (ends && t[i] - *from > longer_than) {
-      LostSpan span{*from, t[i] - *from};
-      if (trace.has_in_view() && trace.num_end_effectors() == 1) {
-        std::size_t out = 0;
-        for (std::size_t k = first; k <= i; ++k) out += !trace.end_effector_in_view(k, 0);
-        span.out_of_view_share = double(out) / double(i - first + 1);
-      }
-      return span;
+    if (!ends || t[i] - *from <= longer_than) continue;
+    const double duration_s = t[i] - *from;
+    if (span) {  // a later stretch: counted
+      ++span->stretches;
+      span->total_s += duration_s;
+      continue;
+    }
+    span = LostSpan{*from, duration_s};
+    span->total_s = duration_s;
+    if (trace.has_in_view() && trace.num_end_effectors() == 1) {
+      std::size_t out = 0;
+      for (std::size_t k = first; k <= i; ++k) out += !trace.end_effector_in_view(k, 0);
+      span->out_of_view_share = double(out) / double(i - first + 1);
     }
   }
-  return std::nullopt;
+  return span;
 }
 
 std::string out_of_view_note(const LostSpan& span) {
   if (!(span.out_of_view_share > 0)) return "";  // none, or NaN: not known
   return "out of the camera's view for " +
          std::to_string(int(std::lround(100 * span.out_of_view_share))) + "% of it";
+}
+
+std::string more_stretches_note(const LostSpan& span) {
+  if (span.stretches <= 1) return "";
+  char total[32];
+  std::snprintf(total, sizeof total, "%.1f", span.total_s);
+  return std::to_string(span.stretches) + " stretches, " + total + " s in all";
 }
 
 void Coverage::add(double error, double std) {

@@ -193,6 +193,9 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
                << (out_of_view_note(*e.lost[run]).empty()
                        ? ""
                        : ", " + text::html_escape(out_of_view_note(*e.lost[run])))
+               << (more_stretches_note(*e.lost[run]).empty()
+                       ? ""
+                       : ", " + text::html_escape(more_stretches_note(*e.lost[run])))
                << "</li>\n";
   if (!list.str().empty()) o << "<p>Lost:</p><ul class=\"lost\">\n" << list.str() << "</ul>\n";
 }

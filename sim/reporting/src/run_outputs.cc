@@ -84,7 +84,9 @@ Json lost_json(const ScenarioResult& r, const MethodSummary& m) {
                             {"end_effector", e.name},
                             {"from_s", number(e.lost[run]->from_s)},
                             {"duration_s", number(e.lost[run]->duration_s)},
-                            {"out_of_view_share", number(e.lost[run]->out_of_view_share)}});
+                            {"out_of_view_share", number(e.lost[run]->out_of_view_share)},
+                            {"stretches", e.lost[run]->stretches},
+                            {"total_s", number(e.lost[run]->total_s)}});
   return Json{{"runs", m.lost_runs()}, {"of", m.num_runs}, {"list", list}};
 }
 
@@ -506,8 +508,10 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
         if (run < e.lost.size() && e.lost[run]) {
           out << separator << e.name << " from " << std::fixed << std::setprecision(1)
               << e.lost[run]->from_s << " s for " << e.lost[run]->duration_s << " s";
-          if (const std::string note = out_of_view_note(*e.lost[run]); !note.empty())
-            out << " (" << note << ")";
+          std::string notes = out_of_view_note(*e.lost[run]);
+          if (const std::string more = more_stretches_note(*e.lost[run]); !more.empty())
+            notes += (notes.empty() ? "" : "; ") + more;
+          if (!notes.empty()) out << " (" << notes << ")";
           separator = ", ";
         }
       run_separator = "; ";

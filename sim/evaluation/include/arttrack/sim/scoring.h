@@ -291,20 +291,30 @@ struct LostSpan {
   // view (ErrorTrace::end_effector_in_view), in [0, 1]; NaN when not known
   // (no view in the trace, or a trace of several end effectors).
   double out_of_view_share = std::numeric_limits<double>::quiet_NaN();
+  // Every stretch of the trace that counts as lost, this one the first:
+  // how many, and their durations summed (s). A run lost twice, or lost
+  // again after it came back, says so.
+  int stretches = 1;
+  double total_s = 0;
 };
 
 // The first stretch of consecutive samples at time >= converged_after_s
 // whose translational error is above lost_threshold_m (NaN, a lost
 // estimate, is above) and that lasts more than lost_after_s, from its first
 // sample to its last (a conservative measure: the error may have been above
-// a little longer, between samples); nullopt if there is none. For a trace
-// of several end effectors this looks at the worst per sample; use
-// ErrorTrace::end_effector for one.
+// a little longer, between samples), with the count and total duration of
+// every such stretch; nullopt if there is none. For a trace of several end
+// effectors this looks at the worst per sample; use ErrorTrace::end_effector
+// for one.
 std::optional<LostSpan> lost_span(const ErrorTrace& trace, const ScoringOptions& options);
 
 // "out of the camera's view for 40% of it" when some of the span was (the
 // terminal's and the report's lost lists); "" when none was or not known.
 std::string out_of_view_note(const LostSpan& span);
+
+// "3 stretches, 12.4 s in all" when the run was lost more than once (the
+// same lists); "" when the span is its only one.
+std::string more_stretches_note(const LostSpan& span);
 
 // The virtual camera joints' names, in CameraOffset order (translation, then
 // rotation about the nominal camera frame's axes).
