@@ -302,12 +302,18 @@ TEST(Scoring, LostSpanCountsEveryStretchThatCountsAsLost) {
   EXPECT_EQ(lost->stretches, 2);
   EXPECT_NEAR(lost->total_s, 3.5, 1e-9);
   EXPECT_EQ(more_stretches_note(*lost), "2 stretches, 3.5 s in all");
+  EXPECT_EQ(lost_span_notes(*lost), "2 stretches, 3.5 s in all");  // no view flags: one note
+  LostSpan both_notes = *lost;
+  both_notes.out_of_view_share = 0.25;
+  EXPECT_EQ(lost_span_notes(both_notes),
+            "out of the camera's view for 25% of it; 2 stretches, 3.5 s in all");
   // One stretch: its own duration, and no note.
   const std::optional<LostSpan> one = lost_span(stretch_trace(10.0, 11.5), opt);
   ASSERT_TRUE(one.has_value());
   EXPECT_EQ(one->stretches, 1);
   EXPECT_NEAR(one->total_s, 1.5, 1e-9);
   EXPECT_EQ(more_stretches_note(*one), "");
+  EXPECT_EQ(lost_span_notes(*one), "");
 }
 
 // A lost span says how much of it the end effector was out of view: an arm

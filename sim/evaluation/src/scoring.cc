@@ -304,6 +304,13 @@ std::string more_stretches_note(const LostSpan& span) {
   return std::to_string(span.stretches) + " stretches, " + total + " s in all";
 }
 
+std::string lost_span_notes(const LostSpan& span) {
+  std::string notes = out_of_view_note(span);
+  if (const std::string more = more_stretches_note(span); !more.empty())
+    notes += (notes.empty() ? "" : "; ") + more;
+  return notes;
+}
+
 void Coverage::add(double error, double std) {
   if (std == 0.0) return;  // not estimated
   ++estimated;

@@ -185,18 +185,14 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
   for (const MethodResult& m : r.method_results)
     for (std::size_t run = 0; run < m.summary.num_runs; ++run)
       for (const EndEffectorSummary& e : m.summary.end_effectors)
-        if (run < e.lost.size() && e.lost[run])
+        if (run < e.lost.size() && e.lost[run]) {
+          const std::string notes = lost_span_notes(*e.lost[run]);
           list << "<li>" << text::html_escape(m.method) << ": run " << run
                << (run < r.seeds.size() ? " (seed " + std::to_string(r.seeds[run]) + ")" : "")
                << ", " << text::html_escape(e.name) << ", from " << fixed(e.lost[run]->from_s, 2)
                << "&nbsp;s for " << fixed(e.lost[run]->duration_s, 2) << "&nbsp;s"
-               << (out_of_view_note(*e.lost[run]).empty()
-                       ? ""
-                       : ", " + text::html_escape(out_of_view_note(*e.lost[run])))
-               << (more_stretches_note(*e.lost[run]).empty()
-                       ? ""
-                       : ", " + text::html_escape(more_stretches_note(*e.lost[run])))
-               << "</li>\n";
+               << (notes.empty() ? "" : ", " + text::html_escape(notes)) << "</li>\n";
+        }
   if (!list.str().empty()) o << "<p>Lost:</p><ul class=\"lost\">\n" << list.str() << "</ul>\n";
 }
 

@@ -508,10 +508,8 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
         if (run < e.lost.size() && e.lost[run]) {
           out << separator << e.name << " from " << std::fixed << std::setprecision(1)
               << e.lost[run]->from_s << " s for " << e.lost[run]->duration_s << " s";
-          std::string notes = out_of_view_note(*e.lost[run]);
-          if (const std::string more = more_stretches_note(*e.lost[run]); !more.empty())
-            notes += (notes.empty() ? "" : "; ") + more;
-          if (!notes.empty()) out << " (" << notes << ")";
+          if (const std::string notes = lost_span_notes(*e.lost[run]); !notes.empty())
+            out << " (" << notes << ")";
           separator = ", ";
         }
       run_separator = "; ";

@@ -316,6 +316,10 @@ std::string out_of_view_note(const LostSpan& span);
 // same lists); "" when the span is its only one.
 std::string more_stretches_note(const LostSpan& span);
 
+// The span's notes above that apply, joined by "; " (what the terminal's
+// and the report's lost lists add to "from ... s for ... s"); "" if none.
+std::string lost_span_notes(const LostSpan& span);
+
 // The virtual camera joints' names, in CameraOffset order (translation, then
 // rotation about the nominal camera frame's axes).
 inline constexpr std::array<std::string_view, 6> kCameraOffsetAxes = {"x",    "y",     "z",
