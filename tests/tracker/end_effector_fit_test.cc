@@ -52,7 +52,8 @@ TEST(EndEffectorFit, OnlyFullFusionWithTheOptionFits) {
 // A fit that moves the forearm 3 mm along the camera's z, at a mean the
 // refinement then did not move: after one time constant the correction is
 // 1 - 1/e of that motion, in the tool's axes; a fit the image barely
-// determines (translation sd 1 cm, above max_std_m) changes nothing.
+// determines (translation sd 1 cm, above max_std_m) leaves the average,
+// and the reported correction fades while no image shows the hand.
 TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
   const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
                            {"shoulder", "elbow"});
@@ -70,13 +71,19 @@ TEST(EndEffectorFit, AveragesWellDeterminedFitsInTheToolsAxes) {
   fit.update(1.0, {seen}, mean, mean, 0.0);
   std::vector<EndEffectorCorrection> after_one;
   for (const EndEffectorFitEstimate& e : fit.estimates()) after_one.push_back(e.correction);
-  fit.update(2.0, {vague}, mean, mean, 0.0);
-  EXPECT_EQ(fit.estimates()[0].correction, after_one[0]);
-
-  const Eigen::Vector3d expected =
-      (1 - std::exp(-1.0)) * R_camera_tool(setup).transpose() * Eigen::Vector3d(0, 0, 0.003);
-  EXPECT_LT((after_one[0].head<3>() - expected).norm(), 1e-9);
+  const Eigen::Vector3d sample = R_camera_tool(setup).transpose() * Eigen::Vector3d(0, 0, 0.003);
+  const double w = 1 - std::exp(-1.0);  // an image 1 s after the last, time constant 1 s
+  EXPECT_LT((after_one[0].head<3>() - w * sample).norm(), 1e-9);
   EXPECT_LT(after_one[0].tail<3>().norm(), 1e-12);
+
+  // An image too vague to count, 1 s after the last that showed the hand:
+  // the correction fades by exp(-1) towards none; the next image that
+  // shows it averages with the correction before the fade.
+  fit.update(2.0, {vague}, mean, mean, 0.0);
+  EXPECT_LT((fit.estimates()[0].correction - std::exp(-1.0) * after_one[0]).norm(), 1e-15);
+  fit.update(3.0, {seen}, mean, mean, 0.0);
+  const Eigen::Vector3d resumed = w * sample + w * (sample - w * sample);
+  EXPECT_LT((fit.estimates()[0].correction.head<3>() - resumed).norm(), 1e-9);
 }
 
 // The corrected position's uncertainty (end_effector_fit.h): the fits'
@@ -136,6 +143,7 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   fit.update(2.5, {vague}, mean, mean, shape_std_m);
   EXPECT_NEAR(fit.estimates()[0].weight, after.weight * std::exp(-0.5), 1e-15);  // since 2.0 s
   EXPECT_EQ(fit.estimates()[0].position_covariance_m2, after.position_covariance_m2);
+  EXPECT_LT((fit.estimates()[0].correction - std::exp(-0.5) * after.correction).norm(), 1e-15);
 
   for (int k = 26; k <= 120; ++k) fit.update(k * dt_s, {fit_at(0.001)}, mean, mean, shape_std_m);
   const Eigen::Matrix3d settled = R * fit.estimates()[0].position_covariance_m2 * R.transpose();

@@ -59,6 +59,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
       scatter_m2_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       fits_weight_(setup.ee_links.size(), 0.0),
       last_seen_s_(setup.ee_links.size(), 0.0),
+      average_(setup.ee_links.size(), EndEffectorCorrection::Zero()),
       weak_shape_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)) {
@@ -105,9 +106,11 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
   // the kinematic error it stands for changes with the pose.
   for (std::size_t f = 0; f < fit_links_.size(); ++f) {
     const std::size_t e = ee_of(f);
-    if (!seen_[f] && fits_weight_[e] > 0)
-      estimates_[e].weight =
-          fits_weight_[e] * std::exp(-(time_s - last_seen_s_[e]) / time_constant_s_);
+    if (!seen_[f] && fits_weight_[e] > 0) {
+      const double fade = std::exp(-(time_s - last_seen_s_[e]) / time_constant_s_);
+      estimates_[e].weight = fits_weight_[e] * fade;
+      estimates_[e].correction = fade * average_[e];
+    }
   }
   if (!any) return;
   // Where the fitted mean's kinematics put each end effector, moved as the
@@ -132,11 +135,13 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     EndEffectorFitEstimate& e = estimates_[i];
     // The exponentially weighted scatter about the average (West's update:
     // the deviation from the average before this sample), then the average.
-    const EndEffectorCorrection deviation = sample - e.correction;
+    EndEffectorCorrection& average = average_[i];
+    const EndEffectorCorrection deviation = sample - average;
     Eigen::Matrix3d& scatter = scatter_m2_[i];
     scatter =
         (1 - weight) * (scatter + weight * deviation.head<3>() * deviation.head<3>().transpose());
-    e.correction += weight * deviation;
+    average += weight * deviation;
+    e.correction = average;
     // The noise's shape in end-effector axes (largest eigenvalue 1), averaged.
     const Eigen::Matrix3d R = T_camera_ee.linear();
     const Eigen::Matrix3d noise_ee_m2 = R.transpose() * noise_m2_[f] * R;

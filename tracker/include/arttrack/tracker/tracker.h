@@ -211,7 +211,8 @@ struct TrackerEstimate {
   // per end effector, the rigid motion in its own axes (translation m, then
   // rotation vector rad) from where the estimated angles' kinematics put it
   // to the pose reported. Zero without the fit. How far the URDF's
-  // kinematics are from the hand the camera sees.
+  // kinematics are from the hand the camera sees; while no image shows the
+  // hand it fades back to zero over end_effector_fit.time_constant_s.
   std::vector<Eigen::Matrix<double, 6, 1>> ee_image_correction;
   TrackingHealth health;
 };

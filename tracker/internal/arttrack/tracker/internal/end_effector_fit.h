@@ -19,11 +19,15 @@
 // Images whose fit's translation has a standard deviation above
 // max_std_m (the hand hidden, edge-on, a few pixels) are skipped. The
 // corrections are averaged over time_constant_s (exponentially, each
-// image's weight 1 - exp(-dt / time_constant_s)), and held while no image
-// shows the hand: the kinematic error they stand for persists. The
-// estimate's end-effector poses are the kinematics' at the estimate times
-// the correction (EstimateReport). The joint estimate, its covariance and
-// the other methods are unchanged.
+// image's weight 1 - exp(-dt / time_constant_s)). While no image shows
+// the hand the averaged correction fades back to none, by
+// exp(-t / time_constant_s), t the time since an image last did: the
+// kinematic error it stands for changes with the pose, and the images
+// still move the hidden joints (behind a panel a wrist re-balances by 3
+// degrees, and a held correction laid on top of it doubled the hand's
+// error; docs/accuracy.md, stop 78). The estimate's end-effector poses are
+// the kinematics' at the estimate times the correction (EstimateReport).
+// The joint estimate, its covariance and the other methods are unchanged.
 //
 // The corrected position is as uncertain as the fits it averages, not as
 // the angles (whose kinematics it replaces): the fits' scatter about their
@@ -89,14 +93,16 @@ bool rigid_fit_motion(const ImageInformation::RigidFit& fit, double max_var_m2,
 
 // What the fits say about one end effector.
 struct EndEffectorFitEstimate {
+  // The averaged correction, times exp(-t / time_constant_s) while held
+  // (t the time since the last image that showed the end effector).
   EndEffectorCorrection correction = EndEffectorCorrection::Zero();
   // The fits' say in the reported pose, in [0, 1): their total weight in
   // the correction, 1 - prod(1 - w) over the images that showed the end
   // effector (the rest, 1 - weight, is 0: the kinematics' own pose), times
   // exp(-t / time_constant_s), t the time since the last image that did.
   // A held correction stands for a kinematic error that changes with the
-  // pose: its uncertainty goes back to the kinematics' (an image now and
-  // then that the fit skips, a few images, costs little).
+  // pose: it and its uncertainty go back to the kinematics' (an image now
+  // and then that the fit skips, a few images, costs little).
   double weight = 0;
   // The covariance of the fits' end-effector position, m^2, in the end
   // effector's own axes (at the kinematics' pose): the scatter plus the
@@ -143,6 +149,9 @@ class EndEffectorFit {
   // the last image's time that showed it.
   std::vector<Eigen::Matrix3d> scatter_m2_;
   std::vector<double> fits_weight_, last_seen_s_;
+  // Per end effector, the fits' averaged correction (what
+  // EndEffectorFitEstimate::correction is while an image shows the hand).
+  std::vector<EndEffectorCorrection> average_;
   // Per end effector, the fits' noise shape in end-effector axes (above),
   // averaged like the scatter.
   std::vector<Eigen::Matrix3d> weak_shape_;
