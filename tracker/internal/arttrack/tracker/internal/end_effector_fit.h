@@ -23,11 +23,13 @@
 // the hand the averaged correction fades back to none, by
 // exp(-t / time_constant_s), t the time since an image last did: the
 // kinematic error it stands for changes with the pose, and the images
-// still move the hidden joints (behind a panel a wrist re-balances by 3
-// degrees, and a held correction laid on top of it doubled the hand's
-// error; docs/accuracy.md, stop 78). The estimate's end-effector poses are
-// the kinematics' at the estimate times the correction (EstimateReport).
-// The joint estimate, its covariance and the other methods are unchanged.
+// still move the hidden joints (behind a panel a wrist re-balanced by 3
+// degrees, and the correction held whole on top of it put the hand 9.7
+// mm off at the median where the kinematics alone were 6.0;
+// docs/accuracy.md, stop 78).
+// The estimate's end-effector poses are the kinematics' at the estimate
+// times the correction (EstimateReport). The joint estimate, its
+// covariance and the other methods are unchanged.
 //
 // The corrected position is as uncertain as the fits it averages, not as
 // the angles (whose kinematics it replaces): the fits' scatter about their
