@@ -102,8 +102,8 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     if (f < axis_shifts_m.size()) motions_[f].translation() += axis_shifts_m[f];
     seen_[f] = any = true;
   }
-  // A held correction says less the longer no image has shown its hand:
-  // the kinematic error it stands for changes with the pose.
+  // A held correction fades, and says less, the longer no image has shown
+  // its hand: the kinematic error it stands for changes with the pose.
   for (std::size_t f = 0; f < fit_links_.size(); ++f) {
     const std::size_t e = ee_of(f);
     if (!seen_[f] && fits_weight_[e] > 0) {

@@ -26,10 +26,9 @@
 // still move the hidden joints (behind a panel a wrist re-balanced by 3
 // degrees, and the correction held whole on top of it put the hand 9.7
 // mm off at the median where the kinematics alone were 6.0;
-// docs/accuracy.md, stop 78).
-// The estimate's end-effector poses are the kinematics' at the estimate
-// times the correction (EstimateReport). The joint estimate, its
-// covariance and the other methods are unchanged.
+// docs/accuracy.md, stop 78). The estimate's end-effector poses are the
+// kinematics' at the estimate times the correction (EstimateReport). The
+// joint estimate, its covariance and the other methods are unchanged.
 //
 // The corrected position is as uncertain as the fits it averages, not as
 // the angles (whose kinematics it replaces): the fits' scatter about their
