@@ -57,7 +57,7 @@ def test_python_fed_tracker_converges(dataset):
     assert np.linalg.norm(e.ee_image_correction[:, :3], axis=1).max() < 0.003
     # Its search along each hand ran at the images that fitted a hand.
     assert 0 <= e.health["hand_shifts_accepted"] <= e.health["hand_searches"]
-    assert isinstance(e.health["unseen_priors_kept"], int)  # joints out of view kept at their prior
+    assert isinstance(e.health["unseen_priors_kept"], int)  # joints unseen kept at their prior
     assert e.health["hand_searches"] > 0
     cov = e.T_camera_ee_covariance
     assert np.allclose(cov, cov.transpose(0, 2, 1)) and (np.linalg.eigvalsh(cov) > -1e-12).all()

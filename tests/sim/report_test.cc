@@ -655,8 +655,8 @@ TEST(RunOutputs, TheTrackersCountsAreSummedOverRuns) {
   std::ostringstream table;
   print_summary_table(table, r);
   EXPECT_NE(table.str().find("full_fusion, counts summed over runs (2): searches 3 (chains that "
-                             "took one's result 1), refinement steps taken 81, joints out of view "
-                             "kept at their prior 7, hand fits searched along the hand 600 "
+                             "took one's result 1), refinement steps taken 81, joints unseen kept "
+                             "at their prior 7, hand fits searched along the hand 600 "
                              "(shifted 225, 38%)\n"),
             std::string::npos)
       << table.str();

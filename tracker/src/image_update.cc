@@ -128,7 +128,7 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
     search_ms = acquisition_.acquire_first(filter_, image, prior_std_, time_s, belief, health_);
   } else {
     unseen_found = unseen_joints_.on();
-    if (unseen_found) unseen_joints_.find(belief, filter_.geometry().renderer());
+    if (unseen_found) unseen_joints_.find(belief, filter_.geometry().renderer(), image);
     filter_.run(belief.mean_a, prior_std_, belief.mean_a, proposal_std_in_turn());
     fold_angle_posteriors(filter_.filter().mean(), filter_.filter().variance(), belief);
   }

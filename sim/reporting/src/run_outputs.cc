@@ -480,9 +480,9 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     if (c.acquisitions == 0 && c.refinements_accepted == 0 && c.hand_searches == 0) continue;
     out << m.method << ", counts summed over runs (" << c.runs << "): searches " << c.acquisitions
         << " (chains that took one's result " << c.chains_reacquired << "), refinement steps taken "
-        << c.refinements_accepted << ", joints out of view kept at their prior "
-        << c.unseen_priors_kept << ", hand fits searched along the hand " << c.hand_searches
-        << " (shifted " << c.hand_shifts_accepted;
+        << c.refinements_accepted << ", joints unseen kept at their prior " << c.unseen_priors_kept
+        << ", hand fits searched along the hand " << c.hand_searches << " (shifted "
+        << c.hand_shifts_accepted;
     if (c.hand_searches > 0)
       out << ", " << std::lround(100.0 * double(c.hand_shifts_accepted) / double(c.hand_searches))
           << "%";

@@ -149,7 +149,8 @@ struct TrackingHealth {
   int refinements_accepted = 0;     // Gauss-Newton steps taken (tracker.h)
   // Joints an image could not see whose particle-filter step was undone
   // (particle_filter.keep_unseen_prior), summed over images: a chain out
-  // of view is where its encoders and learned biases put it.
+  // of view or behind an occluder is where its encoders and learned biases
+  // put it.
   int unseen_priors_kept = 0;
   double last_acquisition_ms = 0;  // wall time of the newest search
   // The end-effector fit's search along each hand (end_effector_fit.

@@ -140,18 +140,21 @@ struct TrackerConfig {
   // robot's image update. min_evaluations counts the blocks sampled. 6:
   // every block each image, the paper's.
   int camera_blocks_per_image = 2;
-  // Full fusion: a joint none of whose links the camera draws at an image's
-  // prior mean, and that no explained pixel depends on at the particle
-  // filter's mean, keeps its prior through the image (unseen_joints.h in
-  // the tracker's internals): the filter would otherwise take the image's
-  // "not in view" as evidence again at every image and walk the hidden
-  // chain away from the view (docs/accuracy.md, "The hidden arm keeps its
-  // prior"). false: the particle filter's moments, as the paper.
+  // Full fusion: a joint none of whose links the camera sees at an image's
+  // prior mean (out of view, or behind a surface the image shows more than
+  // health.explained_m nearer), and that no explained pixel depends on at
+  // the particle filter's mean, keeps its prior through the image
+  // (unseen_joints.h in the tracker's internals): the filter would
+  // otherwise take the image's "not here" as evidence again at every image
+  // and walk the hidden chain away from the view or behind the occluder
+  // (docs/accuracy.md, "The hidden arm keeps its prior", "An arm behind a
+  // panel keeps its prior"). false: the particle filter's moments, as the
+  // paper.
   bool keep_unseen_prior = true;
-  // With keep_unseen_prior: a joint whose links draw fewer than this many
-  // pixels (at the likelihood's resolution) at the prior mean, one of them
-  // on the view's border, counts as out of view too. 1: only a chain wholly
-  // out of view. A chain at the view's edge is seen by a pixel or two, which
+  // With keep_unseen_prior: a joint whose links the camera sees at fewer
+  // than this many pixels (at the likelihood's resolution) at the prior
+  // mean, one of them on the view's border or one behind a nearer surface,
+  // counts as unseen too. 1: only a chain wholly unseen. A chain at the view's edge is seen by a pixel or two, which
   // say mostly where it is not: the particles' mean then pushes it out of
   // view by degrees in one image and their variance collapses
   // (docs/accuracy.md, "A chain at the view's edge").

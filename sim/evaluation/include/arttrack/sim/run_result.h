@@ -168,8 +168,8 @@ struct LinkModelFit {
 std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method);
 
 // The tracker's own counts of what it did to get there (TrackingHealth's
-// counters: searches, Gauss-Newton steps, joints out of view kept at
-// their prior, the end-effector fit's search along each hand), summed over
+// counters: searches, Gauss-Newton steps, joints unseen (out of view or
+// hidden) kept at their prior, the end-effector fit's search along each hand), summed over
 // the runs' last estimates; `method` indexes
 // RunResult::methods. A run without samples adds nothing.
 struct HealthCounts {

@@ -1,12 +1,16 @@
 // The joints an image cannot see keep their prior through it (full fusion
 // with particle_filter.keep_unseen_prior; docs/method.md, "Joints out of
 // view"). A state of the reported covariance whose DOF moves no link the
-// camera draws at the image's prior mean (each link rendered alone, at the
-// likelihood's resolution), or whose links draw fewer than
-// particle_filter.unseen_below_pixels there with one of them on the view's
-// border, and that no explained pixel depends on at the particle filter's
-// mean either, gets its joint's prior back: mean and variance, angle and
-// bias, as the joint filter predicted them to the image's time.
+// camera sees at the image's prior mean, or whose links it sees at fewer
+// than particle_filter.unseen_below_pixels pixels there with one of them on
+// the view's border or behind a nearer surface, and that no explained pixel
+// depends on at the particle filter's mean either, gets its joint's prior
+// back: mean and variance, angle and bias, as the joint filter predicted
+// them to the image's time. Each link is rendered alone, at the
+// likelihood's resolution; a pixel of it is seen where the image has a
+// return no more than health.explained_m in front of it. Behind a nearer
+// surface (a panel, a person, the robot's other arm) or where the camera
+// has no return, the image does not see the link.
 //
 // Why: out of view, the image says only where such a chain is not. The
 // particle filter's draws that bring it into view are contradicted and the
@@ -26,7 +30,11 @@
 // prior sds with its variance cut to a sixth, and the chain came back into
 // view that far off (docs/accuracy.md, "A chain at the view's edge"). A
 // chain small in the image but wholly inside it is seen, however few its
-// pixels.
+// pixels. A chain behind an occluder is the same case again: the draws that
+// bring it out past the occluder's edge are contradicted and the others
+// score alike, so the filter walked an arm behind a panel 6-11 degrees per
+// joint in a second, its variance cut to a tenth, and the hand was lost
+// for 3.5 s (docs/accuracy.md, "An arm behind a panel keeps its prior").
 //
 // Setup: per state, the links its DOF moves (links_affecting_depth).
 // Workspace: the prior's kinematics and joints, each link's render, the
@@ -57,10 +65,11 @@ class UnseenJoints {
   bool on() const { return on_; }
 
   // Before the image's particle filter: keeps `prior` (every joint) and
-  // finds the states none of whose links `renderer` (the likelihood's
-  // camera) draws a pixel of at the prior's mean, or fewer than
-  // unseen_below_pixels with one on the view's border. Returns how many.
-  int find(const JointBelief& prior, DepthRenderer& renderer);
+  // finds the states none of whose links `observed` (the image at the
+  // likelihood's resolution, `renderer`'s camera) sees a pixel of at the
+  // prior's mean, or fewer than unseen_below_pixels with one on the view's
+  // border or behind a nearer surface. Returns how many.
+  int find(const JointBelief& prior, DepthRenderer& renderer, const DepthImage& observed);
 
   // After the image's information at the filter's mean
   // (`pixels_per_state`, ImageInformation::pixels_per_dof, in the states'
@@ -69,13 +78,16 @@ class UnseenJoints {
   int keep_priors(std::span<const int> pixels_per_state, JointBelief& belief) const;
 
  private:
-  // The pixels link_image_ holds within `rect`, and whether one of them is
-  // on the view's border.
-  void count_drawn(const PixelRect& rect, int& drawn, char& at_edge) const;
+  // The pixels of link_image_ within `rect` that `observed` sees, and
+  // whether one of them is on the view's border or one drawn is behind a
+  // nearer surface.
+  void count_seen(const PixelRect& rect, const DepthImage& observed, int& seen,
+                  char& at_edge) const;
 
   // Setup.
   bool on_ = false;
-  int below_pixels_ = 1;  // TrackerConfig::unseen_below_pixels
+  int below_pixels_ = 1;    // TrackerConfig::unseen_below_pixels
+  float nearer_m_ = 0.01f;  // health.explained_m: a surface nearer hides the link
   const RobotModel* model_;
   std::vector<int> state_dofs_;
   std::vector<LinkSet> state_links_;
@@ -84,8 +96,8 @@ class UnseenJoints {
   Eigen::VectorXd q_;
   std::vector<AngleBiasGaussian> prior_;  // per DOF
   LinkSet one_link_;
-  std::vector<int> link_pixels_;    // per link: pixels drawn at the prior mean
-  std::vector<char> link_at_edge_;  // per link: some drawn at the view's edge
+  std::vector<int> link_pixels_;    // per link: pixels seen at the prior mean
+  std::vector<char> link_at_edge_;  // per link: some at the view's or an occluder's edge
   DepthImage link_image_;
   std::vector<char> unseen_;  // per state
 };
