@@ -154,10 +154,11 @@ struct TrackerConfig {
   // With keep_unseen_prior: a joint whose links the camera sees at fewer
   // than this many pixels (at the likelihood's resolution) at the prior
   // mean, one of them on the view's border or one behind a nearer surface,
-  // counts as unseen too. 1: only a chain wholly unseen. A chain at the view's edge is seen by a pixel or two, which
-  // say mostly where it is not: the particles' mean then pushes it out of
-  // view by degrees in one image and their variance collapses
-  // (docs/accuracy.md, "A chain at the view's edge").
+  // counts as unseen too. 1: only a chain wholly unseen. A chain at the
+  // view's edge is seen by a pixel or two, which say mostly where it is
+  // not: the particles' mean then pushes it out of view by degrees in one
+  // image and their variance collapses (docs/accuracy.md, "A chain at the
+  // view's edge").
   int unseen_below_pixels = 30;
   // Sampling blocks: named lists of joint names. Empty: one block per
   // physical joint whose bias is estimated (every physical joint for

@@ -169,8 +169,8 @@ std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, st
 
 // The tracker's own counts of what it did to get there (TrackingHealth's
 // counters: searches, Gauss-Newton steps, joints unseen (out of view or
-// hidden) kept at their prior, the end-effector fit's search along each hand), summed over
-// the runs' last estimates; `method` indexes
+// hidden) kept at their prior, the end-effector fit's search along each
+// hand), summed over the runs' last estimates; `method` indexes
 // RunResult::methods. A run without samples adds nothing.
 struct HealthCounts {
   int runs = 0;  // runs counted
