@@ -149,7 +149,10 @@ py::dict health_dict(const TrackingHealth& h) {
       "unseen_priors_kept"_a = h.unseen_priors_kept, "hand_searches"_a = h.hand_searches,
       "hand_shifts_accepted"_a = h.hand_shifts_accepted,
       "last_acquisition_ms"_a = h.last_acquisition_ms, "model_error_std_m"_a = h.model_error_std_m,
-      "links"_a = links, "weakest_part_explained_fraction"_a = h.weakest_part_explained_fraction(),
+      "links"_a = links,
+      "encoder_noise_measured_rad"_a = py::array_t<double>(
+          py::ssize_t(h.encoder_noise_measured_rad.size()), h.encoder_noise_measured_rad.data()),
+      "weakest_part_explained_fraction"_a = h.weakest_part_explained_fraction(),
       "unconfirmed_chains"_a = h.unconfirmed_chains());
 }
 
@@ -472,6 +475,8 @@ void bind_tracker(py::module_& m) {
           "hand_shifts_accepted, "
           "last_acquisition_ms, model_error_std_m (m), links (per link with geometry: link, "
           "shift_m, the surface shift the images pin, NaN before one does, and images), "
+          "encoder_noise_measured_rad (per physical joint, each encoder's white noise as "
+          "its readings show it; NaN without encoder or in the first 0.1 s), "
           "weakest_part_explained_fraction, "
           "unconfirmed_chains. Fractions are NaN without a verdict (fewer than "
           "health.min_pixels pixels)."_doc);

@@ -59,6 +59,11 @@ def test_python_fed_tracker_converges(dataset):
     assert 0 <= e.health["hand_shifts_accepted"] <= e.health["hand_searches"]
     assert isinstance(e.health["unseen_priors_kept"], int)  # joints unseen kept at their prior
     assert e.health["hand_searches"] > 0
+    # Each encoder's noise as its readings show it: every joint of this robot
+    # has one, and the dataset's encoders are within a few hundredths of a degree.
+    noise = e.health["encoder_noise_measured_rad"]
+    assert noise.shape == (len(e.joint_names),)
+    assert np.isfinite(noise).all() and (noise >= 0).all() and noise.max() < 0.002, noise
     cov = e.T_camera_ee_covariance
     assert np.allclose(cov, cov.transpose(0, 2, 1)) and (np.linalg.eigvalsh(cov) > -1e-12).all()
     # Left hand in the camera frame against the truth (ground_truth.csv), last row.

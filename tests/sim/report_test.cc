@@ -93,7 +93,8 @@ ScenarioResult synthetic_result() {
   r.runs.push_back(run);
 
   for (const MethodRun& mr : r.runs[0].methods) {
-    MethodResult m{mr.method, MethodScores(mr.method, kReportJoints, r.end_effectors), {}, {}, {}};
+    MethodResult m{
+        mr.method, MethodScores(mr.method, kReportJoints, r.end_effectors), {}, {}, {}, {}, {}};
     m.scores.begin_run();
     for (std::size_t i = 0; i < mr.samples.size(); ++i)
       m.scores.add(r.runs[0].truth[i].time_s, mr.samples[i].ee_error[0]);
@@ -383,7 +384,8 @@ ScenarioResult two_hands_frame(const std::string& scenario, std::vector<std::uin
 ScenarioResult two_hands_result(double angle_std_from_10s_rad = 0.001) {
   ScenarioResult r = two_hands_frame("two_hands", {11, 22});
   for (const std::string& m : r.methods)
-    r.method_results.push_back({m, MethodScores(m, r.joint_names, r.end_effectors), {}, {}, {}});
+    r.method_results.push_back(
+        {m, MethodScores(m, r.joint_names, r.end_effectors), {}, {}, {}, {}, {}});
   for (int k = 0; k < 2; ++k) {
     RunResult run;
     run.run = k;
@@ -613,6 +615,37 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
             std::string::npos);
   EXPECT_NE(html.find("<tr><td class=\"m\">base</td><td>not pinned</td></tr>"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
+}
+
+// TrackingHealth::encoder_noise_measured_rad: per joint, the median of the
+// runs' last estimates, in summary.json and the terminal table; a method
+// whose estimates have none gets neither.
+TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
+  ScenarioResult r = two_hands_result();
+  for (std::size_t k = 0; k < 2; ++k) {
+    std::vector<EstimateSample>& samples = r.runs[k].methods[1].samples;
+    samples[samples.size() - 2].health.encoder_noise_measured_rad = {1.0};  // must not count
+    samples.back().health.encoder_noise_measured_rad = {k == 0 ? 0.003 : 0.005};
+  }
+  for (std::size_t m = 0; m < r.method_results.size(); ++m)
+    r.method_results[m].encoder_noise_rad = encoder_noise_medians_rad(r.runs, m);
+  EXPECT_TRUE(r.method_results[0].encoder_noise_rad.empty());
+  ASSERT_EQ(r.method_results[1].encoder_noise_rad.size(), 1u);
+  EXPECT_NEAR(r.method_results[1].encoder_noise_rad[0], 0.004, 1e-12);
+
+  const std::string json = summary_json(r);
+  EXPECT_NE(json.find("\"encoder_noise_measured_rad\": {\n        \"j\": 0.004\n      }"),
+            std::string::npos)
+      << json;
+  EXPECT_EQ(count_occurrences(json, "encoder_noise_measured_rad"), 1u);
+  std::ostringstream table;
+  print_summary_table(table, r);
+  EXPECT_NE(table.str().find("full_fusion, encoders' white noise as measured (median of the runs' "
+                             "last estimates): 0.229 deg over the joints at the median, the "
+                             "largest 0.229 deg (j)\n"),
+            std::string::npos)
+      << table.str();
+  EXPECT_EQ(table.str().find("encoders_only, encoders'"), std::string::npos);
 }
 
 // TrackingHealth's counters: each run's last estimate (the counts so far),

@@ -152,6 +152,26 @@ TEST(TrackerTest, EncoderSmoothingAveragesNoisyReadings) {
   EXPECT_LT(rms_error(true), 0.5 * sigma_q);
 }
 
+// The health reports each encoder's white noise as its readings show it:
+// an elbow three times noisier than configured reads so, a still shoulder
+// none (encoder_noise_meter.h).
+TEST(TrackerTest, HealthMeasuresTheEncodersNoise) {
+  auto model = arm_model();
+  const TrackerConfig c = small_config(TrackingMethod::kEncodersOnly);
+  Tracker tracker(model, c, {"elbow", "shoulder"});
+  const double sigma = 3 * c.joint_defaults.encoder_noise_rad;
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0, sigma);
+  for (int i = 0; i <= 3000; ++i) {
+    const double t = 1e-3 * i;
+    tracker.add_joint_measurement(t, std::vector<double>{0.3 + 0.4 * t + noise(rng), -0.2});
+  }
+  const std::vector<double>& measured = tracker.estimate().health.encoder_noise_measured_rad;
+  ASSERT_EQ(measured.size(), 2u);
+  EXPECT_NEAR(measured[std::size_t(model->joint_index("elbow"))], sigma, 0.05 * sigma);
+  EXPECT_EQ(measured[std::size_t(model->joint_index("shoulder"))], 0.0);
+}
+
 TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
   auto model = arm_model();
   Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});

@@ -12,6 +12,7 @@
 
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/belief_buffer.h"
+#include "arttrack/tracker/internal/encoder_noise_meter.h"
 #include "arttrack/tracker/internal/encoder_smoother.h"
 #include "arttrack/tracker/internal/estimate_report.h"
 #include "arttrack/tracker/internal/image_update.h"
@@ -24,6 +25,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kNoTime = -std::numeric_limits<double>::infinity();
+// TrackingHealth::encoder_noise_measured_rad's average: 2000 readings at 1 kHz.
+constexpr double kEncoderNoiseTimeConstant_s = 2.0;
 
 // The belief as a flat vector for the buffer: five arrays of n.
 void save_belief(const JointBelief& b, std::span<double> out) {
@@ -73,8 +76,9 @@ struct Tracker::Impl {
   bool initialized = false;
   double time_s = kNoTime;
   JointBelief belief;
-  std::vector<double> readings_bank;          // newest readings, DOF order (physical)
-  std::unique_ptr<EncoderSmoother> smoother;  // config.encoder_smoothing; null: off
+  std::vector<double> readings_bank;               // newest readings, DOF order (physical)
+  std::unique_ptr<EncoderSmoother> smoother;       // config.encoder_smoothing; null: off
+  std::unique_ptr<EncoderNoiseMeter> noise_meter;  // the raw readings'; null without encoders
   std::unique_ptr<BeliefBuffer> buffer;
   double image_time_s = kNoTime;      // time of the newest applied image
   std::vector<double> image_state;    // belief right after it
@@ -119,6 +123,11 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     smoother = std::make_unique<EncoderSmoother>(
         setup.filter_model->encoder_var_rad2().first(std::size_t(n_phys)), revolute,
         setup.config.encoder_smoothing.rate_diffusion_rad_per_s_per_sqrt_s);
+  }
+  if (setup.use_encoders) {
+    std::vector<char> has_encoder(std::size_t(n_phys), 0);
+    for (int dof : setup.encoder_dof) has_encoder[std::size_t(dof)] = 1;
+    noise_meter = std::make_unique<EncoderNoiseMeter>(has_encoder, kEncoderNoiseTimeConstant_s);
   }
   buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, setup.config.buffer_capacity);
   image_state.assign(5 * n, 0.0);
@@ -326,6 +335,7 @@ void Tracker::add_joint_measurement(double time_s, std::span<const double> angle
   }
   for (size_t k = 0; k < angles_rad.size(); ++k)
     s.readings_bank[s.setup.encoder_dof[k]] = angles_rad[k];
+  s.noise_meter->add(time_s, s.readings_bank);
   // Smoothed readings are what the filter, the buffer's re-filtering and
   // encoders only's report take (encoder_smoother.h).
   if (s.smoother) s.smoother->smooth(s.initialized ? time_s - s.time_s : 0.0, s.readings_bank);
@@ -451,6 +461,11 @@ TrackerEstimate Tracker::estimate() const {
   TrackerEstimate e;
   s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance, s.published_fits, e);
   e.health = s.published_health;
+  if (s.noise_meter) {
+    e.health.encoder_noise_measured_rad.resize(std::size_t(s.setup.n_phys));
+    for (int j = 0; j < s.setup.n_phys; ++j)
+      e.health.encoder_noise_measured_rad[std::size_t(j)] = s.noise_meter->noise_std(j);
+  }
   return e;
 }
 

@@ -207,7 +207,7 @@ void summarise_methods(ScenarioResult& result, const std::vector<MethodScores>& 
   for (const MethodScores& s : scores)
     if (s.method() == method_name(TrackingMethod::kEncodersOnly)) reference = &s;
   for (std::size_t i = 0; i < scores.size(); ++i) {
-    MethodResult r{result.methods[i], scores[i], {}, {}, {}};
+    MethodResult r{result.methods[i], scores[i], {}, {}, {}, {}, {}};
     if (summarise)
       r.summary = scores[i].summary(result.scoring, reference == &scores[i] ? nullptr : reference);
     std::vector<double> joint_us, image_ms, latency_ms;
@@ -227,6 +227,7 @@ void summarise_methods(ScenarioResult& result, const std::vector<MethodScores>& 
     if (result.recipe.realtime) r.timing.image_latency_ms = percentiles(latency_ms);
     r.links = link_model_fits(result.runs, i);
     r.counts = health_counts(result.runs, i);
+    r.encoder_noise_rad = encoder_noise_medians_rad(result.runs, i);
     result.method_results.push_back(std::move(r));
   }
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace arttrack::sim {
 
@@ -27,6 +28,23 @@ std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, st
     if (!shifts_m[g].empty()) fits[g].median_shift_m = percentiles(shifts_m[g]).p50;
   }
   return fits;
+}
+
+std::vector<double> encoder_noise_medians_rad(const std::vector<RunResult>& runs,
+                                              std::size_t method) {
+  std::vector<std::vector<double>> noise_rad;  // per joint, over runs
+  for (const RunResult& run : runs) {
+    if (method >= run.methods.size() || run.methods[method].samples.empty()) continue;
+    const std::vector<double>& last =
+        run.methods[method].samples.back().health.encoder_noise_measured_rad;
+    if (noise_rad.size() < last.size()) noise_rad.resize(last.size());
+    for (std::size_t j = 0; j < last.size(); ++j)
+      if (std::isfinite(last[j])) noise_rad[j].push_back(last[j]);
+  }
+  std::vector<double> medians(noise_rad.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t j = 0; j < noise_rad.size(); ++j)
+    if (!noise_rad[j].empty()) medians[j] = percentiles(noise_rad[j]).p50;
+  return medians;
 }
 
 HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t method) {

@@ -194,6 +194,12 @@ std::string summary_json(const ScenarioResult& r) {
     method["converged_consistency"] = consistency_json(s.converged);
     method["joints"] = joints_json(s);
     if (!m.links.empty()) method["links_model_error"] = links_json(m.links);
+    if (!m.encoder_noise_rad.empty()) {
+      Json noise = Json::object();  // null: no encoder
+      for (std::size_t j = 0; j < m.encoder_noise_rad.size() && j < r.joint_names.size(); ++j)
+        noise[r.joint_names[j]] = number(m.encoder_noise_rad[j]);
+      method["encoder_noise_measured_rad"] = noise;
+    }
     method["health_counts"] = counts_json(m.counts);
     methods[m.method] = method;
   }
@@ -472,6 +478,22 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
             << pinned[k].median_shift_m * mm << " mm";
     out << "; " << m.links.size() - pinned.size() << " of " << m.links.size()
         << " links never pinned\n";
+  }
+  // The encoders' noise as the tracker measured it: the user compares it
+  // with the configured encoder_noise.
+  for (const MethodResult& m : r.method_results) {
+    std::vector<double> measured;
+    std::size_t largest = 0;
+    for (std::size_t j = 0; j < m.encoder_noise_rad.size(); ++j) {
+      if (!std::isfinite(m.encoder_noise_rad[j])) continue;
+      if (measured.empty() || m.encoder_noise_rad[j] > m.encoder_noise_rad[largest]) largest = j;
+      measured.push_back(m.encoder_noise_rad[j]);
+    }
+    if (measured.empty() || largest >= r.joint_names.size()) continue;
+    out << m.method << ", encoders' white noise as measured (median of the runs' last estimates): "
+        << std::fixed << std::setprecision(3) << percentiles(measured).p50 * deg
+        << " deg over the joints at the median, the largest " << m.encoder_noise_rad[largest] * deg
+        << " deg (" << r.joint_names[largest] << ")\n";
   }
   // What the tracker did to get there: a share of hand shifts accepted near
   // 1 says a hand is longer or shorter along itself than its URDF or mesh.

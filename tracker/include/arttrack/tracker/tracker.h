@@ -178,6 +178,15 @@ struct TrackingHealth {
     int images = 0;  // that pinned some direction of it
   };
   std::vector<LinkModelError> links;
+  // Each encoder's white noise as its readings show it (the scatter of
+  // three consecutive readings about their straight line, averaged over the
+  // last 2 s; a bias cancels): per physical joint in DOF order, rad (m for
+  // a prismatic joint); NaN for a joint without encoder or before about
+  // 0.1 s of readings. The tracker weighs and smooths the readings by the
+  // configured encoder_noise: a measured noise well above it says the
+  // configuration is too optimistic, and the angles carry the difference
+  // (docs/accuracy.md, "Encoders noisier than configured").
+  std::vector<double> encoder_noise_measured_rad;
 
   // The lowest ChainHealth::weakest_part_explained_fraction over the chains
   // (NaN when no chain has a part with a verdict), and how many chains are

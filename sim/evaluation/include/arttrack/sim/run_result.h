@@ -167,6 +167,13 @@ struct LinkModelFit {
 // RunResult::methods.
 std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method);
 
+// Each encoder's white noise as the tracker measured it (TrackingHealth::
+// encoder_noise_measured_rad) in each run's last estimate, the median over
+// the runs, per physical joint in DOF order (NaN: no encoder); empty when
+// no estimate has it. `method` indexes RunResult::methods.
+std::vector<double> encoder_noise_medians_rad(const std::vector<RunResult>& runs,
+                                              std::size_t method);
+
 // The tracker's own counts of what it did to get there (TrackingHealth's
 // counters: searches, Gauss-Newton steps, joints unseen (out of view or
 // hidden) kept at their prior, the end-effector fit's search along each
@@ -189,8 +196,9 @@ struct MethodResult {
   MethodScores scores;
   MethodSummary summary;
   MethodTiming timing;
-  std::vector<LinkModelFit> links;  // link_model_fits
-  HealthCounts counts;              // health_counts
+  std::vector<LinkModelFit> links;        // link_model_fits
+  HealthCounts counts;                    // health_counts
+  std::vector<double> encoder_noise_rad;  // encoder_noise_medians_rad
 };
 
 // What reproduces a run (summary.json "reproduce"; arttrack rerun): the
