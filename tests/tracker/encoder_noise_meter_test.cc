@@ -33,7 +33,7 @@ double measured(double sigma, double ramp_rad, double seconds, unsigned seed) {
 
 // The white noise of a moving joint is found within a few percent, on an
 // uneven clock, whatever the motion and the bias (a constant one and a
-// ramp cancel in the second difference).
+// ramp cancel in the divided difference).
 TEST(EncoderNoiseMeter, FindsTheWhiteNoiseOfAMovingJoint) {
   for (unsigned seed : {1u, 2u, 3u}) {
     SCOPED_TRACE(seed);
@@ -42,27 +42,28 @@ TEST(EncoderNoiseMeter, FindsTheWhiteNoiseOfAMovingJoint) {
     EXPECT_NEAR(measured(4 * sigma, 0, 4, seed), 4 * sigma, 0.05 * 4 * sigma);
     EXPECT_NEAR(measured(sigma, 0.2, 4, seed), measured(sigma, 0, 4, seed), 1e-3 * sigma);
   }
-  // Without noise, the motion alone reads as (almost) none: its
-  // acceleration over 1 ms is 1e-5 rad at most.
-  EXPECT_LT(measured(0, 0, 4, 1), 1e-5);
+  // Without noise, the motion alone reads as (almost) none: its jerk over
+  // 1 ms moves the difference by 1e-8 rad at most.
+  EXPECT_LT(measured(0, 0, 4, 1), 1e-7);
 }
 
-// Before 100 second differences there is no estimate; a reading at the
-// time of the previous one is ignored; a wrong number of readings is an
-// error naming both counts.
+// Before 100 differences there is no estimate; a reading at the time of
+// the previous one is ignored; a wrong number of readings is an error
+// naming both counts.
 TEST(EncoderNoiseMeter, WaitsForEnoughReadingsAndChecksItsInput) {
   EncoderNoiseMeter meter(std::vector<char>{1}, 2.0);
-  for (int i = 0; i < EncoderNoiseMeter::kMinReadings + 1; ++i) {
+  const int first = EncoderNoiseMeter::kMinDifferences + 2;  // readings without an estimate
+  for (int i = 0; i < first; ++i) {
     meter.add(1e-3 * i, std::vector<double>{i % 2 ? 1e-3 : -1e-3});
     EXPECT_TRUE(std::isnan(meter.noise_std(0))) << i;
   }
-  meter.add(1e-3 * (EncoderNoiseMeter::kMinReadings + 1), std::vector<double>{1e-3});
+  meter.add(1e-3 * first, std::vector<double>{first % 2 ? 1e-3 : -1e-3});
   const double estimate = meter.noise_std(0);
   EXPECT_TRUE(std::isfinite(estimate));
-  // Alternating +-1 mrad: |d| = 4 mrad / sqrt(6), as Gaussian noise of
-  // 4 / sqrt(6) sqrt(pi / 2) = 2.05 mrad would give.
-  EXPECT_NEAR(estimate, 4e-3 / std::sqrt(6.0) * std::sqrt(M_PI / 2), 1e-9);
-  meter.add(1e-3 * (EncoderNoiseMeter::kMinReadings + 1), std::vector<double>{5.0});  // same time
+  // Alternating +-1 mrad: |q3 - 3 q2 + 3 q1 - q0| / sqrt(20) = 8 mrad /
+  // sqrt(20), as Gaussian noise of that times sqrt(pi / 2) would give.
+  EXPECT_NEAR(estimate, 8e-3 / std::sqrt(20.0) * std::sqrt(M_PI / 2), 1e-12);
+  meter.add(1e-3 * first, std::vector<double>{5.0});  // the same time: ignored
   EXPECT_EQ(meter.noise_std(0), estimate);
   EXPECT_THROW(meter.add(1.0, std::vector<double>{0.0, 0.0}), InputError);
   EXPECT_THROW(EncoderNoiseMeter(std::vector<char>{1}, 0.0), InputError);

@@ -179,8 +179,8 @@ struct TrackingHealth {
   };
   std::vector<LinkModelError> links;
   // Each encoder's white noise as its readings show it (the scatter of
-  // three consecutive readings about their straight line, averaged over the
-  // last 2 s; a bias cancels): per physical joint in DOF order, rad (m for
+  // four consecutive readings about their parabola, averaged over the last
+  // 2 s; a bias cancels): per physical joint in DOF order, rad (m for
   // a prismatic joint); NaN for a joint without encoder or before about
   // 0.1 s of readings. The tracker weighs and smooths the readings by the
   // configured encoder_noise: a measured noise well above it says the
