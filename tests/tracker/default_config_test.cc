@@ -250,6 +250,9 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     e(key("enabled", &E::enabled), key("rate_diffusion_deg_per_s_per_sqrt_s",
                                        &E::rate_diffusion_rad_per_s_per_sqrt_s, kRadPerDeg));
   });
+  f.nested("encoder_noise.", &C::encoder_noise, [](FieldList<C::EncoderNoise>& e) {
+    e(key("from_readings", &C::EncoderNoise::from_readings));
+  });
   f.nested("camera_offset.translation_", &C::camera_translation, [](FieldList<V>& v) {
     v(key("diffusion_m_per_sqrt_s", &V::diffusion_per_sqrt_s),
       key("initial_std_m", &V::initial_std),

@@ -112,6 +112,9 @@ TEST(EncoderSmoother, BadInputIsAnError) {
   s.smooth(kDt, one);
   EXPECT_THROW(s.smooth(-kDt, one), InputError);
   EXPECT_THROW(s.smooth(INFINITY, one), InputError);
+  EXPECT_THROW(s.set_encoder_var(0, 0.0), InputError);
+  EXPECT_THROW(s.set_encoder_var(0, NAN), InputError);
+  EXPECT_THROW(s.set_encoder_var(1, 1e-6), InputError);  // no joint 1
 }
 
 }  // namespace

@@ -87,6 +87,19 @@ TEST(JointFilter, PredictionIsTheExactDiscretisation) {
   }
 }
 
+// An encoder's noise may be raised to what its readings show (the
+// tracker's encoder_noise.from_readings); nothing else, and only to a
+// finite positive variance of an encoder joint (an error naming it).
+TEST(JointFilter, AnEncodersNoiseCanBeRaisedAndNothingElse) {
+  JointFilterModel model = small_model();
+  model.set_encoder_var(0, 1e-5);
+  EXPECT_EQ(model.encoder_var_rad2()[0], 1e-5);
+  test_support::expect_error_naming([&] { model.set_encoder_var(0, -1.0); }, "shoulder");
+  EXPECT_THROW(model.set_encoder_var(2, 1e-5), InputError);  // a virtual joint
+  EXPECT_THROW(model.set_encoder_var(-1, 1e-5), InputError);
+  EXPECT_EQ(model.encoder_var_rad2()[0], 1e-5);
+}
+
 TEST(JointFilter, PredictionDoesNotDependOnTheStepSize) {
   // Exact discretisation: one step of 0.5 s, 500 steps of 1 ms and irregular
   // steps summing to 0.5 s give the same belief (the per-step formula of the

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -170,6 +171,45 @@ TEST(TrackerTest, HealthMeasuresTheEncodersNoise) {
   ASSERT_EQ(measured.size(), 2u);
   EXPECT_NEAR(measured[std::size_t(model->joint_index("elbow"))], sigma, 0.05 * sigma);
   EXPECT_EQ(measured[std::size_t(model->joint_index("shoulder"))], 0.0);
+}
+
+// encoder_noise.from_readings: an elbow four times noisier than configured
+// is smoothed and filtered as its readings show (TrackerConfig::
+// EncoderNoise): its angle's error falls. An elbow as noisy as configured
+// is left alone: the same estimates to the bit.
+TEST(TrackerTest, EncodersNoisierThanConfiguredAreWeighedAsMeasured) {
+  auto model = arm_model();
+  const int elbow = model->joint_index("elbow");
+  struct Run {
+    double rms_error = 0;
+    std::vector<double> angles;
+  };
+  const auto run = [&](double noise_factor, bool from_readings) {
+    TrackerConfig c = small_config(TrackingMethod::kEncodersOnly);
+    c.encoder_noise.from_readings = from_readings;
+    Tracker tracker(model, c, {"elbow", "shoulder"});
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> noise(0, noise_factor * c.joint_defaults.encoder_noise_rad);
+    Run r;
+    double sum = 0;
+    int n = 0;
+    for (int i = 0; i <= 4000; ++i) {
+      const double t = 1e-3 * i, truth = 0.3 + 0.4 * t;
+      tracker.add_joint_measurement(t, std::vector<double>{truth + noise(rng), -0.2});
+      const TrackerEstimate e = tracker.estimate();
+      r.angles.push_back(e.angle_rad[elbow]);
+      if (t < 2) continue;
+      sum += (e.angle_rad[elbow] - truth) * (e.angle_rad[elbow] - truth);
+      ++n;
+    }
+    r.rms_error = std::sqrt(sum / n);
+    return r;
+  };
+  const Run off = run(4, false), on = run(4, true);
+  std::cout << "elbow's rms error from 2 s: " << off.rms_error << " rad as configured, "
+            << on.rms_error << " rad as measured\n";
+  EXPECT_LT(on.rms_error, 0.8 * off.rms_error);
+  EXPECT_EQ(run(1, true).angles, run(1, false).angles);
 }
 
 TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {

@@ -54,7 +54,7 @@ void EncoderNoiseMeter::add(double time_s, std::span<const double> readings) {
 }
 
 double EncoderNoiseMeter::noise_std(int j) const {
-  if (j < 0 || j >= num_joints() || !measured_[std::size_t(j)] || readings_ - 3 < kMinDifferences ||
+  if (j < 0 || j >= num_joints() || !measured_[std::size_t(j)] || differences() < kMinDifferences ||
       !(weight_ > 0))
     return std::numeric_limits<double>::quiet_NaN();
   return mean_abs_[std::size_t(j)] / weight_ * std::sqrt(std::numbers::pi / 2);

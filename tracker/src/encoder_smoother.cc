@@ -31,6 +31,14 @@ EncoderSmoother::EncoderSmoother(std::span<const double> encoder_var_rad2,
   p_vv_.assign(n, 0.0);
 }
 
+void EncoderSmoother::set_encoder_var(int j, double var_rad2) {
+  if (j < 0 || j >= int(var_q_.size()) || !(std::isfinite(var_rad2) && var_rad2 > 0))
+    throw InputError("encoder smoother: joint " + std::to_string(j) + " of " +
+                     std::to_string(var_q_.size()) + " cannot take encoder variance " +
+                     std::to_string(var_rad2));
+  var_q_[std::size_t(j)] = var_rad2;
+}
+
 void EncoderSmoother::smooth(double dt_s, std::span<double> readings_rad) {
   if (readings_rad.size() != var_q_.size())
     throw InputError("encoder smoother: " + std::to_string(readings_rad.size()) +

@@ -200,6 +200,16 @@ int JointFilterModel::index_of(std::string_view name) const {
   return -1;
 }
 
+void JointFilterModel::set_encoder_var(int j, double var_rad2) {
+  if (j < 0 || j >= num_encoder_)
+    throw InputError("joint filter: no encoder joint " + std::to_string(j) + " of " +
+                     std::to_string(num_encoder_));
+  if (!(std::isfinite(var_rad2) && var_rad2 > 0))
+    throw InputError("joint filter: " + names_[std::size_t(j)] + ": encoder variance " +
+                     std::to_string(var_rad2) + " is not finite and positive");
+  var_q_[std::size_t(j)] = var_rad2;
+}
+
 void JointBelief::set_joint(int j, const AngleBiasGaussian& g) {
   mean_a[j] = g.mean_a;
   mean_b[j] = g.mean_b;

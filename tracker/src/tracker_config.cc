@@ -252,6 +252,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   c.encoder_smoothing.enabled = smoothing.get<bool>("enabled", c.encoder_smoothing.enabled);
   read_numbers(smoothing, {{"rate_diffusion_deg_per_s_per_sqrt_s",
                             &c.encoder_smoothing.rate_diffusion_rad_per_s_per_sqrt_s, kRadPerDeg}});
+  c.encoder_noise.from_readings =
+      root.child("encoder_noise").get<bool>("from_readings", c.encoder_noise.from_readings);
 
   read_numbers(
       root.child("camera_offset"),

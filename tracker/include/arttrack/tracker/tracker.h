@@ -182,10 +182,11 @@ struct TrackingHealth {
   // four consecutive readings about their parabola, averaged over the last
   // 2 s; a bias cancels): per physical joint in DOF order, rad (m for
   // a prismatic joint); NaN for a joint without encoder or before about
-  // 0.1 s of readings. The tracker weighs and smooths the readings by the
-  // configured encoder_noise: a measured noise well above it says the
-  // configuration is too optimistic, and the angles carry the difference
-  // (docs/accuracy.md, "Encoders noisier than configured").
+  // 0.1 s of readings. A measured noise well above the configured
+  // encoder_noise says the configuration is too optimistic; with
+  // encoder_noise.from_readings the tracker weighs the readings by it
+  // (TrackerConfig::EncoderNoise; docs/accuracy.md, "Encoders noisier than
+  // configured").
   std::vector<double> encoder_noise_measured_rad;
 
   // The lowest ChainHealth::weakest_part_explained_fraction over the chains

@@ -50,6 +50,8 @@ class EncoderNoiseMeter {
   // for a joint without encoder or before kMinDifferences differences.
   double noise_std(int j) const;
   int num_joints() const { return int(measured_.size()); }
+  // Differences taken so far (one per reading from the fourth on).
+  int differences() const { return readings_ < 3 ? 0 : readings_ - 3; }
 
  private:
   std::vector<char> measured_;

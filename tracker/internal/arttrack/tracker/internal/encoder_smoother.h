@@ -50,6 +50,11 @@ class EncoderSmoother {
   // or non-finite dt_s.
   void smooth(double dt_s, std::span<double> readings_rad);
 
+  // Joint j's encoder noise variance from the next smooth() on (> 0, finite;
+  // else InputError): the noise its readings show, where that is larger than
+  // the configured one (encoder_noise_meter.h).
+  void set_encoder_var(int j, double var_rad2);
+
   // Each joint's smoothed rate (rad/s) and the variance of its smoothed
   // angle (rad^2) after the last smooth(); 0 before the first.
   std::span<const double> rate_rad_per_s() const { return rate_; }

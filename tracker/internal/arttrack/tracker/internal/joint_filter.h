@@ -37,8 +37,9 @@
 
 namespace arttrack {
 
-// The immutable part of the bank: joint names and their noises, stored as
-// flat per-joint arrays for the filter loops.
+// The constant part of the bank: joint names and their noises, stored as
+// flat per-joint arrays for the filter loops. Only an encoder's noise may
+// change, to what its readings show (set_encoder_var).
 class JointFilterModel {
  public:
   // Encoder joints (with their parameters, same order) then virtual joints.
@@ -66,6 +67,11 @@ class JointFilterModel {
   std::span<const double> bias_decay_rate_per_s() const { return k_; }   // k = ln(1/c)
   std::span<const double> initial_var_a() const { return init_var_a_; }  // virtual joints
   std::span<const double> initial_var_b() const { return init_var_b_; }  // stationary
+
+  // Encoder joint j's sigma_q^2 from now on (> 0 and finite, else
+  // InputError naming the joint): the tracker raises it to the noise the
+  // readings show (encoder_noise_meter.h).
+  void set_encoder_var(int j, double var_rad2);
 
  private:
   std::vector<std::string> names_;
