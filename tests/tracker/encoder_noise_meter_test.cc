@@ -20,12 +20,12 @@ namespace {
 double measured(double sigma, double ramp_rad, double seconds, unsigned seed) {
   EncoderNoiseMeter meter(std::vector<char>{1, 0}, 2.0);
   std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0, sigma);
+  std::normal_distribution<double> unit(0, 1);  // times sigma: sigma may be 0
   std::uniform_real_distribution<double> jitter(-2e-4, 2e-4);
   for (int i = 0; i <= int(seconds * 1000); ++i) {
     const double t = 1e-3 * i + jitter(rng);
     const double truth = 0.5 * std::sin(2 * M_PI * t), bias = 0.15 + ramp_rad * t;
-    meter.add(t, std::vector<double>{truth + bias + noise(rng), 0.0});
+    meter.add(t, std::vector<double>{truth + bias + sigma * unit(rng), 0.0});
   }
   EXPECT_TRUE(std::isnan(meter.noise_std(1)));  // no encoder
   return meter.noise_std(0);
