@@ -618,8 +618,8 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
 }
 
 // TrackingHealth::encoder_noise_measured_rad: per joint, the median of the
-// runs' last estimates, in summary.json and the terminal table; a method
-// whose estimates have none gets neither.
+// runs' last estimates, in summary.json, the terminal table and the
+// report; a method whose estimates have none gets none of them.
 TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
   ScenarioResult r = two_hands_result();
   for (std::size_t k = 0; k < 2; ++k) {
@@ -641,11 +641,14 @@ TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
   std::ostringstream table;
   print_summary_table(table, r);
   EXPECT_NE(table.str().find("full_fusion, encoders' white noise as measured (median of the runs' "
-                             "last estimates): 0.229 deg over the joints at the median, the "
-                             "largest 0.229 deg (j)\n"),
+                             "last estimates; mrad, mm for a prismatic joint; 1 mrad is 0.057 "
+                             "deg): the largest 4.00 (j), the smallest 4.00 (j)\n"),
             std::string::npos)
       << table.str();
   EXPECT_EQ(table.str().find("encoders_only, encoders'"), std::string::npos);
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("<tr><td class=\"m\">j</td><td>4.00</td></tr>"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
 }
 
 // TrackingHealth's counters: each run's last estimate (the counts so far),

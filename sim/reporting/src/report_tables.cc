@@ -134,6 +134,36 @@ void links_table(std::ostream& o, const ScenarioResult& r) {
   o << "</table>\n";
 }
 
+// TrackingHealth::encoder_noise_measured_rad per method: each encoder's
+// white noise as its readings showed it, to set against the configuration.
+void encoder_noise_table(std::ostream& o, const ScenarioResult& r) {
+  std::vector<const MethodResult*> with_noise;
+  for (const MethodResult& m : r.method_results)
+    if (!m.encoder_noise_rad.empty()) with_noise.push_back(&m);
+  if (with_noise.empty()) return;
+  o << "<p>Each encoder's white noise as its readings show it (four consecutive readings about "
+       "their parabola), in each run's last estimate, the median over the runs; mrad (1 mrad is "
+       "0.057&deg;), mm for a prismatic joint. Compare it with the tracker's "
+       "<code>encoder_noise_deg</code> (<code>_m</code>): over 1.25 times that, the tracker "
+       "weighs the readings by it (<code>encoder_noise.from_readings</code>).</p>\n<table><tr><th "
+       "class=\"m\">joint</th>";
+  for (const MethodResult* m : with_noise) o << "<th>" << text::html_escape(m->method) << "</th>";
+  o << "</tr>\n";
+  for (std::size_t j = 0; j < r.joint_names.size(); ++j) {
+    o << "<tr><td class=\"m\">" << text::html_escape(r.joint_names[j]) << "</td>";
+    for (const MethodResult* m : with_noise) {
+      o << "<td>";
+      if (j < m->encoder_noise_rad.size() && std::isfinite(m->encoder_noise_rad[j]))
+        o << fixed(m->encoder_noise_rad[j] * 1e3, 2);
+      else
+        o << "no encoder";
+      o << "</td>";
+    }
+    o << "</tr>\n";
+  }
+  o << "</table>\n";
+}
+
 void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
   o << "<h2>Lost runs, consistency and the camera</h2>\n<p>A run is <em>lost</em> for a method "
        "when an end effector's translation error stays above "
@@ -181,6 +211,7 @@ void lost_and_consistency_section(std::ostream& o, const ScenarioResult& r) {
   o << "</table>\n";
   camera_axes_table(o, r);
   links_table(o, r);
+  encoder_noise_table(o, r);
   std::ostringstream list;
   for (const MethodResult& m : r.method_results)
     for (std::size_t run = 0; run < m.summary.num_runs; ++run)

@@ -480,20 +480,25 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
         << " links never pinned\n";
   }
   // The encoders' noise as the tracker measured it: the user compares it
-  // with the configured encoder_noise.
+  // with the configured encoder_noise. In the readings' units times 1000
+  // (mrad, mm for a prismatic joint): the result does not say which joint
+  // is which kind.
   for (const MethodResult& m : r.method_results) {
-    std::vector<double> measured;
-    std::size_t largest = 0;
-    for (std::size_t j = 0; j < m.encoder_noise_rad.size(); ++j) {
+    std::size_t smallest = r.joint_names.size(), largest = smallest;
+    for (std::size_t j = 0; j < m.encoder_noise_rad.size() && j < r.joint_names.size(); ++j) {
       if (!std::isfinite(m.encoder_noise_rad[j])) continue;
-      if (measured.empty() || m.encoder_noise_rad[j] > m.encoder_noise_rad[largest]) largest = j;
-      measured.push_back(m.encoder_noise_rad[j]);
+      if (largest == r.joint_names.size() || m.encoder_noise_rad[j] > m.encoder_noise_rad[largest])
+        largest = j;
+      if (smallest == r.joint_names.size() ||
+          m.encoder_noise_rad[j] < m.encoder_noise_rad[smallest])
+        smallest = j;
     }
-    if (measured.empty() || largest >= r.joint_names.size()) continue;
-    out << m.method << ", encoders' white noise as measured (median of the runs' last estimates): "
-        << std::fixed << std::setprecision(3) << percentiles(measured).p50 * deg
-        << " deg over the joints at the median, the largest " << m.encoder_noise_rad[largest] * deg
-        << " deg (" << r.joint_names[largest] << ")\n";
+    if (largest == r.joint_names.size()) continue;
+    out << m.method << ", encoders' white noise as measured (median of the runs' last estimates; "
+        << "mrad, mm for a prismatic joint; 1 mrad is 0.057 deg): the largest " << std::fixed
+        << std::setprecision(2) << m.encoder_noise_rad[largest] * 1e3 << " ("
+        << r.joint_names[largest] << "), the smallest " << m.encoder_noise_rad[smallest] * 1e3
+        << " (" << r.joint_names[smallest] << ")\n";
   }
   // What the tracker did to get there: a share of hand shifts accepted near
   // 1 says a hand is longer or shorter along itself than its URDF or mesh.
