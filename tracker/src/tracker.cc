@@ -180,10 +180,9 @@ void Tracker::Impl::apply_pending_locked(std::unique_lock<std::mutex>& lock) {
 }
 
 void Tracker::Impl::weigh_readings_by_measured_noise() {
-  // Not before 1000 differences (1 s at 1 kHz): at 100 the meter is within
-  // about 10%, and an encoder as noisy as configured crossed the tolerance
-  // at 0.13 s (realistic/arm seed 8).
-  if (noise_meter->differences() < 1000) return;
+  // Not before the meter has settled (1 s at 1 kHz): earlier, an encoder as
+  // noisy as configured crossed the tolerance at 0.13 s (realistic/arm seed 8).
+  if (noise_meter->differences() < EncoderNoiseMeter::kSettledDifferences) return;
   constexpr double excess =
       TrackerConfig::kEncoderNoiseTolerance * TrackerConfig::kEncoderNoiseTolerance - 1;
   const std::span<const double> configured = setup.filter_model->encoder_var_rad2();

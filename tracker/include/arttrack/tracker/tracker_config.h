@@ -86,14 +86,15 @@ struct TrackerConfig {
   // from_readings, an encoder whose measured noise m is over
   // kEncoderNoiseTolerance times its configured sigma_q is smoothed and
   // filtered as if its noise were sqrt(m^2 - (tolerance^2 - 1) sigma_q^2):
-  // continuous, sigma_q at the tolerance and nearly m far above it; from
-  // the meter's 1000th reading on (1 s at 1 kHz), when it is within a few
+  // continuous, sigma_q at the tolerance and nearly m far above it; from the
+  // meter's 1000th difference on (1 s at 1 kHz), when it is within a few
   // percent. Within the tolerance the configuration stands, so where it is
-  // right nothing changes. Encoders 3.5 and 9 times noisier than configured cost the
-  // realistic dual arm's hands 2.5 and 8.5 mm at p75 without it, 1.1 and
-  // 2.6 with it, as much as configuring the true noise (docs/accuracy.md,
-  // "Encoders noisier than configured"). Configured noise larger than the
-  // readings' is kept: it is the user's statement of the encoders' error.
+  // right nothing changes. Encoders 3.5 and 9 times noisier than configured
+  // cost the realistic dual arm's hands 2.5 and 8.5 mm at p75 without it,
+  // 1.1 and 2.6 with it, as much as configuring the true noise
+  // (docs/accuracy.md, "Encoders noisier than configured"). Configured noise
+  // larger than the readings' is kept: it is the user's statement of the
+  // encoders' error.
   struct EncoderNoise {
     bool from_readings = true;
   };

@@ -20,7 +20,7 @@
 // values is less moved by one glitch than the mean of squares.
 //
 // Setup: the number of joints and the time constant. Workspace: per joint
-// the last two readings and the running average (sized at construction:
+// the last three readings and the running average (sized at construction:
 // allocation-free after it). Internal to the tracker (tracker/internal:
 // not installed). Not thread-safe: the joint thread's.
 #pragma once
@@ -36,6 +36,11 @@ class EncoderNoiseMeter {
   // Differences averaged before a joint's estimate is given (NaN before):
   // enough that the average is within about 10% of its value.
   static constexpr int kMinDifferences = 100;
+  // Differences after which the estimate is within a few percent, enough to
+  // act on (encoder_noise.from_readings): at kMinDifferences an encoder as
+  // noisy as configured read 25% over for a moment (docs/accuracy.md,
+  // "Encoders noisier than configured").
+  static constexpr int kSettledDifferences = 1000;
 
   // `measured[j]`: whether joint j has an encoder (else always NaN).
   // time_constant_s > 0.
