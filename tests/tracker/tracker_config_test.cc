@@ -424,7 +424,9 @@ TEST(TrackerConfigTest, TheReaderChecksTypes) {
            {"particle_filter.block_moments_below_nats=some",
             "key 'particle_filter.block_moments_below_nats' must be a number"},
            {"geometry.open_parts_both_sides=maybe",
-            "key 'geometry.open_parts_both_sides' has the wrong type"}})
+            "key 'geometry.open_parts_both_sides' has the wrong type"},
+           {"encoder_noise.from_readings=maybe",
+            "key 'encoder_noise.from_readings' has the wrong type"}})
     EXPECT_NE(defaults_error({o}).find(part), std::string::npos)
         << o << ": " << defaults_error({o});
 }
