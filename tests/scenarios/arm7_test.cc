@@ -30,6 +30,10 @@ TEST(Arm7, FullFusionTracksTheSecondRobotBetterThanEncodersOverThreeSeeds) {
     EXPECT_LT(fusion.p50, encoders.p50 / 8);
     EXPECT_LT(fusion.p99, 20 * kMm);
     EXPECT_EQ(method(r, "full_fusion").summary.lost_runs(), 0u);
+    // The finger is the one prismatic joint: its figures are metres.
+    ASSERT_EQ(r.prismatic.size(), r.joint_names.size());
+    for (std::size_t j = 0; j < r.joint_names.size(); ++j)
+      EXPECT_EQ(r.is_prismatic(j), r.joint_names[j] == "arm7_finger_joint1") << r.joint_names[j];
   }
 }
 

@@ -617,10 +617,10 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
   EXPECT_EQ(tag_problem(html), "");
 }
 
-// TrackingHealth::encoder_noise_measured_rad: per joint, the median of the
-// runs' last estimates, in summary.json, the terminal table and the
-// report; a method whose estimates have none gets none of them.
-TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
+// two_hands_result() whose full_fusion measured each run's encoder noise
+// (0.003 and 0.005 in the readings' unit, and 1.0 just before: not the
+// last estimate), with the methods' medians.
+ScenarioResult measured_noise_result() {
   ScenarioResult r = two_hands_result();
   for (std::size_t k = 0; k < 2; ++k) {
     std::vector<EstimateSample>& samples = r.runs[k].methods[1].samples;
@@ -629,6 +629,15 @@ TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
   }
   for (std::size_t m = 0; m < r.method_results.size(); ++m)
     r.method_results[m].encoder_noise_rad = encoder_noise_medians_rad(r.runs, m);
+  return r;
+}
+
+// TrackingHealth::encoder_noise_measured_rad: per joint, the median of the
+// runs' last estimates, in summary.json, the terminal table and the
+// report (degrees, the unit of encoder_noise_deg); a method whose
+// estimates have none gets none of them.
+TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
+  const ScenarioResult r = measured_noise_result();
   EXPECT_TRUE(r.method_results[0].encoder_noise_rad.empty());
   ASSERT_EQ(r.method_results[1].encoder_noise_rad.size(), 1u);
   EXPECT_NEAR(r.method_results[1].encoder_noise_rad[0], 0.004, 1e-12);
@@ -641,13 +650,37 @@ TEST(RunOutputs, TheEncodersNoiseIsReportedAsMeasured) {
   std::ostringstream table;
   print_summary_table(table, r);
   EXPECT_NE(table.str().find("full_fusion, encoders' white noise as measured (median of the runs' "
-                             "last estimates; mrad, mm for a prismatic joint; 1 mrad is 0.057 "
-                             "deg): the largest 4.00 (j), the smallest 4.00 (j)\n"),
+                             "last estimates): 0.2292 deg (j)\n"),
             std::string::npos)
       << table.str();
   EXPECT_EQ(table.str().find("encoders_only, encoders'"), std::string::npos);
+  EXPECT_NE(json.find("\"prismatic_joints\": []"), std::string::npos) << json;
   const std::string html = report_html(r);
-  EXPECT_NE(html.find("<tr><td class=\"m\">j</td><td>4.00</td></tr>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"m\">j</td><td>deg</td><td>0.2292</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("bias, deg"), std::string::npos);
+  EXPECT_EQ(tag_problem(html), "");
+}
+
+// A prismatic joint's readings are metres: its measured noise is printed in
+// mm, apart from the revolute joints', its bias is drawn in mm, and
+// summary.json names it among prismatic_joints.
+TEST(RunOutputs, APrismaticJointIsReportedInMillimetres) {
+  ScenarioResult r = measured_noise_result();
+  r.prismatic = {1};
+  std::ostringstream table;
+  print_summary_table(table, r);
+  EXPECT_NE(table.str().find("full_fusion, encoders' white noise as measured (median of the runs' "
+                             "last estimates): prismatic joints 4.000 mm (j)\n"),
+            std::string::npos)
+      << table.str();
+  EXPECT_NE(summary_json(r).find("\"prismatic_joints\": [\n    \"j\"\n  ]"), std::string::npos)
+      << summary_json(r);
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("<tr><td class=\"m\">j</td><td>mm</td><td>4.000</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("bias, mm"), std::string::npos);
+  EXPECT_EQ(html.find("bias, deg"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");
 }
 

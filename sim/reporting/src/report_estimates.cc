@@ -59,8 +59,11 @@ void bias_section(std::ostream& o, const ScenarioResult& r) {
   const RunResult& run = r.runs[0];
   o << "<div class=\"multi\">\n";
   for (std::size_t j = 0; j < r.joint_names.size(); ++j) {
-    chart::LineChart c =
-        small_time_chart(r, "bias-" + r.joint_names[j], r.joint_names[j], 290, 180, "bias, deg");
+    // A prismatic joint's bias is in metres: drawn in mm.
+    const bool prismatic = r.is_prismatic(j);
+    const double scale = prismatic ? kMm : kDegPerRad;
+    chart::LineChart c = small_time_chart(r, "bias-" + r.joint_names[j], r.joint_names[j], 290, 180,
+                                          prismatic ? "bias, mm" : "bias, deg");
     c.frame.left = 50;
     c.min_span = 1.0;
     c.line_width = 1.2;  // the band (often narrow) stays visible
@@ -70,12 +73,12 @@ void bias_section(std::ostream& o, const ScenarioResult& r) {
       const EstimateSample& s = m->samples[i];
       if (Eigen::Index(j) >= t.bias_rad.size() || Eigen::Index(j) >= s.bias_rad.size()) continue;
       truth.x.push_back(t.time_s);
-      truth.y.push_back(t.bias_rad[j] * kDegPerRad);
+      truth.y.push_back(t.bias_rad[j] * scale);
       est.x.push_back(t.time_s);
-      est.y.push_back(s.bias_rad[j] * kDegPerRad);
+      est.y.push_back(s.bias_rad[j] * scale);
       const double sd = Eigen::Index(j) < s.bias_std_rad.size() ? s.bias_std_rad[j] : 0.0;
-      est.band_lo.push_back((s.bias_rad[j] - sd) * kDegPerRad);
-      est.band_hi.push_back((s.bias_rad[j] + sd) * kDegPerRad);
+      est.band_lo.push_back((s.bias_rad[j] - sd) * scale);
+      est.band_hi.push_back((s.bias_rad[j] + sd) * scale);
     }
     c.series = {std::move(est), std::move(truth)};
     chart::line_chart(o, c);

@@ -142,19 +142,22 @@ void encoder_noise_table(std::ostream& o, const ScenarioResult& r) {
     if (!m.encoder_noise_rad.empty()) with_noise.push_back(&m);
   if (with_noise.empty()) return;
   o << "<p>Each encoder's white noise as its readings show it (four consecutive readings about "
-       "their parabola), in each run's last estimate, the median over the runs; mrad (1 mrad is "
-       "0.057&deg;), mm for a prismatic joint. Compare it with the tracker's "
-       "<code>encoder_noise_deg</code> (<code>_m</code>): over 1.25 times that, the tracker "
-       "weighs the readings by it (<code>encoder_noise.from_readings</code>).</p>\n<table><tr><th "
-       "class=\"m\">joint</th>";
+       "their parabola), in each run's last estimate, the median over the runs; degrees, mm for "
+       "a prismatic joint. Compare it with the tracker's <code>encoder_noise_deg</code> "
+       "(<code>encoder_noise_m</code>): over 1.25 times that, the tracker weighs the readings by "
+       "it (<code>encoder_noise.from_readings</code>).</p>\n<table><tr><th "
+       "class=\"m\">joint</th><th>unit</th>";
   for (const MethodResult* m : with_noise) o << "<th>" << text::html_escape(m->method) << "</th>";
   o << "</tr>\n";
   for (std::size_t j = 0; j < r.joint_names.size(); ++j) {
-    o << "<tr><td class=\"m\">" << text::html_escape(r.joint_names[j]) << "</td>";
+    const bool prismatic = r.is_prismatic(j);
+    o << "<tr><td class=\"m\">" << text::html_escape(r.joint_names[j]) << "</td><td>"
+      << (prismatic ? "mm" : "deg") << "</td>";
     for (const MethodResult* m : with_noise) {
       o << "<td>";
       if (j < m->encoder_noise_rad.size() && std::isfinite(m->encoder_noise_rad[j]))
-        o << fixed(m->encoder_noise_rad[j] * 1e3, 2);
+        o << (prismatic ? fixed(m->encoder_noise_rad[j] * kMm, 3)
+                        : fixed(m->encoder_noise_rad[j] * kDegPerRad, 4));
       else
         o << "no encoder";
       o << "</td>";

@@ -173,6 +173,11 @@ std::string summary_json(const ScenarioResult& r) {
   if (!robots.empty()) j["robots"] = robots;
   j["duration_s"] = r.duration_s;
   j["end_effectors"] = r.end_effectors;
+  // The joints whose per-joint figures named _rad are metres.
+  Json prismatic = Json::array();
+  for (std::size_t k = 0; k < r.joint_names.size(); ++k)
+    if (r.is_prismatic(k)) prismatic.push_back(r.joint_names[k]);
+  j["prismatic_joints"] = prismatic;
   j["scoring"] = Json{{"converged_after_s", number(r.scoring.converged_after_s)},
                       {"convergence_threshold_m", number(r.scoring.convergence_threshold_m)},
                       {"lost_threshold_m", number(r.scoring.lost_threshold_m)},
@@ -479,26 +484,42 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     out << "; " << m.links.size() - pinned.size() << " of " << m.links.size()
         << " links never pinned\n";
   }
-  // The encoders' noise as the tracker measured it: the user compares it
-  // with the configured encoder_noise. In the readings' units times 1000
-  // (mrad, mm for a prismatic joint): the result does not say which joint
-  // is which kind.
+  // The encoders' noise as the tracker measured it, in the units of the
+  // configured encoder_noise_deg (encoder_noise_m for prismatic joints),
+  // which the user compares it with.
   for (const MethodResult& m : r.method_results) {
-    std::size_t smallest = r.joint_names.size(), largest = smallest;
-    for (std::size_t j = 0; j < m.encoder_noise_rad.size() && j < r.joint_names.size(); ++j) {
-      if (!std::isfinite(m.encoder_noise_rad[j])) continue;
-      if (largest == r.joint_names.size() || m.encoder_noise_rad[j] > m.encoder_noise_rad[largest])
-        largest = j;
-      if (smallest == r.joint_names.size() ||
-          m.encoder_noise_rad[j] < m.encoder_noise_rad[smallest])
-        smallest = j;
+    std::string line;
+    for (const bool prismatic : {false, true}) {
+      std::size_t smallest = r.joint_names.size(), largest = smallest;
+      for (std::size_t j = 0; j < m.encoder_noise_rad.size() && j < r.joint_names.size(); ++j) {
+        if (!std::isfinite(m.encoder_noise_rad[j]) || r.is_prismatic(j) != prismatic) continue;
+        if (largest == r.joint_names.size() ||
+            m.encoder_noise_rad[j] > m.encoder_noise_rad[largest])
+          largest = j;
+        if (smallest == r.joint_names.size() ||
+            m.encoder_noise_rad[j] < m.encoder_noise_rad[smallest])
+          smallest = j;
+      }
+      if (largest == r.joint_names.size()) continue;
+      const double scale = prismatic ? mm : deg;
+      const char* unit = prismatic ? " mm" : " deg";
+      std::ostringstream part;
+      part << std::fixed << std::setprecision(prismatic ? 3 : 4);
+      if (largest == smallest)
+        part << m.encoder_noise_rad[largest] * scale << unit << " (" << r.joint_names[largest]
+             << ")";
+      else
+        part << "the largest " << m.encoder_noise_rad[largest] * scale << unit << " ("
+             << r.joint_names[largest] << "), the smallest "
+             << m.encoder_noise_rad[smallest] * scale << unit << " (" << r.joint_names[smallest]
+             << ")";
+      line += (line.empty() ? (prismatic ? "prismatic joints " : "") : "; prismatic joints ") +
+              part.str();
     }
-    if (largest == r.joint_names.size()) continue;
-    out << m.method << ", encoders' white noise as measured (median of the runs' last estimates; "
-        << "mrad, mm for a prismatic joint; 1 mrad is 0.057 deg): the largest " << std::fixed
-        << std::setprecision(2) << m.encoder_noise_rad[largest] * 1e3 << " ("
-        << r.joint_names[largest] << "), the smallest " << m.encoder_noise_rad[smallest] * 1e3
-        << " (" << r.joint_names[smallest] << ")\n";
+    if (line.empty()) continue;
+    out << m.method
+        << ", encoders' white noise as measured (median of the runs' last estimates): " << line
+        << "\n";
   }
   // What the tracker did to get there: a share of hand shifts accepted near
   // 1 says a hand is longer or shorter along itself than its URDF or mesh.

@@ -227,6 +227,10 @@ struct ScenarioResult {
   std::vector<std::string> methods;
   // Physical joints in the tracker model's order (per-joint vectors).
   std::vector<std::string> joint_names;
+  // Per joint_names entry: a prismatic joint, whose per-joint figures named
+  // _rad (angles, biases, their errors and standard deviations, the encoder
+  // noise measured) are metres.
+  std::vector<char> prismatic;
   std::vector<std::string> end_effectors;  // scored
   ScoringOptions scoring;
   std::vector<RunResult> runs;
@@ -234,6 +238,9 @@ struct ScenarioResult {
   std::vector<KeptFrame> frames;
 
   const MethodResult* method(const std::string& name) const;
+  bool is_prismatic(std::size_t joint) const {
+    return joint < prismatic.size() && prismatic[joint];
+  }
 };
 
 }  // namespace arttrack::sim
