@@ -1,5 +1,6 @@
-// Benchmarks of the tracker's two updates on the default scene's robot:
-// one joint update of the whole robot, and one delayed depth image update
+// Benchmarks of the tracker's calls on the default scene's robot:
+// one joint update of the whole robot, one estimate() (which holds the
+// tracker's lock), and one delayed depth image update
 // (particle filter over rendered hypotheses, then re-filtering 100 ms of 1 kHz
 // joint readings) at 80x60 and 160x120 likelihood resolution.
 //
@@ -108,6 +109,21 @@ BENCHMARK(BM_DelayedImageUpdate)
     ->Args({160, 120, 19})  // 418 evaluations (issue 5: >= 400 at 160x120)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// Tracker::estimate() after images (the full covariance reported, both
+// hands' covariances): it holds the tracker's lock, so its cost is how long
+// a joint update may wait for a caller that polls the estimate.
+void BM_Estimate(benchmark::State& state) {
+  const Fixture& f = fixture();
+  Tracker tracker(f.robot, config_for(80, 60, 10), f.sim_model->joint_names);
+  double t = 0;
+  for (int k = 0; k < 3; ++k) {
+    add_readings(f, tracker, t);
+    tracker.add_depth_image(t - 0.1, f.observed, f.camera);
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(tracker.estimate());
+}
+BENCHMARK(BM_Estimate)->Unit(benchmark::kMicrosecond);
 
 // A fresh tracker's first image: the annealed acquisition from the encoders
 // (acquisition.passes x acquisition.searches particle-filter runs) and the

@@ -189,6 +189,114 @@ TEST(Kinematics, VirtualJointsCorrectTheCameraFrameOnly) {
                   .isApprox(state.T_root_link[model.link_index("l1")], 1e-12));
 }
 
+// A tree: a joint above both the hand and the camera (j0), an arm with a
+// prismatic joint and a mimic finger (1.5 times a1, off 0.2), the camera on
+// its own branch (c1).
+constexpr char kBranchedTree[] = R"(<robot name="tree">
+  <link name="base_link"/><link name="trunk"/><link name="arm1"/><link name="arm2"/>
+  <link name="hand"/><link name="finger"/><link name="neck"/><link name="camera_optical_frame"/>
+  <joint name="j0" type="revolute">
+    <parent link="base_link"/><child link="trunk"/>
+    <origin xyz="0.1 0 0.3" rpy="0.2 0 0.4"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+  </joint>
+  <joint name="a1" type="revolute">
+    <parent link="trunk"/><child link="arm1"/>
+    <origin xyz="0.3 -0.2 0.1" rpy="-0.4 0.9 0.1"/><axis xyz="1 2 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+  </joint>
+  <joint name="a2" type="prismatic">
+    <parent link="arm1"/><child link="arm2"/>
+    <origin xyz="0 0.4 0.05" rpy="1.1 -0.3 0.2"/><axis xyz="0 1 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <joint name="wrist" type="fixed">
+    <parent link="arm2"/><child link="hand"/><origin xyz="0.05 0.1 -0.2" rpy="0.3 0.2 -0.5"/>
+  </joint>
+  <joint name="m1" type="revolute">
+    <parent link="hand"/><child link="finger"/>
+    <origin xyz="0.02 0 0.1" rpy="0 0.7 0"/><axis xyz="0.2 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+    <mimic joint="a1" multiplier="1.5" offset="0.2"/>
+  </joint>
+  <joint name="c1" type="continuous">
+    <parent link="trunk"/><child link="neck"/>
+    <origin xyz="0 0.1 0.5" rpy="0 0 0"/><axis xyz="0 1 0.3"/>
+  </joint>
+  <joint name="mount" type="fixed">
+    <parent link="neck"/><child link="camera_optical_frame"/>
+    <origin xyz="0.1 0 0.05" rpy="-1.6 0 -1.5"/>
+  </joint>
+</robot>
+)";
+
+// camera_link_jacobian() against central differences of T_camera_link:
+// the position's, and the rotation vector of R(q + h) R(q - h)^T.
+void expect_jacobian_matches_differences(const RobotModel& model, const std::vector<int>& links,
+                                         unsigned seed) {
+  KinematicsState state(model), plus(model), minus(model);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const double h = 1e-6;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J;
+  for (int trial = 0; trial < 3; ++trial) {
+    Eigen::VectorXd q(model.num_joints());
+    for (int j = 0; j < q.size(); ++j) q[j] = model.is_virtual_joint(j) ? 0.05 * U(rng) : U(rng);
+    forward_kinematics(model, q, state);
+    for (int link : links) {
+      camera_link_jacobian(model, state, link, J);
+      ASSERT_EQ(J.cols(), model.num_joints());
+      for (int j = 0; j < model.num_joints(); ++j) {
+        Eigen::VectorXd qp = q, qm = q;
+        qp[j] += h;
+        qm[j] -= h;
+        forward_kinematics(model, qp, plus);
+        forward_kinematics(model, qm, minus);
+        const Eigen::Isometry3d Tp = T_camera_link(model, plus, link);
+        const Eigen::Isometry3d Tm = T_camera_link(model, minus, link);
+        const Eigen::AngleAxisd turn(Tp.linear() * Tm.linear().transpose());
+        const Eigen::Vector3d dp = (Tp.translation() - Tm.translation()) / (2 * h);
+        const Eigen::Vector3d dw = turn.angle() * turn.axis() / (2 * h);
+        EXPECT_LT((J.col(j).head<3>() - dp).norm(), 1e-7)
+            << model.link_name(link) << " " << model.joint_name(j);
+        EXPECT_LT((J.col(j).tail<3>() - dw).norm(), 1e-7)
+            << model.link_name(link) << " " << model.joint_name(j);
+      }
+    }
+  }
+}
+
+TEST(Kinematics, CameraFrameJacobianMatchesCentralDifferences) {
+  const RobotModel tree = RobotModel::from_urdf_string(kBranchedTree, "");
+  std::vector<int> links;
+  for (int l = 0; l < tree.num_links(); ++l) links.push_back(l);  // the camera's own too
+  expect_jacobian_matches_differences(tree, links, 3);
+  // A joint above both the hand and the camera moves neither relative to the other.
+  KinematicsState state(tree);
+  forward_kinematics(tree, Eigen::VectorXd::Constant(tree.num_joints(), 0.4), state);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J;
+  camera_link_jacobian(tree, state, tree.link_index("finger"), J);
+  EXPECT_LT(J.col(tree.joint_index("j0")).norm(), 1e-12);
+  EXPECT_GT(J.col(tree.joint_index("a1")).norm(), 0.1);  // a1, and the finger's mimic of it
+  EXPECT_GT(J.col(tree.joint_index("c1")).norm(), 0.1);  // the camera's own joint
+  // The shipped dual arm: its hands, its head camera and its six camera joints.
+  const RobotModel dual =
+      RobotModel::from_urdf_file(std::string(ARTTRACK_SOURCE_DIR) + "/models/dual_arm.urdf");
+  expect_jacobian_matches_differences(
+      dual, {dual.link_index("left_hand"), dual.link_index("right_hand"), dual.link_index("torso")},
+      5);
+}
+
+TEST(Kinematics, CameraFrameJacobianAllocatesNothingOnceSized) {
+  const RobotModel model = RobotModel::from_urdf_string(kBranchedTree, "");
+  KinematicsState state(model);
+  forward_kinematics(model, Eigen::VectorXd::Constant(model.num_joints(), 0.3), state);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J(6, model.num_joints());
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) camera_link_jacobian(model, state, model.link_index("finger"), J);
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
 TEST(Kinematics, AllocatesNothingOnceSized) {
   const RobotModel model = RobotModel::from_urdf_string(kChain, "");
   KinematicsState state(model);

@@ -134,6 +134,36 @@ TEST(PosteriorCovariance, AddedVarianceGrowsOneStateInBothCovariances) {
   EXPECT_THROW(cov.add_variance(0, std::nan("")), InputError);
 }
 
+// What the estimate reports between images: angle_covariance_at() is a
+// copy predicted to that time, to the bit, with and without consider
+// parameters; the covariance itself is left where it was.
+TEST(PosteriorCovariance, AngleCovarianceAtIsAPredictedCopy) {
+  for (const int consider : {0, 2}) {
+    PosteriorCovariance cov(
+        {{0, Kind::kAngle, 0, 0.1}, {1, Kind::kBias, 0.05, 0.003}, {2, Kind::kBias, 0.2, 0.01}},
+        consider);
+    cov.reset(Eigen::Vector3d(1, 2, 0.5), 0.3);
+    Eigen::Matrix3d info;
+    info << 3, 1, -0.5, 1, 2, 0.2, -0.5, 0.2, 4;
+    if (consider > 0)
+      cov.update(info, Eigen::MatrixXd::Constant(3, consider, 0.5), 1);
+    else
+      cov.update(info, 1);
+    const Eigen::MatrixXd before = cov.covariance();
+    Eigen::MatrixXd at;
+    for (const double t : {0.3, 0.31, 1.7}) {
+      PosteriorCovariance copy = cov;
+      copy.predict_to(t);
+      cov.angle_covariance_at(t, at);
+      EXPECT_EQ(at, copy.angle_covariance()) << "consider " << consider << ", t " << t;
+    }
+    EXPECT_NE(at, cov.angle_covariance());  // 1.4 s on: the biases' variances grew
+    EXPECT_EQ(cov.covariance(), before);
+    EXPECT_EQ(cov.time_s(), 0.3);
+    EXPECT_THROW(cov.angle_covariance_at(0.2, at), InputError);
+  }
+}
+
 TEST(PosteriorCovariance, RejectsBadInput) {
   EXPECT_THROW(PosteriorCovariance({{0, Kind::kBias, -1, 0.1}}), InputError);
   PosteriorCovariance cov({{0, Kind::kAngle, 0, 0.1}});

@@ -44,13 +44,11 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
   }
   // After the first image, the DOFs the images inform report the full
   // covariance's marginals (posterior_covariance.h), predicted to now.
-  Eigen::MatrixXd angle_cov;
+  Eigen::MatrixXd& angle_cov = angle_cov_;
   if (cov.started()) {
-    PosteriorCovariance now = cov;
-    now.predict_to(std::max(cov.time_s(), time_s));
-    angle_cov = now.angle_covariance();
-    for (int i = 0; i < now.size(); ++i) {
-      const PosteriorCovariance::State& st = now.states()[std::size_t(i)];
+    cov.angle_covariance_at(std::max(cov.time_s(), time_s), angle_cov);
+    for (int i = 0; i < cov.size(); ++i) {
+      const PosteriorCovariance::State& st = cov.states()[std::size_t(i)];
       const double var = std::max(0.0, angle_cov(i, i));
       if (st.kind == PosteriorCovariance::Kind::kBias) {
         e.bias_std_rad[st.dof] = std::sqrt(var);
@@ -67,41 +65,26 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
   for (int k = 0; k < 6; ++k) q_[s.n_phys + k] = e.camera_offset[k];
   forward_kinematics(model, q_, kinematics_);
   for (int link : s.ee_links) e.T_camera_ee.push_back(T_camera_link(model, kinematics_, link));
-  // End-effector covariance: J diag(var) J^T, J by central differences of
-  // the kinematics in each DOF (position, and rotation vector of the change).
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> jacobians(
-      s.ee_links.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, s.n));
-  Eigen::VectorXd variance(s.n);
+  // End-effector covariance: J C J^T, C the DOFs' covariance: independent
+  // (their reported variances), but where the full covariance knows better.
+  Eigen::MatrixXd& dof_cov = dof_cov_;
+  dof_cov.setZero(s.n, s.n);
   for (int j = 0; j < s.n; ++j) {
     const double sd = j < s.n_phys ? e.angle_std_rad[j] : e.camera_offset_std[j - s.n_phys];
-    variance[j] = sd * sd;
-    if (!(sd > 0)) continue;
-    constexpr double kStep = 1e-6;
-    const double q0 = q_[j];
-    std::vector<Eigen::Isometry3d> plus(s.ee_links.size());
-    q_[j] = q0 + kStep;
-    forward_kinematics(model, q_, kinematics_);
-    for (std::size_t k = 0; k < s.ee_links.size(); ++k)
-      plus[k] = T_camera_link(model, kinematics_, s.ee_links[k]);
-    q_[j] = q0 - kStep;
-    forward_kinematics(model, q_, kinematics_);
-    for (std::size_t k = 0; k < s.ee_links.size(); ++k) {
-      const Eigen::Isometry3d minus = T_camera_link(model, kinematics_, s.ee_links[k]);
-      jacobians[k].col(j).head<3>() = (plus[k].translation() - minus.translation()) / (2 * kStep);
-      const Eigen::AngleAxisd turn(plus[k].linear() * minus.linear().transpose());
-      jacobians[k].col(j).tail<3>() = turn.angle() * turn.axis() / (2 * kStep);
-    }
-    q_[j] = q0;
+    dof_cov(j, j) = sd * sd;
   }
-  // The DOFs' covariance: independent, but where the full covariance knows better.
-  Eigen::MatrixXd dof_cov = variance.asDiagonal();
   if (cov.started()) {
     for (int a = 0; a < cov.size(); ++a)
       for (int b = 0; b < cov.size(); ++b)
         dof_cov(cov.states()[std::size_t(a)].dof, cov.states()[std::size_t(b)].dof) =
             angle_cov(a, b);
   }
-  for (const auto& J : jacobians) e.T_camera_ee_covariance.push_back(J * dof_cov * J.transpose());
+  for (int link : s.ee_links) {
+    camera_link_jacobian(model, kinematics_, link, jacobian_);
+    jacobian_cov_.noalias() = jacobian_ * dof_cov;
+    e.T_camera_ee_covariance.emplace_back();
+    e.T_camera_ee_covariance.back().noalias() = jacobian_cov_ * jacobian_.transpose();
+  }
   e.ee_image_correction.assign(s.ee_links.size(), EndEffectorCorrection::Zero());
   for (std::size_t k = 0; k < fits.size() && k < s.ee_links.size(); ++k) {
     const EndEffectorFitEstimate& fit = fits[k];

@@ -50,4 +50,43 @@ Eigen::Isometry3d T_camera_link(const RobotModel& model, const KinematicsState& 
   return state.T_root_link[model.camera_link()].inverse(Eigen::Isometry) * state.T_root_link[link];
 }
 
+void camera_link_jacobian(const RobotModel& model, const KinematicsState& state, int link,
+                          Eigen::Matrix<double, 6, Eigen::Dynamic>& J) {
+  ARTTRACK_CHECK_ARGUMENT(link >= 0 && link < model.num_links());
+  ARTTRACK_CHECK_ARGUMENT(int(state.T_root_link.size()) == model.num_links());
+  if (J.cols() != model.num_joints()) J.resize(6, model.num_joints());
+  J.setZero();
+  const std::vector<Eigen::Isometry3d>& T = state.T_root_link;
+  const Eigen::Vector3d p = T[link].translation();  // the link's origin, root frame
+  // Each moving joint on the chain from `from` to the root adds sign times
+  // its motion of the point p, in root axes.
+  auto add_chain = [&](int from, double sign) {
+    for (int l = from; l > 0; l = model.link(l).parent) {
+      const Link& joint = model.link(l);
+      const int column = joint.dof >= 0 ? joint.dof : joint.mimic_dof;
+      if (joint.joint_type == JointType::kFixed || column < 0) continue;
+      const double rate = sign * (joint.dof >= 0 ? 1.0 : joint.mimic_multiplier);
+      const Eigen::Vector3d a =
+          T[joint.parent].linear() * (joint.T_parent_joint.linear() * joint.axis);
+      if (joint.joint_type == JointType::kPrismatic) {
+        J.col(column).head<3>() += rate * a;
+      } else {
+        // A revolute joint's origin is its child link's: the rotation does
+        // not move it.
+        J.col(column).head<3>() += rate * a.cross(p - T[l].translation());
+        J.col(column).tail<3>() += rate * a;
+      }
+    }
+  };
+  add_chain(link, 1.0);
+  add_chain(model.camera_link(), -1.0);
+  // Root axes to camera axes (column by column: fixed-size, no temporary).
+  const Eigen::Matrix3d R_camera_root = T[model.camera_link()].linear().transpose();
+  for (Eigen::Index c = 0; c < J.cols(); ++c) {
+    const Eigen::Vector3d v = J.col(c).head<3>(), w = J.col(c).tail<3>();
+    J.col(c).head<3>() = R_camera_root * v;
+    J.col(c).tail<3>() = R_camera_root * w;
+  }
+}
+
 }  // namespace arttrack

@@ -198,6 +198,20 @@ void PosteriorCovariance::angle_covariance(Eigen::MatrixXd& out) const {
   out = sign_.asDiagonal() * reported() * sign_.asDiagonal();
 }
 
+void PosteriorCovariance::angle_covariance_at(double time_s, Eigen::MatrixXd& out) const {
+  const double dt = time_s - time_s_;
+  if (!(dt >= 0)) throw InputError("posterior covariance: predicted backwards in time");
+  angle_covariance(out);
+  // predict_to()'s operations in its order: D's signs commute with them exactly.
+  for (int i = 0; i < size(); ++i) {
+    double phi_i, added;
+    transition(states_[std::size_t(i)], dt, phi_i, added);
+    out.row(i) *= phi_i;
+    out.col(i) *= phi_i;
+    out(i, i) += added;
+  }
+}
+
 Eigen::MatrixXd PosteriorCovariance::nominal_angle_covariance() const {
   return sign_.asDiagonal() * P_ * sign_.asDiagonal();
 }

@@ -400,7 +400,10 @@ class Tracker {
   // run (that can run). Synchronous mode: returns at once.
   void wait_until_idle();
 
-  // The current belief (after the newest joint reading or image).
+  // The current belief (after the newest joint reading or image). Holds the
+  // tracker's lock while it computes (a joint update waits for it): about
+  // 5 us of CPU on the dual arm (build/bench_tracker_update, BM_Estimate),
+  // so a controller may poll it at the encoders' rate.
   TrackerEstimate estimate() const;
   TrackerStats stats() const;
 

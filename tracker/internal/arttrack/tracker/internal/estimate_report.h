@@ -6,8 +6,9 @@
 // The end-effector poses: the kinematics' at the estimate, times the
 // end-effector fit's correction (end_effector_fit.h) where there is one;
 // TrackerEstimate::ee_image_correction says by how much. Their covariances
-// are the joints' through the kinematics, the position's weighed against
-// the fits' where the fit has a say (end_effector_fit.h).
+// are the joints' through the kinematics (camera_link_jacobian(),
+// kinematics.h), the position's weighed against the fits' where the fit
+// has a say (end_effector_fit.h).
 //
 // The standard deviations: for encoders_only, the reading's noise and the
 // bias prior's stationary variance (the bias it does not estimate);
@@ -15,7 +16,7 @@
 // encoder's noise, and, after the first image, the reported covariance's
 // marginals (reported_covariance.h) predicted to the estimate's time for
 // the DOFs the images inform. End-effector covariances are J C J^T, J the
-// kinematics' Jacobian by central differences (position, and the rotation
+// kinematics' Jacobian in the camera frame (position, and the rotation
 // vector of the change), C the DOFs' covariance.
 //
 // Setup: the tracker's (tracker_setup.h). Workspace: the kinematics it
@@ -52,6 +53,8 @@ class EstimateReport {
   const TrackerSetup& setup_;
   KinematicsState kinematics_;
   Eigen::VectorXd q_;
+  Eigen::MatrixXd angle_cov_, dof_cov_;  // the states' reported angle covariance; the DOFs'
+  Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_, jacobian_cov_;  // J, J C
 };
 
 }  // namespace arttrack

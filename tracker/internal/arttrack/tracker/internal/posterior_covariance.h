@@ -101,6 +101,10 @@ class PosteriorCovariance {
   Eigen::MatrixXd angle_covariance() const;
   // The same into `out` (no allocation once `out` has the size).
   void angle_covariance(Eigen::MatrixXd& out) const;
+  // angle_covariance() as predict_to(time_s) would leave it (time_s >=
+  // time_s()), the covariance unchanged: what the estimate reports between
+  // images, without a copy of the whole filter. The same numbers to the bit.
+  void angle_covariance_at(double time_s, Eigen::MatrixXd& out) const;
   // The same from the filter's own covariance P (its weights).
   Eigen::MatrixXd nominal_angle_covariance() const;
   // The reported covariance of the states (Q_ee, or P).
