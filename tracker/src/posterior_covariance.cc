@@ -21,6 +21,22 @@ void transition(const PosteriorCovariance::State& s, double dt_s, double& phi, d
   }
 }
 
+// A covariance over `states` moved on by dt_s >= 0 (else InputError): each
+// state's row and column times its phi, in state order, plus the variance
+// its noise adds. predict_to() and angle_covariance_at() share it, so they
+// agree to the bit.
+void predict_covariance(const std::vector<PosteriorCovariance::State>& states, double dt_s,
+                        Eigen::MatrixXd& M) {
+  if (!(dt_s >= 0)) throw InputError("posterior covariance: predicted backwards in time");
+  for (int i = 0; i < int(states.size()); ++i) {
+    double phi, added;
+    transition(states[std::size_t(i)], dt_s, phi, added);
+    M.row(i) *= phi;
+    M.col(i) *= phi;
+    M(i, i) += added;
+  }
+}
+
 }  // namespace
 
 PosteriorCovariance::PosteriorCovariance(std::vector<State> states, int num_consider)
@@ -74,18 +90,12 @@ void PosteriorCovariance::restart_state(int i, double variance) {
 
 void PosteriorCovariance::predict_to(double time_s) {
   const double dt = time_s - time_s_;
-  if (!(dt >= 0)) throw InputError("posterior covariance: predicted backwards in time");
-  const int m = size();
-  for (int i = 0; i < m; ++i) {
-    double phi_i, added;
-    transition(states_[std::size_t(i)], dt, phi_i, added);
-    P_.row(i) *= phi_i;
-    P_.col(i) *= phi_i;
-    P_(i, i) += added;
-    if (num_consider_ > 0) {
-      Q_ee_.row(i) *= phi_i;
-      Q_ee_.col(i) *= phi_i;
-      Q_ee_(i, i) += added;
+  predict_covariance(states_, dt, P_);
+  if (num_consider_ > 0) {
+    predict_covariance(states_, dt, Q_ee_);
+    for (int i = 0; i < size(); ++i) {  // the error's correlation with the parameters
+      double phi_i, added;
+      transition(states_[std::size_t(i)], dt, phi_i, added);
       Q_ec_.row(i) *= phi_i;
     }
   }
@@ -199,17 +209,9 @@ void PosteriorCovariance::angle_covariance(Eigen::MatrixXd& out) const {
 }
 
 void PosteriorCovariance::angle_covariance_at(double time_s, Eigen::MatrixXd& out) const {
-  const double dt = time_s - time_s_;
-  if (!(dt >= 0)) throw InputError("posterior covariance: predicted backwards in time");
   angle_covariance(out);
-  // predict_to()'s operations in its order: D's signs commute with them exactly.
-  for (int i = 0; i < size(); ++i) {
-    double phi_i, added;
-    transition(states_[std::size_t(i)], dt, phi_i, added);
-    out.row(i) *= phi_i;
-    out.col(i) *= phi_i;
-    out(i, i) += added;
-  }
+  // predict_to()'s operations: D's signs commute with them exactly.
+  predict_covariance(states_, time_s - time_s_, out);
 }
 
 Eigen::MatrixXd PosteriorCovariance::nominal_angle_covariance() const {
