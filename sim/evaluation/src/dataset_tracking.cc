@@ -31,12 +31,8 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
       std::make_shared<const RobotModel>(RobotModel::from_urdf_file(d.urdf.string(), ro));
   const fs::path joints_csv = d.dir / "joints.csv";
   std::vector<std::string> model_joints;
-  std::vector<char> model_prismatic;
   for (int j = 0; j < robot->num_joints(); ++j)
-    if (!robot->is_virtual_joint(j)) {
-      model_joints.push_back(robot->joint_name(j));
-      model_prismatic.push_back(robot->joint_type(j) == JointType::kPrismatic);
-    }
+    if (!robot->is_virtual_joint(j)) model_joints.push_back(robot->joint_name(j));
   for (const std::string& name : d.joint_names)
     if (std::find(model_joints.begin(), model_joints.end(), name) == model_joints.end())
       throw InputError(joints_csv.string() + ":1: joint '" + name + "' is not a movable joint of " +
@@ -109,7 +105,7 @@ TrackResult track_dataset(const Dataset& d, const TrackOptions& options,
   r.duration_s = d.duration_s ? *d.duration_s : last_s;
   r.seeds = {d.seed ? *d.seed : std::uint64_t(base.seed)};
   r.joint_names = model_joints;
-  r.prismatic = model_prismatic;
+  r.prismatic = prismatic_joints(*robot, model_joints);
   r.end_effectors = base.end_effectors;
   r.scoring = d.scoring;
   r.scoring.validate();

@@ -30,6 +30,14 @@ std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, st
   return fits;
 }
 
+std::vector<char> prismatic_joints(const RobotModel& robot,
+                                   const std::vector<std::string>& joint_names) {
+  std::vector<char> prismatic;
+  for (const std::string& name : joint_names)
+    prismatic.push_back(robot.joint_type(robot.joint_index(name)) == JointType::kPrismatic);
+  return prismatic;
+}
+
 std::vector<double> encoder_noise_medians_rad(const std::vector<RunResult>& runs,
                                               std::size_t method) {
   std::vector<std::vector<double>> noise_rad;  // per joint, over runs

@@ -101,7 +101,6 @@ struct Setup {
   std::shared_ptr<const SimModel> sim_model;
   std::shared_ptr<const RobotModel> robot;  // nominal, with virtual camera joints
   std::vector<std::string> joint_names;     // tracker physical joints
-  std::vector<char> joint_prismatic;        // per joint_names: prismatic
   std::vector<int> sim_joint;               // per joint_names: SimModel index
   std::vector<int> sim_ee;                  // per scored end effector: GroundTruth index
   std::vector<TrackingMethod> methods;
@@ -126,7 +125,6 @@ Setup make_setup(const Scenario& sc, const std::vector<std::string>& method_name
       throw InputError(sc.source + ": joint '" + s.robot->joint_name(j) +
                        "' of the nominal robot is not driven in the simulator");
     s.joint_names.push_back(s.robot->joint_name(j));
-    s.joint_prismatic.push_back(s.robot->joint_type(j) == JointType::kPrismatic);
     s.sim_joint.push_back(k);
   }
   for (const std::string& ee : sc.scoring.end_effectors) {
@@ -441,7 +439,7 @@ ScenarioResult run_scenario(const Scenario& sc, const RunOptions& options) {
   result.recipe.realtime = options.realtime;
   result.duration_s = sc.duration_s;
   result.joint_names = setup.joint_names;
-  result.prismatic = setup.joint_prismatic;
+  result.prismatic = prismatic_joints(*setup.robot, setup.joint_names);
   result.end_effectors = sc.scoring.end_effectors;
   result.scoring = sc.scoring.options;
   std::vector<MethodScores> scores;

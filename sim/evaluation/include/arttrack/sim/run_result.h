@@ -243,4 +243,8 @@ struct ScenarioResult {
   }
 };
 
+// ScenarioResult::prismatic for `joint_names`, joints of `robot`.
+std::vector<char> prismatic_joints(const RobotModel& robot,
+                                   const std::vector<std::string>& joint_names);
+
 }  // namespace arttrack::sim
