@@ -293,7 +293,9 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.model_error_learned_time_constant_s", &C::model_error_learned_time_constant_s),
     key("uncertainty.model_error_learned_max_std_m", &C::model_error_learned_max_std_m),
     key("uncertainty.link_length_std_m", &C::link_length_std_m),
-    key("uncertainty.depth_scale_std", &C::depth_scale_std));
+    key("uncertainty.depth_scale_std", &C::depth_scale_std),
+    key("uncertainty.mean_lag_scale", &C::mean_lag_scale),
+    key("uncertainty.mean_lag_time_constant_s", &C::mean_lag_time_constant_s));
   f(key("refinement.enabled", &C::refine_mean),
     key("refinement.min_pixels", &C::refinement_min_pixels),
     key("refinement.widen_beyond_sigma", &C::refinement_widen_beyond_sigma));

@@ -26,7 +26,7 @@ TEST(EstimateReport, EncodersOnlyReportsTheReadingsWithTheBiasPriorsSpread) {
   belief.mean_a[0] = 7;  // not what encoders only reports
   const std::vector<double> readings{0.3, -0.2};
   TrackerEstimate e;
-  report.fill(belief, readings, 2.5, PosteriorCovariance(), {}, e);
+  report.fill(belief, readings, 2.5, PosteriorCovariance(), {}, {}, e);
   EXPECT_EQ(e.time_s, 2.5);
   EXPECT_EQ(e.joint_names, (std::vector<std::string>{"shoulder", "elbow"}));
   EXPECT_EQ(e.angle_rad[0], 0.3);
@@ -57,13 +57,46 @@ TEST(EstimateReport, EndEffectorCovarianceFollowsTheKinematics) {
   belief.var_a[std::size_t(elbow)] = 0.02 * 0.02;
   for (int j = setup.n_phys; j < setup.n; ++j) belief.var_a[std::size_t(j)] = 0;
   TrackerEstimate e;
-  report.fill(belief, std::vector<double>{0.0, 0.0}, 0.0, PosteriorCovariance(), {}, e);
+  report.fill(belief, std::vector<double>{0.0, 0.0}, 0.0, PosteriorCovariance(), {}, {}, e);
   EXPECT_DOUBLE_EQ(e.angle_std_rad[std::size_t(shoulder)], 0.01);
   ASSERT_EQ(e.T_camera_ee_covariance.size(), 1u);
   const Eigen::Matrix<double, 6, 6>& cov = e.T_camera_ee_covariance[0];
   const double var_s = 0.01 * 0.01, var_e = 0.02 * 0.02;
   EXPECT_NEAR((cov.topLeftCorner<3, 3>().trace()), 0.55 * 0.55 * var_s + 0.25 * 0.25 * var_e, 1e-9);
   EXPECT_NEAR((cov.bottomRightCorner<3, 3>().trace()), var_s + var_e, 1e-9);
+}
+
+// A mean's lag (mean_lag.h) adds to its state's reported variance: the
+// bias's and the angle's (a = q - b), and through them the hand's.
+TEST(EstimateReport, AMeansLagWidensItsStateAndTheHand) {
+  const TrackerSetup setup(arm_model(), small_config(TrackingMethod::kFullFusion),
+                           {"shoulder", "elbow"});
+  EstimateReport report(setup);
+  const JointBelief belief =
+      initial_joint_belief(*setup.filter_model, std::vector<double>{0.0, 0.0});
+  const int shoulder = setup.model->joint_index("shoulder");
+  const int elbow = setup.model->joint_index("elbow");
+  PosteriorCovariance cov(
+      {{shoulder, PosteriorCovariance::Kind::kBias}, {elbow, PosteriorCovariance::Kind::kBias}});
+  cov.reset(Eigen::Vector2d(1e-4, 4e-4), 0.0);
+  const std::vector<double> readings{0.0, 0.0}, lag{9e-4, 0.0};
+  TrackerEstimate plain, lagging;
+  report.fill(belief, readings, 0.0, cov, {}, {}, plain);
+  report.fill(belief, readings, 0.0, cov, lag, {}, lagging);
+  const std::size_t s = std::size_t(shoulder), el = std::size_t(elbow);
+  EXPECT_DOUBLE_EQ(plain.bias_std_rad[s], 0.01);
+  EXPECT_DOUBLE_EQ(lagging.bias_std_rad[s], std::sqrt(1e-3));
+  EXPECT_NEAR(lagging.angle_std_rad[s] * lagging.angle_std_rad[s] -
+                  plain.angle_std_rad[s] * plain.angle_std_rad[s],
+              9e-4, 1e-15);
+  EXPECT_EQ(lagging.bias_std_rad[el], plain.bias_std_rad[el]);
+  EXPECT_EQ(lagging.angle_std_rad[el], plain.angle_std_rad[el]);
+  // The tool is 0.55 m from the shoulder's axis.
+  EXPECT_NEAR((lagging.T_camera_ee_covariance[0].topLeftCorner<3, 3>().trace() -
+               plain.T_camera_ee_covariance[0].topLeftCorner<3, 3>().trace()),
+              0.55 * 0.55 * 9e-4, 1e-12);
+  EXPECT_THROW(report.fill(belief, readings, 0.0, cov, std::vector<double>{1e-4}, {}, lagging),
+               std::invalid_argument);
 }
 
 // Full fusion's report on the planar arm at (0.3, -0.2), before any image,
@@ -75,7 +108,7 @@ TrackerEstimate full_fusion_estimate(std::span<const EndEffectorFitEstimate> fit
   const JointBelief belief =
       initial_joint_belief(*setup.filter_model, std::vector<double>{0.3, -0.2});
   TrackerEstimate e;
-  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), fits, e);
+  report.fill(belief, std::vector<double>{0.3, -0.2}, 0.0, PosteriorCovariance(), {}, fits, e);
   return e;
 }
 

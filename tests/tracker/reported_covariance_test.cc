@@ -94,6 +94,47 @@ TEST(ReportedCovariance, AnImageFoldsItsInformationIntoThePriorsVariances) {
   EXPECT_EQ(reported.covariance().covariance()(0, 1), 0.0);
 }
 
+// The means' lag (mean_lag.h) follows each bias and camera angle as a
+// MeanLag fed the same means does; a state a search re-opened starts again.
+TEST(ReportedCovariance, TheMeansLagFollowsTheBiasesAndTheCameraAndRestartsWithASearch) {
+  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  c.model_error = false;
+  const TrackerSetup setup(arm_model(), c, {"shoulder", "elbow"});
+  ReportedCovariance reported(setup, sampling_blocks(*setup.model, c));
+  const RobotModel& model = *setup.model;
+  const int shoulder = model.joint_index("shoulder"), camera_x = setup.n_phys;
+  ASSERT_EQ(reported.setup().states[0].dof, shoulder);
+  ASSERT_EQ(reported.setup().states[2].dof, camera_x);
+  JointBelief belief = initial_joint_belief(*setup.filter_model, std::vector<double>{0.0, 0.0});
+  MeanLag bias_alone({1}, c.mean_lag_scale, c.mean_lag_time_constant_s);
+  MeanLag camera_alone({1}, c.mean_lag_scale, c.mean_lag_time_constant_s);
+  for (int k = 0; k <= 300; ++k) {  // 10 s at 30 Hz
+    const double t = k / 30.0;
+    belief.mean_b[std::size_t(shoulder)] = 0.01 * t;
+    belief.mean_a[std::size_t(shoulder)] = t;  // the angle moves with the arm: not followed
+    belief.mean_a[std::size_t(camera_x)] = 0.002 * t;
+    reported.record_means(t, belief);
+    bias_alone.update(t, std::vector{0.01 * t});
+    camera_alone.update(t, std::vector{0.002 * t});
+  }
+  const std::span<const double> lag = reported.mean_lag_variance();
+  ASSERT_EQ(lag.size(), reported.setup().states.size());
+  EXPECT_GT(lag[0], 0.0);
+  EXPECT_EQ(lag[0], bias_alone.variance()[0]);
+  EXPECT_EQ(lag[1], 0.0);  // the elbow's bias stands still
+  EXPECT_EQ(lag[2], camera_alone.variance()[0]);
+
+  DepthLikelihood likelihood(c.depth_model);
+  likelihood.set_observation(render_truth(model, 0.0, 0.0));
+  DepthRenderer renderer(model, kCamera);
+  std::vector<double> mean(std::size_t(setup.n), 0.0), prior_std(std::size_t(setup.n), 0.01);
+  std::vector<char> reopened(std::size_t(setup.n), 0);
+  reopened[std::size_t(shoulder)] = 1;
+  reported.begin_image(10.0, prior_std, reopened, mean, renderer, likelihood);
+  EXPECT_EQ(reported.mean_lag_variance()[0], 0.0);
+  EXPECT_EQ(reported.mean_lag_variance()[2], camera_alone.variance()[0]);
+}
+
 // The arm with the forearm `forearm_nearer_m` nearer the camera.
 std::shared_ptr<const RobotModel> arm_with_forearm_nearer(double forearm_nearer_m) {
   std::string urdf = kArm;

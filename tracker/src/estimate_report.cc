@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "arttrack/tracker/error.h"
+
 namespace arttrack {
 
 EstimateReport::EstimateReport(const TrackerSetup& setup)
@@ -11,6 +13,7 @@ EstimateReport::EstimateReport(const TrackerSetup& setup)
 
 void EstimateReport::fill(const JointBelief& belief, std::span<const double> readings_rad,
                           double time_s, const PosteriorCovariance& cov,
+                          std::span<const double> mean_lag_var,
                           std::span<const EndEffectorFitEstimate> fits, TrackerEstimate& e) {
   const TrackerSetup& s = setup_;
   const RobotModel& model = *s.model;
@@ -47,6 +50,9 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
   Eigen::MatrixXd& angle_cov = angle_cov_;
   if (cov.started()) {
     cov.angle_covariance_at(std::max(cov.time_s(), time_s), angle_cov);
+    ARTTRACK_CHECK_ARGUMENT(mean_lag_var.empty() || int(mean_lag_var.size()) == cov.size());
+    for (std::size_t i = 0; i < mean_lag_var.size(); ++i)
+      angle_cov(Eigen::Index(i), Eigen::Index(i)) += mean_lag_var[i];
     for (int i = 0; i < cov.size(); ++i) {
       const PosteriorCovariance::State& st = cov.states()[std::size_t(i)];
       const double var = std::max(0.0, angle_cov(i, i));

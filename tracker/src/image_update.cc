@@ -156,6 +156,7 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
         refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,
                            prior_std_, filter_, belief);
   covariance_.end_image(time_s, health_);
+  covariance_.record_means(time_s, belief);
   // Not at the first image: its search has just placed the arms.
   if (informed && !first) {
     const std::vector<ImageInformation::RigidFit>* fine = fine_rigid_fits(fit_image, full_camera);

@@ -18,6 +18,17 @@ void average_over_time(double sample, double time_s, double time_constant_s, dou
   last_time_s = time_s;
 }
 
+// The states whose means MeanLag follows: a bias and a camera offset stand
+// still once placed; a physical joint's angle (vision only) moves with the
+// robot.
+std::vector<char> lag_tracked(const ReportedCovarianceSetup& setup) {
+  std::vector<char> tracked(setup.states.size(), 0);
+  for (std::size_t i = 0; i < tracked.size(); ++i)
+    tracked[i] =
+        setup.states[i].kind == PosteriorCovariance::Kind::kBias || !setup.physical_joint[i];
+  return tracked;
+}
+
 }  // namespace
 
 ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
@@ -33,7 +44,9 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
       model_error_learned_shifts(setup.config.model_error &&
                                  setup.config.model_error_learned_shifts),
       model_error_learned_time_constant_s(setup.config.model_error_learned_time_constant_s),
-      model_error_learned_max_std_m(setup.config.model_error_learned_max_std_m) {
+      model_error_learned_max_std_m(setup.config.model_error_learned_max_std_m),
+      mean_lag_scale(setup.config.mean_lag_scale),
+      mean_lag_time_constant_s(setup.config.mean_lag_time_constant_s) {
   const JointFilterModel& filter = *setup.filter_model;
   std::vector<char> sampled(setup.n, 0);
   for (const SamplingBlock& b : sampled_blocks)
@@ -97,7 +110,9 @@ ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
       model_(setup.model),
       kinematics_(*setup.model),
       start_(covariance_.size()),
-      q_(setup.n) {
+      q_(setup.n),
+      mean_lag_(lag_tracked(setup_), setup_.mean_lag_scale, setup_.mean_lag_time_constant_s),
+      means_(setup_.states.size(), 0.0) {
   if (setup_.model_error_learned_shifts && covariance_.size() > 0)
     learned_ = std::make_unique<LearnedLinkShifts>(int(setup.model->links_with_geometry().size()),
                                                    setup_.model_error_learned_time_constant_s);
@@ -121,7 +136,10 @@ bool ReportedCovariance::begin_image(double time_s, std::span<const double> prio
   bool any_reopened = false;
   for (int i = 0; i < covariance_.size(); ++i) {
     const int dof = states[std::size_t(i)].dof;
-    if (reopened[dof]) covariance_.restart_state(i, setup_.reopened_bias_var_rad2);
+    if (reopened[dof]) {
+      covariance_.restart_state(i, setup_.reopened_bias_var_rad2);
+      mean_lag_.restart(i);
+    }
     any_reopened = any_reopened || reopened[dof];
     reopened[dof] = 0;
   }
@@ -136,6 +154,16 @@ void ReportedCovariance::add_variance(std::span<const double> added_var) {
     const double v = added_var[std::size_t(states[std::size_t(i)].dof)];
     if (v > 0) covariance_.add_variance(i, v);
   }
+}
+
+void ReportedCovariance::record_means(double time_s, const JointBelief& belief) {
+  const auto& states = covariance_.states();
+  for (int i = 0; i < covariance_.size(); ++i) {
+    const PosteriorCovariance::State& st = states[std::size_t(i)];
+    means_[std::size_t(i)] =
+        st.kind == PosteriorCovariance::Kind::kBias ? belief.mean_b[st.dof] : belief.mean_a[st.dof];
+  }
+  mean_lag_.update(time_s, means_);
 }
 
 void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {

@@ -93,6 +93,7 @@ struct Tracker::Impl {
   // The image thread's health and covariance, as estimate() reads them.
   TrackingHealth published_health;
   PosteriorCovariance published_covariance;
+  std::vector<double> published_mean_lag_var;  // per state of published_covariance
   std::vector<EndEffectorFitEstimate> published_fits;
 
   // The image update (use_images; one update at a time), and the encoder
@@ -150,6 +151,8 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
   if (setup.use_images) {
     images = std::make_unique<ImageUpdate>(setup);
     published_covariance = images->covariance();
+    published_mean_lag_var.assign(images->mean_lag_variance().begin(),
+                                  images->mean_lag_variance().end());
     published_fits = images->end_effector_fits();
     if (setup.config.asynchronous) worker = std::thread([this] { worker_loop(); });
   }
@@ -248,6 +251,7 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   if (setup.config.asynchronous) lock.lock();
   published_health = images->health();
   published_covariance = images->covariance();
+  std::ranges::copy(images->mean_lag_variance(), published_mean_lag_var.begin());
   published_fits = images->end_effector_fits();
 
   // Re-filter the joint readings after the image (paper Sec. IV-C).
@@ -481,7 +485,8 @@ TrackerEstimate Tracker::estimate() const {
   std::lock_guard lock(s.mutex);
   if (!s.initialized) throw InputError("tracker estimate asked for before any joint measurement");
   TrackerEstimate e;
-  s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance, s.published_fits, e);
+  s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance,
+                s.published_mean_lag_var, s.published_fits, e);
   e.health = s.published_health;
   if (s.noise_meter) {
     e.health.encoder_noise_measured_rad.resize(std::size_t(s.setup.n_phys));

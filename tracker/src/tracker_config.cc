@@ -181,6 +181,8 @@ void TrackerConfig::validate(const std::string& source) const {
         R::closed(1e-6, 0.1));
   check("uncertainty.link_length_std_m", link_length_std_m, R::closed(0, 0.1));
   check("uncertainty.depth_scale_std", depth_scale_std, R::closed(0, 0.1));
+  check("uncertainty.mean_lag_scale", mean_lag_scale, R::closed(0, 100));
+  check("uncertainty.mean_lag_time_constant_s", mean_lag_time_constant_s, R::closed(0.5, 1e4));
   check("refinement.min_pixels", refinement_min_pixels, R::closed(1, 1e7));
   check("refinement.widen_beyond_sigma", refinement_widen_beyond_sigma, R::closed(0, 100));
   check("end_effector_fit.time_constant_s", end_effector_fit.time_constant_s, R::closed(1e-3, 1e4));
@@ -321,7 +323,9 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                 {"model_error_learned_time_constant_s", &c.model_error_learned_time_constant_s},
                 {"model_error_learned_max_std_m", &c.model_error_learned_max_std_m},
                 {"link_length_std_m", &c.link_length_std_m},
-                {"depth_scale_std", &c.depth_scale_std}});
+                {"depth_scale_std", &c.depth_scale_std},
+                {"mean_lag_scale", &c.mean_lag_scale},
+                {"mean_lag_time_constant_s", &c.mean_lag_time_constant_s}});
   c.discount_correlated_residuals =
       uncertainty.get<bool>("discount_correlated_residuals", c.discount_correlated_residuals);
   c.model_error = uncertainty.get<bool>("model_error", c.model_error);

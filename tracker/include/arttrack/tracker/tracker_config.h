@@ -248,6 +248,17 @@ struct TrackerConfig {
   // camera offset takes such an error up along the optical axis, so the
   // images cannot size it; only the camera's calibration can. 0: none.
   double depth_scale_std = 0.0;
+  // Widen the reported variance of a bias or a camera offset while its
+  // mean still moves (mean_lag.h): plus mean_lag_scale times the squared
+  // difference of the mean's running averages over 0.2 s and over
+  // mean_lag_time_constant_s. The report only; the estimate is the same.
+  // Under model error the first images can put a mean on a wrong point of
+  // a ridge, from which it slides back over seconds while its reported
+  // standard deviation is already small (docs/accuracy.md, "The mean's lag
+  // as uncertainty"). mean_lag_scale in [0, 100] (0: off),
+  // mean_lag_time_constant_s in [0.5, 1e4].
+  double mean_lag_scale = 2.0;
+  double mean_lag_time_constant_s = 6.0;
   // Full fusion: one Gauss-Newton step on the mean after the particle
   // filter (tracker.h, "Refinement").
   bool refine_mean = true;

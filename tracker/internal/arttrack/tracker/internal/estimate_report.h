@@ -15,7 +15,8 @@
 // otherwise the joint filters' angle variance, but never below the
 // encoder's noise, and, after the first image, the reported covariance's
 // marginals (reported_covariance.h) predicted to the estimate's time for
-// the DOFs the images inform. End-effector covariances are J C J^T, J the
+// the DOFs the images inform, each plus what its mean's lag adds
+// (mean_lag.h). End-effector covariances are J C J^T, J the
 // kinematics' Jacobian in the camera frame (position, and the rotation
 // vector of the change), C the DOFs' covariance.
 //
@@ -44,10 +45,12 @@ class EstimateReport {
   // The estimate at time_s of `belief` (DOF order), with the newest encoder
   // readings (physical DOFs; what encoders_only reports) and the reported
   // covariance (not started: none yet). Leaves e.health alone.
-  // `fits`: per end effector, the end-effector fit's (none: empty).
+  // `mean_lag_var`: per state of `covariance`, the variance its mean's lag
+  // adds (empty: none). `fits`: per end effector, the end-effector fit's
+  // (none: empty).
   void fill(const JointBelief& belief, std::span<const double> readings_rad, double time_s,
-            const PosteriorCovariance& covariance, std::span<const EndEffectorFitEstimate> fits,
-            TrackerEstimate& e);
+            const PosteriorCovariance& covariance, std::span<const double> mean_lag_var,
+            std::span<const EndEffectorFitEstimate> fits, TrackerEstimate& e);
 
  private:
   const TrackerSetup& setup_;

@@ -78,6 +78,9 @@ class ImageUpdate {
   // After apply(): what the tracker publishes and counts.
   const TrackingHealth& health() const { return health_; }
   const PosteriorCovariance& covariance() const { return covariance_.covariance(); }
+  // Per state of covariance(), what the mean's lag adds to its variance
+  // (mean_lag.h).
+  std::span<const double> mean_lag_variance() const { return covariance_.mean_lag_variance(); }
   // Per end effector, the end-effector fit's correction and its
   // uncertainty (end_effector_fit.h).
   const std::vector<EndEffectorFitEstimate>& end_effector_fits() const {

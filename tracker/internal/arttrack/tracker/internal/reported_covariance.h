@@ -10,7 +10,9 @@
 // with uncertainty.model_error_learned_shifts, each link's shift learned
 // over many poses (learned_link_shifts.h) widens its prior where it is
 // larger; with uncertainty.depth_scale_std, the camera's depth scale, the
-// user's stated calibration, as the last consider parameter.
+// user's stated calibration, as the last consider parameter. Apart from the
+// covariance, the means' lag (mean_lag.h) that Tracker::estimate() adds to
+// the biases' and the camera offset's reported variances.
 //
 // An image's update comes in two halves, with the mean's refinement
 // (refinement.h) between them: begin_image() moves the covariance to the
@@ -36,6 +38,7 @@
 #include "arttrack/tracker/internal/image_information.h"
 #include "arttrack/tracker/internal/joint_filter.h"
 #include "arttrack/tracker/internal/learned_link_shifts.h"
+#include "arttrack/tracker/internal/mean_lag.h"
 #include "arttrack/tracker/internal/posterior_covariance.h"
 #include "arttrack/tracker/internal/tracker_setup.h"
 #include "arttrack/tracker/kinematics.h"
@@ -94,6 +97,8 @@ struct ReportedCovarianceSetup {
   bool model_error_learned_shifts = false;
   double model_error_learned_time_constant_s = 10;
   double model_error_learned_max_std_m = 0.001;
+  double mean_lag_scale = 2;  // uncertainty.mean_lag_*
+  double mean_lag_time_constant_s = 6;
 
  private:
   void find_lengths(const RobotModel& model);
@@ -141,6 +146,13 @@ class ReportedCovariance {
   // (health.links). No-op without states.
   void end_image(double time_s, TrackingHealth& health);
 
+  // After end_image(): the means right after the image (the belief's bias
+  // for a bias state, its angle for the others) into the means' lag.
+  void record_means(double time_s, const JointBelief& belief);
+  // Per state, the variance the mean's lag adds to its reported marginal
+  // (mean_lag.h); a DOF a search re-opened starts again (begin_image()).
+  std::span<const double> mean_lag_variance() const { return mean_lag_.variance(); }
+
   // The standard deviation of a link's shift the last end_image() took, m
   // (the running estimate, at least model_error_min_std_m; 0 without
   // model_error). The end-effector fit's uncertainty uses it too
@@ -164,6 +176,8 @@ class ReportedCovariance {
   // Per link with geometry: its pinned squared shift averaged over images,
   // and the newest image that pinned it (NaN: none yet).
   std::vector<double> link_square_m2_, link_time_s_;
+  MeanLag mean_lag_;           // tracks the biases and the camera offset
+  std::vector<double> means_;  // per state, record_means()'s workspace
   void update_link_model_errors(double time_s, TrackingHealth& health);
   // uncertainty.model_error_learned_shifts: the shifts learned over poses
   // (null without) and the image's equations for them (workspace).
