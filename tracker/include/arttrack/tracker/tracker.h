@@ -60,6 +60,9 @@
 //   image_information.h), not the particle filter's collapsed moments; each
 //   image counts as many independent pixels as its residuals' correlation
 //   and size say it is worth (uncertainty.discount_correlated_residuals).
+//   While a bias's or the camera offset's mean still moves, its reported
+//   variance also takes that motion (uncertainty.mean_lag_scale,
+//   mean_lag.h): the estimate itself is not changed by it.
 // - End-effector fit (end_effector_fit.enabled; full fusion). The robot is
 //   not its URDF: the angles that fit every link's pixels leave the hand a
 //   few millimetres and degrees from where its own pixels put it. After
