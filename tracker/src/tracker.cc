@@ -251,7 +251,8 @@ void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>
   if (setup.config.asynchronous) lock.lock();
   published_health = images->health();
   published_covariance = images->covariance();
-  std::ranges::copy(images->mean_lag_variance(), published_mean_lag_var.begin());
+  published_mean_lag_var.assign(images->mean_lag_variance().begin(),
+                                images->mean_lag_variance().end());
   published_fits = images->end_effector_fits();
 
   // Re-filter the joint readings after the image (paper Sec. IV-C).
