@@ -26,6 +26,17 @@ components against their reported covariance.
       converged: the pooled camera column can sit in the band while one
       axis is never covered (docs/accuracy.md, "The camera's axes").
 
+  tools/accuracy_table.py --error-over-sd out/s*/FILE
+      per scenario and method over all the folders (as --pool), how wide
+      the reported standard deviations are against the errors, from
+      converged_after_s on: per run and joint (and camera axis) the mean of
+      (estimate - truth) / reported sd over its samples, then over those
+      pairs their RMS, the largest and the share beyond 2. A systematic
+      error (a robot off its URDF) is nearly constant in a run, so a share
+      within 2 sigma of 100% says only that each mean is under 2; an RMS of
+      0.4 says the reported sds are about 2.5 times what they should be
+      (1 is honest, over 1 too sure; docs/accuracy.md, stop 83).
+
 Exit status 1 if a folder has no readable summary.json (or, with --pool,
 timeseries.csv), or if pooled folders score differently.
 """
@@ -189,16 +200,103 @@ def camera_axes(folders):
     return status
 
 
+def mean_ratios(folder, converged_after_s):
+    """Per (method, run, quantity) the mean of (estimate - truth) / reported
+    sd from converged_after_s on, over the samples where all three are
+    numbers and the sd is positive; quantity is ("joint", name) or
+    ("camera", axis)."""
+    sums = {}
+    with open(f"{folder}/timeseries.csv", newline="") as f:
+        reader = csv.DictReader(f)
+        triples = []
+        for c in reader.fieldnames or []:
+            for unit in ("_rad", "_m"):
+                if c.endswith("_true" + unit) and not c.startswith("cam_"):
+                    name = c[:-len("_true" + unit)]
+                    triples.append((("joint", name), c, f"{name}_est{unit}", f"{name}_std{unit}"))
+        for axis in CAMERA_AXES:
+            unit = "_m" if axis in ("x", "y", "z") else "_rad"
+            triples.append((("camera", axis), f"cam_true_{axis}{unit}", f"cam_{axis}{unit}",
+                            f"cam_{axis}_std{unit}"))
+        names = set(reader.fieldnames or [])
+        triples = [t for t in triples if all(c in names for c in t[1:])]
+        for row in reader:
+            if float(row["time_s"]) < converged_after_s:
+                continue
+            for quantity, true, est, std in triples:
+                try:
+                    error = float(row[est]) - float(row[true])
+                    sd = float(row[std])
+                except ValueError:  # an empty cell: no estimate
+                    continue
+                if not (math.isfinite(error) and sd > 0 and math.isfinite(sd)):
+                    continue
+                key = (row["method"], int(row["run"]), quantity)
+                total, count = sums.get(key, (0.0, 0))
+                sums[key] = (total + error / sd, count + 1)
+    return {key: total / count for key, (total, count) in sums.items()}
+
+
+def error_over_sd(folders):
+    """The --error-over-sd table, pooled per scenario as --pool."""
+    groups = {}
+    for folder in folders:
+        with open(f"{folder}/summary.json") as f:
+            s = json.load(f)
+        groups.setdefault(s["scenario"], []).append((folder, s))
+    print("| scenario | method | runs | joints: pairs, RMS of the mean error / sd, largest, "
+          "beyond 2 | camera axes: the same |")
+    print("|---|---|---|---|---|")
+
+    def cell(means):
+        if not means:
+            return "- "
+        rms = math.sqrt(sum(m * m for m in means) / len(means))
+        largest = max(abs(m) for m in means)
+        beyond = sum(1 for m in means if abs(m) > 2)
+        return f"{len(means)}, {rms:.2f}, {largest:.2f}, {beyond} "
+
+    for scenario, members in groups.items():
+        scoring = members[0][1]["scoring"]
+        for folder, s in members:
+            if s["scoring"] != scoring:
+                raise ValueError(f"{folder}: scored differently from {members[0][0]}")
+        names = []
+        for _, s in members:
+            names += [n for n in s["methods"] if n not in names]
+        for name in names:
+            runs = 0
+            means = {"joint": [], "camera": []}
+            for folder, s in members:
+                if name not in s["methods"]:
+                    continue
+                runs += s["methods"][name]["lost"]["of"]
+                ratios = mean_ratios(folder, scoring["converged_after_s"])
+                for (method, _, (kind, _)), m in sorted(ratios.items()):
+                    if method == name:
+                        means[kind].append(m)
+            print(f"| {scenario} | {name} | {runs} | {cell(means['joint'])}| "
+                  f"{cell(means['camera'])}|")
+
+
+def pooled(table, folders):
+    """Runs a pooled table (--pool, --error-over-sd); 1 on an unreadable or
+    mismatched folder, named on stderr."""
+    try:
+        table(folders)
+    except (OSError, ValueError, KeyError) as e:
+        print(f"accuracy_table: {e}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main(folders):
+    if folders and folders[0] == "--error-over-sd":
+        return pooled(error_over_sd, folders[1:])
     if folders and folders[0] == "--camera-axes":
         return camera_axes(folders[1:])
     if folders and folders[0] == "--pool":
-        try:
-            pool(folders[1:])
-        except (OSError, ValueError, KeyError) as e:
-            print(f"accuracy_table: {e}", file=sys.stderr)
-            return 1
-        return 0
+        return pooled(pool, folders[1:])
     summaries, status = read_summaries(folders)
     print_header()
     for s in summaries:
