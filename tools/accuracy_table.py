@@ -123,23 +123,39 @@ def time_to_converge(times, errors, threshold):
     return None if first == len(errors) else times[first]
 
 
-def pool(folders):
+def scenario_groups(folders):
+    """Per scenario, in order, its folders and their summary.json; a folder
+    scored differently (scoring or end effectors) from its group's first is
+    a ValueError naming both."""
     groups = {}
     for folder in folders:
         with open(f"{folder}/summary.json") as f:
             s = json.load(f)
-        groups.setdefault(s["scenario"], []).append((folder, s, worst_series(folder, s)))
+        groups.setdefault(s["scenario"], []).append((folder, s))
+    for members in groups.values():
+        first_folder, first = members[0]
+        for folder, s in members:
+            if (s["scoring"] != first["scoring"] or
+                    s.get("end_effectors") != first.get("end_effectors")):
+                raise ValueError(f"{folder}: scored differently from {first_folder}")
+    return groups
+
+
+def method_names(summaries):
+    """The methods any of the summaries ran, in the order they first appear."""
+    names = []
+    for s in summaries:
+        names += [n for n in s["methods"] if n not in names]
+    return names
+
+
+def pool(folders):
+    groups = {scenario: [(folder, s, worst_series(folder, s)) for folder, s in members]
+              for scenario, members in scenario_groups(folders).items()}
     print_header()
     for scenario, members in groups.items():
         scoring = members[0][1]["scoring"]
-        ends = members[0][1]["end_effectors"]
-        for folder, s, _ in members:
-            if s["scoring"] != scoring or s["end_effectors"] != ends:
-                raise ValueError(f"{folder}: scored differently from {members[0][0]}")
-        names = []
-        for _, s, _ in members:
-            names += [n for n in s["methods"] if n not in names]
-        for name in names:  # each method over the folders that ran it
+        for name in method_names(s for _, s, _ in members):  # each over the folders that ran it
             runs = lost = 0
             samples, times = [], []
             keys = ("angles", "biases", "camera_offset", "end_effector_position",
@@ -239,11 +255,7 @@ def mean_ratios(folder, converged_after_s):
 
 def error_over_sd(folders):
     """The --error-over-sd table, pooled per scenario as --pool."""
-    groups = {}
-    for folder in folders:
-        with open(f"{folder}/summary.json") as f:
-            s = json.load(f)
-        groups.setdefault(s["scenario"], []).append((folder, s))
+    groups = scenario_groups(folders)
     print("| scenario | method | runs | joints: pairs, RMS of the mean error / sd, largest, "
           "beyond 2 | camera axes: the same |")
     print("|---|---|---|---|---|")
@@ -257,22 +269,16 @@ def error_over_sd(folders):
         return f"{len(means)}, {rms:.2f}, {largest:.2f}, {beyond} "
 
     for scenario, members in groups.items():
-        scoring = members[0][1]["scoring"]
-        for folder, s in members:
-            if s["scoring"] != scoring:
-                raise ValueError(f"{folder}: scored differently from {members[0][0]}")
-        names = []
-        for _, s in members:
-            names += [n for n in s["methods"] if n not in names]
-        for name in names:
+        after_s = members[0][1]["scoring"]["converged_after_s"]
+        ratios = [mean_ratios(folder, after_s) for folder, _ in members]  # each file read once
+        for name in method_names(s for _, s in members):
             runs = 0
             means = {"joint": [], "camera": []}
-            for folder, s in members:
+            for (_, s), folder_ratios in zip(members, ratios):
                 if name not in s["methods"]:
                     continue
                 runs += s["methods"][name]["lost"]["of"]
-                ratios = mean_ratios(folder, scoring["converged_after_s"])
-                for (method, _, (kind, _)), m in sorted(ratios.items()):
+                for (method, _, (kind, _)), m in sorted(folder_ratios.items()):
                     if method == name:
                         means[kind].append(m)
             print(f"| {scenario} | {name} | {runs} | {cell(means['joint'])}| "
