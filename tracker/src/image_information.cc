@@ -624,7 +624,7 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
     if (pinned) (*pinned)[std::size_t(columns[std::size_t(i)])] = 1;
     if (column_square_m2) (*column_square_m2)[std::size_t(columns[std::size_t(i)])] = square_m2;
   }
-  return counted > 0 ? std::max(0.0, sum / counted) : 0.0;
+  return counted > 0 ? sum / counted : 0.0;  // unbiased: the caller clips its average
 }
 
 void ImageInformation::estimate_effective_pixel_fraction(int width) {

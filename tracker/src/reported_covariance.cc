@@ -180,7 +180,9 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   consider_cross_.resize(info.rows(), setup_.num_consider);
   double std_m = 0, unpinned_std_m = 0;
   if (setup_.model_error) {
-    // The link shifts' variance, averaged over time (one image's estimate is noisy).
+    // The link shifts' variance, averaged over time (one image's estimate is
+    // noisy, and unbiased: negative samples count, only the average is
+    // clipped).
     const double sample = information_.link_shift_variance_m2(
         &pinned_, &column_square_m2_, learned_ ? &shift_equations_ : nullptr);
     if (learned_) {  // each image's fit weighs its independent pixels' share
@@ -191,7 +193,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     // residuals large) weigh one image's share each.
     average_over_time(sample, time_s, setup_.model_error_time_constant_s, model_error_var_m2_,
                       model_error_time_s_);
-    health.model_error_std_m = std::sqrt(model_error_var_m2_);
+    health.model_error_std_m = std::sqrt(std::max(0.0, model_error_var_m2_));
     update_link_model_errors(time_s, health);
     std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
     model_error_std_m_ = std_m;
