@@ -127,7 +127,8 @@ TEST(EndEffectorFit, PositionCovarianceIsTheFitsScatterPlusTheShapeError) {
   const EndEffectorFitEstimate after = fit.estimates()[0];
   EXPECT_NEAR(after.weight, weight, 1e-12);
   EXPECT_NEAR(after.weight, 1 - std::exp(-20 * dt_s), 1e-12);
-  const double shape_var_m2 = 4 * shape_std_m * shape_std_m;  // at the unpinned scale, 2
+  const double scale = setup.config.model_error_unpinned_scale;  // the shape error's, all axes
+  const double shape_var_m2 = scale * scale * shape_std_m * shape_std_m;
   const Eigen::Matrix3d expected = scatter / weight + shape_var_m2 * Eigen::Matrix3d::Identity();
   EXPECT_LT((after.position_covariance_m2 - expected).norm(), 1e-12);
   // About the alternation's variance (1 mm)^2 along the camera's x, the

@@ -220,7 +220,7 @@ struct TrackerConfig {
   bool model_error = true;
   double model_error_time_constant_s = 2.0;
   double model_error_min_std_m = 0.0;
-  double model_error_unpinned_scale = 2.0;
+  double model_error_unpinned_scale = 3.0;
   // Also learn each link's shift over many poses, in the link's own axes
   // (learned_link_shifts.h: each image's shift fit summed over
   // model_error_learned_time_constant_s); where an axis is learned (the

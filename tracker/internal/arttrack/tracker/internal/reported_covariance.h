@@ -93,7 +93,7 @@ struct ReportedCovarianceSetup {
   bool model_error = true;
   double model_error_time_constant_s = 2;
   double model_error_min_std_m = 0;
-  double model_error_unpinned_scale = 2;  // the constructor copies the configuration's
+  double model_error_unpinned_scale = 3;  // the constructor copies the configuration's
   bool model_error_learned_shifts = false;
   double model_error_learned_time_constant_s = 10;
   double model_error_learned_max_std_m = 0.001;
