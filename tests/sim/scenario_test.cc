@@ -264,6 +264,23 @@ camera: {latency_s: 0.02}
   EXPECT_DOUBLE_EQ(o.encoders.groups[0].offset_rad, kRadPerDeg);
 
   expect_error(child, {"override", "novalue"}, {"novalue"});
+
+  // A file's own tracker_overrides survive an override that adds to them,
+  // written as a path or as a map, and reach the tracker merged into its
+  // `uncertainty` map, not in place of it (until stop 85 the second form
+  // dropped the file's depth_scale_std).
+  const fs::path told = dir.write("told.yaml", R"(
+extends: base.yaml
+tracker_overrides: {uncertainty.depth_scale_std: 0.005}
+)");
+  for (const std::string& set :
+       {std::string("tracker_overrides.uncertainty.model_error_unpinned_scale=4"),
+        std::string("tracker_overrides={uncertainty: {model_error_unpinned_scale: 4}}")}) {
+    const Scenario t = load_scenario(told, {set});
+    EXPECT_EQ(t.tracker.depth_scale_std, 0.005) << set;
+    EXPECT_EQ(t.tracker.model_error_unpinned_scale, 4.0) << set;
+  }
+  EXPECT_EQ(load_scenario(told, {"tracker_overrides={}"}).tracker.depth_scale_std, 0.0);
 }
 
 TEST(Scenario, UnknownKeysAreNamedWithPathAndFile) {

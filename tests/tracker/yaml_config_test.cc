@@ -137,6 +137,26 @@ TEST_F(YamlConfigTest, OverridesCreateAndReplaceKeys) {
             std::string::npos);
 }
 
+// A map value merges into a map key by key, deeply (as `extends` does);
+// `{}` empties it. Until stop 85 a map replaced the whole map, so
+// `tracker_overrides.uncertainty.a=1` dropped a file's own `uncertainty.b`.
+TEST_F(YamlConfigTest, OverridesMergeMapsIntoMaps) {
+  YamlDocument doc = load_yaml_string("u: {a: 1, b: 2, n: {p: 1, q: 2}}\nl: [1]\n", "s.yaml");
+  apply_override(doc, "u={a: 5, n: {p: 3}, c: 4}");
+  EXPECT_EQ(find_key(doc.root, "u.a")->as<int>(), 5);
+  EXPECT_EQ(find_key(doc.root, "u.b")->as<int>(), 2);
+  EXPECT_EQ(find_key(doc.root, "u.c")->as<int>(), 4);
+  EXPECT_EQ(find_key(doc.root, "u.n.p")->as<int>(), 3);
+  EXPECT_EQ(find_key(doc.root, "u.n.q")->as<int>(), 2);
+  apply_override(doc, "u.n={}");  // empties
+  EXPECT_EQ(find_key(doc.root, "u.n")->size(), 0u);
+  EXPECT_EQ(find_key(doc.root, "u.a")->as<int>(), 5);
+  apply_override(doc, "l={x: 1}");  // a map over a list replaces it
+  EXPECT_EQ(find_key(doc.root, "l.x")->as<int>(), 1);
+  apply_override(doc, "u.a={y: 2}");  // and over a scalar
+  EXPECT_EQ(find_key(doc.root, "u.a.y")->as<int>(), 2);
+}
+
 // Key paths: names and list indices, `a.b[1].c`, lists of lists `m[1][0]`.
 TEST(KeyPath, ParsesNamesAndIndices) {
   const std::vector<KeyStep> steps = parse_key_path("a.b[1].c");

@@ -244,10 +244,16 @@ void apply_override(YamlDocument& doc, const std::string& assignment) {
       walked += (walked.empty() ? "" : ".") + step.name;
     }
     if (i + 1 == steps.size()) {
+      // A map merges into a map key by key, as `extends` merges, so that
+      // `tracker_overrides.uncertainty.a=1` and a file's own
+      // `uncertainty.b` both hold; anything else, and `{}`, replaces.
+      const YAML::Node old = step.is_index() ? node[step.index] : node[step.name];
+      const YAML::Node put =
+          old && old.IsMap() && value.IsMap() && value.size() > 0 ? merge(old, value) : value;
       if (step.is_index())
-        node[step.index] = value;
+        node[step.index] = put;
       else
-        node[step.name] = value;
+        node[step.name] = put;
       return;
     }
     // A missing or null map on the way is created; a list never is.

@@ -62,8 +62,11 @@ std::vector<KeyStep> parse_key_path(const std::string& key);
 // A malformed path: InputError as parse_key_path.
 std::optional<YAML::Node> find_key(const YAML::Node& root, const std::string& key);
 
-// Applies an override `key.path=value` to the document. Missing (or null)
-// maps on the way are created; a list is never created or grown. Errors
+// Applies an override `key.path=value` to the document. A map value merges
+// into a map already there key by key (deeply, as `extends` merges: the
+// override's keys win, the others stay); `{}`, a list or a scalar replaces
+// what is there. Missing (or null) maps on the way are created; a list is
+// never created or grown. Errors
 // (InputError, starting "override 'key=value'") name the step: a map key on
 // something that is not a map, an index into something that is not a list,
 // an index past the end (with the list's length).
