@@ -84,21 +84,23 @@ struct ReportedCovarianceSetup {
     std::vector<int> top_shift_links;
   };
   std::vector<LengthParameter> lengths;
+  // The rest are the configuration's (TrackerConfig, uncertainty.*), which
+  // the constructor copies: their defaults live there alone.
   double link_length_std_m = 0;
   double depth_scale_std = 0;  // a fraction
   ImageInformationParams information;
   double reopened_bias_var_rad2 = 0;  // (acquisition.bias_std_rad)^2
-  double image_information_scale = 1;
-  bool discount_correlated_residuals = true;
-  bool model_error = true;
-  double model_error_time_constant_s = 2;
+  double image_information_scale = 0;
+  bool discount_correlated_residuals = false;
+  bool model_error = false;
+  double model_error_time_constant_s = 0;
   double model_error_min_std_m = 0;
-  double model_error_unpinned_scale = 3;  // the constructor copies the configuration's
+  double model_error_unpinned_scale = 0;
   bool model_error_learned_shifts = false;
-  double model_error_learned_time_constant_s = 10;
-  double model_error_learned_max_std_m = 0.001;
-  double mean_lag_scale = 2;  // uncertainty.mean_lag_*
-  double mean_lag_time_constant_s = 6;
+  double model_error_learned_time_constant_s = 0;
+  double model_error_learned_max_std_m = 0;
+  double mean_lag_scale = 0;  // uncertainty.mean_lag_*
+  double mean_lag_time_constant_s = 0;
 
  private:
   void find_lengths(const RobotModel& model);
