@@ -31,11 +31,12 @@ grep -q "| full_fusion | 2 | \([0-9.]*% / \)\{5\}[0-9.]*% | \([0-9.]*% / \)\{5\}
   { cp axes.txt out.txt; fail "--camera-axes: no full_fusion row with six shares twice:"; }
 # How wide the reported sds are against the errors: a row per method.
 python3 "$tool" --error-over-sd a >ratio.txt 2>out.txt || fail "accuracy_table.py --error-over-sd a failed:"
-grep -q "| full_fusion | 2 | [0-9]*, [0-9.]*, [0-9.]*, [0-9]* | [0-9]*, [0-9.]*, [0-9.]*, [0-9]* |$" ratio.txt ||
+grep -q "| full_fusion | 2 | [0-9]*, [0-9.]*, [0-9.]*, [0-9]*, [0-9.]* | [0-9]*, [0-9.]*, [0-9.]*, [0-9]*, [0-9.]* |$" ratio.txt ||
   { cp ratio.txt out.txt; fail "--error-over-sd: no full_fusion row of joints and camera axes:"; }
 # The same on a hand-made folder whose answer is known: joint j's error is
 # 1 sd in run 0 and 3 sd in run 1 from 1 s on (RMS sqrt(5), largest 3, one
-# pair beyond 2); before 1 s it is 100 sd, and an empty estimate is skipped.
+# pair beyond 2; over the samples 1, 3 and 3: RMS sqrt(19 / 3)); before 1 s
+# it is 100 sd, and an empty estimate or a negative sd is skipped.
 mkdir -p made
 cat >made/summary.json <<'JSON'
 {"scenario": "made", "scoring": {"converged_after_s": 1.0},
@@ -52,8 +53,8 @@ time_s,run,method,j_true_rad,j_est_rad,j_std_rad
 2.0,1,full_fusion,1,1.6,0.2
 CSV
 python3 "$tool" --error-over-sd made >made.txt 2>out.txt || fail "--error-over-sd made failed:"
-grep -qx "| made | full_fusion | 2 | 2, 2.24, 3.00, 1 | - |" made.txt ||
-  { cp made.txt out.txt; fail "--error-over-sd made: not RMS 2.24, largest 3.00, 1 beyond 2:"; }
+grep -qx "| made | full_fusion | 2 | 2, 2.24, 3.00, 1, 2.52 | - |" made.txt ||
+  { cp made.txt out.txt; fail "--error-over-sd made: not RMS 2.24, largest 3.00, 1 beyond 2, 2.52 over samples:"; }
 python3 "$tool" --pool a b >both.txt 2>out.txt || fail "accuracy_table.py --pool a b failed:"
 [ "$(grep -c '| 4 |' both.txt)" = 2 ] || { cp both.txt out.txt; fail "--pool a b: not one row of 4 runs per method:"; }
 timeout 300 "$arttrack" run "$scenario" --methods encoders_only,full_fusion --runs 1 \
