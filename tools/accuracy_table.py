@@ -220,7 +220,7 @@ def camera_axes(folders):
     return status
 
 
-def mean_ratios(folder, converged_after_s):
+def ratio_sums(folder, converged_after_s):
     """Per (method, run, quantity) the sum, the sum of squares and the count
     of (estimate - truth) / reported sd from converged_after_s on, over the
     samples where all three are numbers and the sd is positive; quantity is
@@ -277,17 +277,17 @@ def error_over_sd(folders):
 
     for scenario, members in groups.items():
         after_s = members[0][1]["scoring"]["converged_after_s"]
-        ratios = [mean_ratios(folder, after_s) for folder, _ in members]  # each file read once
+        sums_per_folder = [ratio_sums(folder, after_s) for folder, _ in members]  # each read once
         for name in method_names(s for _, s in members):
             runs = 0
             sums = {"joint": [], "camera": []}
-            for (_, s), folder_ratios in zip(members, ratios):
+            for (_, s), folder_sums in zip(members, sums_per_folder):
                 if name not in s["methods"]:
                     continue
                 runs += s["methods"][name]["lost"]["of"]
-                for (method, _, (kind, _)), pair in sorted(folder_ratios.items()):
+                for (method, _, (kind, _)), run_sums in sorted(folder_sums.items()):
                     if method == name:
-                        sums[kind].append(pair)
+                        sums[kind].append(run_sums)
             print(f"| {scenario} | {name} | {runs} | {cell(sums['joint'])}| "
                   f"{cell(sums['camera'])}|")
 

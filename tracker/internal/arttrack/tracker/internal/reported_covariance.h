@@ -84,8 +84,9 @@ struct ReportedCovarianceSetup {
     std::vector<int> top_shift_links;
   };
   std::vector<LengthParameter> lengths;
-  // The rest are the configuration's (TrackerConfig, uncertainty.*), which
-  // the constructor copies: their defaults live there alone.
+  // The rest the constructor sets from the configuration (TrackerConfig,
+  // uncertainty.* and acquisition.bias_std_rad), whose defaults live there
+  // alone; `information` follows from them.
   double link_length_std_m = 0;
   double depth_scale_std = 0;  // a fraction
   ImageInformationParams information;
