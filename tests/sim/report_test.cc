@@ -558,16 +558,24 @@ TEST(RunOutputs, ConsistencyIsShownOverAllSamplesAndFromTheConvergedWindow) {
 }
 
 // TrackingHealth::links: per link, the median of the runs' last estimates
-// over the runs that pinned it, named in summary.json, the terminal table
-// (the three furthest) and the report; a method without the list has none.
+// over the runs that pinned (sized) it, named in summary.json, the
+// terminal table (the three furthest, the three scales furthest from 0)
+// and the report; a method without the list has none.
 TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
   ScenarioResult r = two_hands_result();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   // full_fusion's last samples: run 0 and run 1. "hand" is pinned in run 1
-  // only; "base" in none; an earlier sample (run 0) must not count.
+  // only; "base" in none; an earlier sample (run 0) must not count. The
+  // forearm is sized in both runs, the hand in run 0, the others in none.
   const std::vector<std::vector<TrackingHealth::LinkModelError>> last = {
-      {{"base", nan, 0}, {"forearm", 0.004, 30}, {"upper", 0.001, 30}, {"hand", nan, 0}},
-      {{"base", nan, 0}, {"forearm", 0.006, 30}, {"upper", 0.003, 30}, {"hand", 0.0015, 4}}};
+      {{"base", nan, 0},
+       {"forearm", 0.004, 30, 0.03, 30},
+       {"upper", 0.001, 30},
+       {"hand", nan, 0, -0.02, 40}},
+      {{"base", nan, 0},
+       {"forearm", 0.006, 30, 0.05, 30},
+       {"upper", 0.003, 30},
+       {"hand", 0.0015, 4}}};
   for (std::size_t k = 0; k < 2; ++k) {
     std::vector<EstimateSample>& samples = r.runs[k].methods[1].samples;
     samples[samples.size() - 2].health.links = {{"forearm", 0.05, 1}};
@@ -586,10 +594,21 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
   EXPECT_NEAR(fits[2].median_shift_m, 0.002, 1e-12);
   EXPECT_EQ(fits[3].runs_pinned, 1);
   EXPECT_NEAR(fits[3].median_shift_m, 0.0015, 1e-12);
+  EXPECT_EQ(fits[0].runs_scaled, 0);
+  EXPECT_TRUE(std::isnan(fits[0].median_scale));
+  EXPECT_EQ(fits[1].runs_scaled, 2);
+  EXPECT_NEAR(fits[1].median_scale, 0.04, 1e-12);
+  EXPECT_EQ(fits[3].runs_scaled, 1);
+  EXPECT_NEAR(fits[3].median_scale, -0.02, 1e-12);
 
   const std::string json = summary_json(r);
   EXPECT_NE(json.find("\"links_model_error\": {\n        \"base\": {\n          "
                       "\"pinned_shift_m\": null,\n          \"runs_pinned\": 0"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"forearm\": {\n          \"pinned_shift_m\": 0.005,\n          "
+                      "\"runs_pinned\": 2,\n          \"scale\": 0.04,\n          "
+                      "\"runs_scaled\": 2"),
             std::string::npos)
       << json;
   EXPECT_EQ(count_occurrences(json, "links_model_error"), 1u);  // full_fusion only
@@ -598,6 +617,11 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
   EXPECT_NE(table.str().find("full_fusion, links furthest from the model (pinned surface shift, "
                              "median of the runs' last estimates): forearm 5.0 mm, upper 2.0 mm, "
                              "hand 1.5 mm; 1 of 4 links never pinned\n"),
+            std::string::npos)
+      << table.str();
+  EXPECT_NE(table.str().find("full_fusion, links whose size differs most from the model (scale, "
+                             "median of the runs' last estimates): forearm +4.0%, hand -2.0%; 2 "
+                             "of 4 links never sized\n"),
             std::string::npos)
       << table.str();
   // A model that fits: no link is named.
@@ -611,7 +635,10 @@ TEST(RunOutputs, TheLinksFurthestFromTheModelAreNamed) {
             std::string::npos)
       << exact_table.str();
   const std::string html = report_html(r);
-  EXPECT_NE(html.find("<tr><td class=\"m\">forearm</td><td>5.0&nbsp;mm (2/2)</td></tr>"),
+  EXPECT_NE(html.find("<tr><td class=\"m\">forearm</td><td>5.0&nbsp;mm (2/2), scale "
+                      "+4.0%</td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<tr><td class=\"m\">hand</td><td>1.5&nbsp;mm (1/2), scale -2.0%</td></tr>"),
             std::string::npos);
   EXPECT_NE(html.find("<tr><td class=\"m\">base</td><td>not pinned</td></tr>"), std::string::npos);
   EXPECT_EQ(tag_problem(html), "");

@@ -240,6 +240,31 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
   EXPECT_TRUE(joint_wider);
 }
 
+// The health after `images` images of the arm `real` at shoulder 0.4,
+// elbow -0.6, `dt_s` apart from 1 s, tracked with `nominal` under `config`.
+std::vector<TrackingHealth::LinkModelError> links_after_images(
+    std::shared_ptr<const RobotModel> nominal, const RobotModel& real, const TrackerConfig& config,
+    int images, double dt_s) {
+  const TrackerSetup setup(std::move(nominal), config, {"shoulder", "elbow"});
+  const RobotModel& model = *setup.model;
+  DepthLikelihood likelihood(config.depth_model);
+  likelihood.set_observation(render_truth(real, 0.4, -0.6));
+  DepthRenderer renderer(model, kCamera);
+  const std::size_t n = std::size_t(model.num_joints());
+  std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
+  mean[std::size_t(model.joint_index("shoulder"))] = 0.4;
+  mean[std::size_t(model.joint_index("elbow"))] = -0.6;
+  ReportedCovariance reported(setup, sampling_blocks(model, config));
+  std::vector<char> reopened(n, 0);
+  TrackingHealth health;
+  for (int k = 0; k < images; ++k) {
+    const double t = 1.0 + dt_s * k;
+    EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
+    reported.end_image(t, health);
+  }
+  return health.links;
+}
+
 // The health names the link that does not fit: the real forearm sits 8 mm
 // nearer the camera than the model's (a shift along the view, which the
 // joints cannot take up), so after some images the forearm's pinned shift
@@ -247,32 +272,14 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
 // read about nothing. The base's shift moves the whole arm, which the camera
 // offset takes up: no image pins it. Without model_error there is no list.
 TEST(ReportedCovariance, TheHealthReportsEachLinksPinnedShift) {
-  TrackerConfig c = small_config(TrackingMethod::kFullFusion);
-  auto links_after_images = [&](double forearm_nearer_m, bool model_error) {
-    TrackerConfig cs = c;
-    cs.model_error = model_error;
-    const TrackerSetup setup(arm_model(), cs, {"shoulder", "elbow"});
-    const RobotModel& model = *setup.model;
-    DepthLikelihood likelihood(cs.depth_model);
-    likelihood.set_observation(render_truth(*arm_with_forearm_nearer(forearm_nearer_m), 0.4, -0.6));
-    DepthRenderer renderer(model, kCamera);
-    const std::size_t n = std::size_t(model.num_joints());
-    std::vector<double> mean(n, 0.0), prior_std(n, 0.01);
-    mean[std::size_t(model.joint_index("shoulder"))] = 0.4;
-    mean[std::size_t(model.joint_index("elbow"))] = -0.6;
-    ReportedCovariance reported(setup, sampling_blocks(model, cs));
-    std::vector<char> reopened(n, 0);
-    TrackingHealth health;
-    // 20 s of images 0.5 s apart: the average (2 s) forgets its start at 0.
-    for (int k = 0; k < 40; ++k) {
-      const double t = 1.0 + 0.5 * k;
-      EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
-      reported.end_image(t, health);
-    }
-    return health.links;
+  // 20 s of images 0.5 s apart: the average (2 s) forgets its start at 0.
+  auto after_images = [&](double forearm_nearer_m, bool model_error) {
+    TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+    c.model_error = model_error;
+    return links_after_images(arm_model(), *arm_with_forearm_nearer(forearm_nearer_m), c, 40, 0.5);
   };
-  const auto off = links_after_images(0.008, true);
-  const auto exact = links_after_images(0.0, true);
+  const auto off = after_images(0.008, true);
+  const auto exact = after_images(0.0, true);
   const std::vector<std::string> names = {"base_link", "upper", "lower"};
   ASSERT_EQ(off.size(), names.size());
   ASSERT_EQ(exact.size(), names.size());
@@ -288,7 +295,45 @@ TEST(ReportedCovariance, TheHealthReportsEachLinksPinnedShift) {
   EXPECT_LT(off[1].shift_m, 0.002);
   EXPECT_LT(exact[1].shift_m, 0.001);
   EXPECT_LT(exact[2].shift_m, 0.001);
-  EXPECT_TRUE(links_after_images(0.008, false).empty());
+  EXPECT_TRUE(after_images(0.008, false).empty());
+}
+
+// The arm with a round forearm 8 cm in radius, `scale` times the model's
+// size about the elbow (a box's scale cannot be told from a shift where
+// three faces show; a thinner one spans too few of the 64x48 pixels).
+std::shared_ptr<const RobotModel> arm_with_round_forearm(double scale) {
+  std::string urdf = kArm;
+  const std::string box =
+      R"(<visual><origin xyz="0 0 0.125"/><geometry><box size="0.04 0.08 0.25"/></geometry></visual>)";
+  const std::size_t at = urdf.find(box);
+  EXPECT_NE(at, std::string::npos);
+  if (at != std::string::npos)
+    urdf.replace(at, box.size(),
+                 "<visual><origin xyz=\"0 0 " + std::to_string(0.125 * scale) +
+                     "\"/><geometry><cylinder radius=\"" + std::to_string(0.08 * scale) +
+                     "\" length=\"" + std::to_string(0.25 * scale) + "\"/></geometry></visual>");
+  return std::make_shared<const RobotModel>(RobotModel::from_urdf_string(urdf, "."));
+}
+
+// The health sizes each link: the real round forearm 4% larger than the
+// model's reads about +4% once 30 images have sized it (NaN before), and
+// the exact forearm about 0.
+TEST(ReportedCovariance, TheHealthReportsALinksScale) {
+  const TrackerConfig c = small_config(TrackingMethod::kFullFusion);
+  auto forearm_after_images = [&](double forearm_scale, int images) {
+    const auto links = links_after_images(arm_with_round_forearm(1.0),
+                                          *arm_with_round_forearm(forearm_scale), c, images, 0.1);
+    EXPECT_EQ(links.size(), 3u);
+    return links.size() == 3 ? links[2] : TrackingHealth::LinkModelError{};
+  };
+  const TrackingHealth::LinkModelError larger = forearm_after_images(1.04, 40);
+  EXPECT_EQ(larger.link, "lower");
+  EXPECT_EQ(larger.scale_images, 40);
+  EXPECT_NEAR(larger.scale, 0.04, 0.01);  // 0.036
+  const TrackingHealth::LinkModelError early = forearm_after_images(1.04, 29);
+  EXPECT_EQ(early.scale_images, 29);
+  EXPECT_TRUE(std::isnan(early.scale));
+  EXPECT_NEAR(forearm_after_images(1.0, 40).scale, 0.0, 0.002);
 }
 
 // uncertainty.model_error_learned_shifts: the forearm, 8 mm nearer the

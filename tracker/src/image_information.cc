@@ -492,6 +492,13 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   shift_information_.setZero(3 * L, 3 * L);
   shift_gradient_.setZero(3 * L);
   shift_pixels_.assign(std::size_t(L), 0);
+  scale_cross_.setZero(n, L);
+  scale_shift_cross_.setZero(L, 3 * L);
+  scale_information_.setZero(L);
+  scale_gradient_.setZero(L);
+  link_origin_camera_.resize(std::size_t(L));
+  for (int l = 0; l < L; ++l)
+    link_origin_camera_[std::size_t(l)] = T_link_camera_[std::size_t(l)].inverse().translation();
   // The slopes, not the surfaces' normals: with the round shapes' normals the link
   // shifts' variance (link_shift_variance_m2) fell to nothing on the
   // realistic dual arm (1.8 mm -> 0.2 mm in 8 s, realistic/both.yaml, stop
@@ -510,6 +517,13 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
       ++shift_pixels_[std::size_t(a)];
       for (int b : shift_above_[std::size_t(l)]) shift_information_.block<3, 3>(3 * a, 3 * b) += jj;
     }
+    // The link's own scale: its surface point moves by s (X - o).
+    const double g = j.dot(rendered_point(p, camera) - link_origin_camera_[std::size_t(l)]);
+    scale_cross_.col(l).noalias() += pixel_gradient_ * g;
+    scale_information_[l] += g * g;
+    scale_gradient_[l] += double(residuals_[p]) * g;
+    for (int a : shift_above_[std::size_t(l)])
+      scale_shift_cross_.block<1, 3>(l, 3 * a) += g * j.transpose();
   });
 }
 
@@ -559,7 +573,9 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
 double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
                                                 std::vector<double>* column_square_m2,
                                                 ProjectedShiftEquations* equations,
+                                                std::vector<LinkScaleFit>* scales,
                                                 int min_pixels) const {
+  if (scales) scales->assign(shift_links_.size(), LinkScaleFit{});
   if (pinned) pinned->assign(3 * shift_links_.size(), 0);
   if (column_square_m2) column_square_m2->assign(3 * shift_links_.size(), 0.0);
   if (equations) {
@@ -611,6 +627,7 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
     equations->columns = columns;
     equations->noise_var = c;
   }
+  if (scales) fit_link_scales(dofs, columns, C, shifts, b, c, min_pixels, *scales);
   // Each shift's square less its noise variance c (A^-1)_ii, averaged over
   // the shifts: every link counts the same, however many pixels it has.
   const Eigen::MatrixXd noise = shifts.solve(Eigen::MatrixXd::Identity(k, k));
@@ -625,6 +642,62 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
     if (column_square_m2) (*column_square_m2)[std::size_t(columns[std::size_t(i)])] = square_m2;
   }
   return counted > 0 ? sum / counted : 0.0;  // unbiased: the caller clips its average
+}
+
+void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,
+                                       const std::vector<int>& columns,
+                                       const Eigen::MatrixXd& shift_cross,
+                                       const Eigen::LDLT<Eigen::MatrixXd>& shifts,
+                                       const Eigen::VectorXd& shift_b, double noise_var,
+                                       int min_pixels, std::vector<LinkScaleFit>& scales) const {
+  std::vector<int> links;
+  for (int l = 0; l < int(shift_links_.size()); ++l)
+    if (shift_pixels_[std::size_t(l)] >= min_pixels && scale_information_[l] > 0)
+      links.push_back(l);
+  const int m = int(links.size()), n = int(dofs_.size()), k = int(shift_b.size());
+  if (m == 0) return;
+  // The normal equations over (DOFs, the fit's shift columns, the scales),
+  // the DOFs then the shifts projected out (Schur complements).
+  Eigen::MatrixXd S(n, m), X(k, m), A(m, m);
+  Eigen::VectorXd b(m);
+  A.setZero();
+  for (int i = 0; i < m; ++i) {
+    const int l = links[std::size_t(i)];
+    S.col(i) = scale_cross_.col(l);
+    for (int c = 0; c < k; ++c) X(c, i) = scale_shift_cross_(l, columns[std::size_t(c)]);
+    A(i, i) = scale_information_[l];  // a pixel shows one link: no cross terms
+    b[i] = scale_gradient_[l];
+  }
+  const Eigen::MatrixXd dofs_S = dofs.solve(S);
+  X -= shift_cross.transpose() * dofs_S;
+  A -= S.transpose() * dofs_S;
+  b -= S.transpose() * dofs.solve(gradient_);
+  A -= X.transpose() * shifts.solve(X);
+  b -= X.transpose() * shifts.solve(shift_b);
+  // A scale the DOFs and shifts reproduce leaves nothing (a flat face's
+  // scale is a tilt and a shift of it): it is left out, as 0, where
+  // rounding would leave the others' fit indefinite.
+  std::vector<int> kept;
+  for (int i = 0; i < m; ++i)
+    if (A(i, i) > 1e-6 * scale_information_[links[std::size_t(i)]]) kept.push_back(i);
+  const int f = int(kept.size());
+  if (f == 0) return;
+  Eigen::MatrixXd A_kept(f, f);
+  Eigen::VectorXd b_kept(f);
+  for (int i = 0; i < f; ++i) {
+    b_kept[i] = b[kept[std::size_t(i)]];
+    for (int j = 0; j < f; ++j) A_kept(i, j) = A(kept[std::size_t(i)], kept[std::size_t(j)]);
+  }
+  A_kept.diagonal().array() += 1e-9 * std::max(1.0, A_kept.diagonal().maxCoeff());
+  const Eigen::LDLT<Eigen::MatrixXd> fit(A_kept);
+  if (fit.info() != Eigen::Success || !(fit.vectorD().array() > 0).all()) return;
+  const Eigen::VectorXd estimate = fit.solve(b_kept);
+  const Eigen::MatrixXd noise = fit.solve(Eigen::MatrixXd::Identity(f, f));
+  for (int i = 0; i < f; ++i) {
+    const double var = noise_var * noise(i, i);
+    if (!(var > 0 && var < kMaxScaleNoise * kMaxScaleNoise)) continue;  // hardly seen
+    scales[std::size_t(links[std::size_t(kept[std::size_t(i)])])] = {estimate[i], var};
+  }
 }
 
 void ImageInformation::estimate_effective_pixel_fraction(int width) {

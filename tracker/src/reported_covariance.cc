@@ -7,6 +7,11 @@
 namespace arttrack {
 namespace {
 
+// A link's scale is reported once this many images have sized it (about a
+// second of images): a link seen in a few images, at the view's edge or
+// small in it, read up to 6% off on the realistic dual arm.
+constexpr int kMinScaleImages = 30;
+
 // A running average of `sample` over `time_constant_s`, from 0: the first
 // sample (last_time_s NaN) weighs one image's share (1/30 s), later ones the
 // time since the previous.
@@ -184,7 +189,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     // noisy, and unbiased: negative samples count, only the average is
     // clipped).
     const double sample = information_.link_shift_variance_m2(
-        &pinned_, &column_square_m2_, learned_ ? &shift_equations_ : nullptr);
+        &pinned_, &column_square_m2_, learned_ ? &shift_equations_ : nullptr, &scale_fits_);
     if (learned_) {  // each image's fit weighs its independent pixels' share
       learned_->add_image(time_s, shift_equations_, information_.T_link_camera(), discount);
       learned_->solve();
@@ -231,6 +236,23 @@ void ReportedCovariance::update_link_model_errors(double time_s, TrackingHealth&
       health.links[g].link = model_->link_name(with_geometry[g]);
     link_square_m2_.assign(with_geometry.size(), 0.0);
     link_time_s_.assign(with_geometry.size(), std::numeric_limits<double>::quiet_NaN());
+    scale_weight_.assign(with_geometry.size(), 0.0);
+    scale_weighted_.assign(with_geometry.size(), 0.0);
+    scale_time_s_.assign(with_geometry.size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  for (std::size_t g = 0; g < with_geometry.size() && g < scale_fits_.size(); ++g) {
+    const ImageInformation::LinkScaleFit& fit = scale_fits_[g];
+    if (std::isnan(fit.scale)) continue;
+    // A fixed property seen over many poses: the images' fits weighted by
+    // their precision, the older ones fading over the learned shifts' time.
+    const double dt = std::isnan(scale_time_s_[g]) ? 0.0 : std::max(0.0, time_s - scale_time_s_[g]);
+    const double keep = std::exp(-dt / setup_.model_error_learned_time_constant_s);
+    scale_weight_[g] = keep * scale_weight_[g] + 1 / fit.noise_var;
+    scale_weighted_[g] = keep * scale_weighted_[g] + fit.scale / fit.noise_var;
+    scale_time_s_[g] = time_s;
+    ++health.links[g].scale_images;
+    if (health.links[g].scale_images >= kMinScaleImages)
+      health.links[g].scale = scale_weighted_[g] / scale_weight_[g];
   }
   for (std::size_t g = 0; g < with_geometry.size(); ++g) {
     if (!pinned_[3 * g] && !pinned_[3 * g + 1] && !pinned_[3 * g + 2]) continue;

@@ -8,7 +8,7 @@ namespace arttrack::sim {
 
 std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, std::size_t method) {
   std::vector<LinkModelFit> fits;
-  std::vector<std::vector<double>> shifts_m;  // per link, over runs
+  std::vector<std::vector<double>> shifts_m, scales;  // per link, over runs
   for (const RunResult& run : runs) {
     if (method >= run.methods.size()) continue;
     const std::vector<EstimateSample>& samples = run.methods[method].samples;
@@ -19,13 +19,18 @@ std::vector<LinkModelFit> link_model_fits(const std::vector<RunResult>& runs, st
     if (fits.empty()) {
       for (const TrackingHealth::LinkModelError& l : links) fits.push_back({l.link});
       shifts_m.resize(links.size());
+      scales.resize(links.size());
     }
-    for (std::size_t g = 0; g < links.size() && g < fits.size(); ++g)
+    for (std::size_t g = 0; g < links.size() && g < fits.size(); ++g) {
       if (std::isfinite(links[g].shift_m)) shifts_m[g].push_back(links[g].shift_m);
+      if (std::isfinite(links[g].scale)) scales[g].push_back(links[g].scale);
+    }
   }
   for (std::size_t g = 0; g < fits.size(); ++g) {
     fits[g].runs_pinned = int(shifts_m[g].size());
     if (!shifts_m[g].empty()) fits[g].median_shift_m = percentiles(shifts_m[g]).p50;
+    fits[g].runs_scaled = int(scales[g].size());
+    if (!scales[g].empty()) fits[g].median_scale = percentiles(scales[g]).p50;
   }
   return fits;
 }

@@ -114,8 +114,10 @@ void links_table(std::ostream& o, const ScenarioResult& r) {
   o << "<p>How far each link seems from the model: the size of its surface shift that the depth "
        "residuals show along the directions the images pin (the joints and the camera offset "
        "cannot take them up), in each run's last estimate; the median over the runs that pinned "
-       "it, and how many did. A length the joints take up does not show. A link far above the "
-       "rest is where to look in the URDF.</p>\n<table><tr><th class=\"m\">link</th>";
+       "it, and how many did. A length the joints take up does not show. Then its scale: how "
+       "much larger its geometry seems than the model's, about the link's frame (the median over "
+       "the runs that sized it). A link far above the rest is where to look in the URDF.</p>\n"
+       "<table><tr><th class=\"m\">link</th>";
   for (const MethodResult* m : with_links) o << "<th>" << text::html_escape(m->method) << "</th>";
   o << "</tr>\n";
   for (std::size_t g = 0; g < with_links.front()->links.size(); ++g) {
@@ -127,6 +129,9 @@ void links_table(std::ostream& o, const ScenarioResult& r) {
           << "/" << m->summary.num_runs << ")";
       else
         o << "not pinned";
+      if (g < m->links.size() && m->links[g].runs_scaled > 0)
+        o << ", scale " << (m->links[g].median_scale >= 0 ? "+" : "")
+          << fixed(100 * m->links[g].median_scale, 1) << "%";
       o << "</td>";
     }
     o << "</tr>\n";

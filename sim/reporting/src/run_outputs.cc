@@ -122,12 +122,16 @@ TrackerStats dropped_inputs(const ScenarioResult& r, std::size_t method) {
   return sum;
 }
 
-// Per link: the pinned surface shift, the median of the runs' last
-// estimates (null where no image pinned it), and in how many runs.
+// Per link: the pinned surface shift and the scale, the medians of the
+// runs' last estimates (null where no image pinned or sized it), and in
+// how many runs.
 Json links_json(const std::vector<LinkModelFit>& links) {
   Json j = Json::object();
   for (const LinkModelFit& l : links)
-    j[l.link] = Json{{"pinned_shift_m", number(l.median_shift_m)}, {"runs_pinned", l.runs_pinned}};
+    j[l.link] = Json{{"pinned_shift_m", number(l.median_shift_m)},
+                     {"runs_pinned", l.runs_pinned},
+                     {"scale", number(l.median_scale)},
+                     {"runs_scaled", l.runs_scaled}};
   return j;
 }
 
@@ -462,16 +466,21 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     for (const Coverage& c : m.summary.converged.camera_axis_coverage) share(c, 7);
     out << "\n";
   }
-  // The links that fit the model least: where to look in the URDF.
+  // The links that fit the model least, by shift and by size: where to
+  // look in the URDF. `size` is the figure ranked by its magnitude.
+  auto ranked = [](const std::vector<LinkModelFit>& links, auto counted, auto size) {
+    std::vector<LinkModelFit> out;
+    std::copy_if(links.begin(), links.end(), std::back_inserter(out), counted);
+    std::stable_sort(out.begin(), out.end(), [&](const LinkModelFit& a, const LinkModelFit& b) {
+      return std::abs(size(a)) > std::abs(size(b));
+    });
+    return out;
+  };
   for (const MethodResult& m : r.method_results) {
-    std::vector<LinkModelFit> pinned;
-    std::copy_if(m.links.begin(), m.links.end(), std::back_inserter(pinned),
-                 [](const LinkModelFit& l) { return l.runs_pinned > 0; });
+    const std::vector<LinkModelFit> pinned = ranked(
+        m.links, [](const LinkModelFit& l) { return l.runs_pinned > 0; },
+        [](const LinkModelFit& l) { return l.median_shift_m; });
     if (pinned.empty()) continue;
-    std::stable_sort(pinned.begin(), pinned.end(),
-                     [](const LinkModelFit& a, const LinkModelFit& b) {
-                       return a.median_shift_m > b.median_shift_m;
-                     });
     out << m.method << ", links furthest from the model (pinned surface shift, median of the runs' "
         << "last estimates):";
     const char* separator = " ";
@@ -483,6 +492,20 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
             << pinned[k].median_shift_m * mm << " mm";
     out << "; " << m.links.size() - pinned.size() << " of " << m.links.size()
         << " links never pinned\n";
+  }
+  for (const MethodResult& m : r.method_results) {
+    const std::vector<LinkModelFit> scaled = ranked(
+        m.links, [](const LinkModelFit& l) { return l.runs_scaled > 0; },
+        [](const LinkModelFit& l) { return l.median_scale; });
+    if (scaled.empty()) continue;
+    out << m.method << ", links whose size differs most from the model (scale, median of the "
+        << "runs' last estimates):";
+    const char* separator = " ";
+    for (std::size_t k = 0; k < scaled.size() && k < 3; ++k, separator = ", ")
+      out << separator << scaled[k].link << " " << std::showpos << std::fixed
+          << std::setprecision(1) << 100 * scaled[k].median_scale << std::noshowpos << "%";
+    out << "; " << m.links.size() - scaled.size() << " of " << m.links.size()
+        << " links never sized\n";
   }
   // The encoders' noise as the tracker measured it, in the units of the
   // configured encoder_noise_deg (encoder_noise_m for prismatic joints),

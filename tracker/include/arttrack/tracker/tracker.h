@@ -175,10 +175,19 @@ struct TrackingHealth {
   // pin (the DOFs cannot absorb them), averaged like model_error_std_m over
   // the images that pin some; NaN until one does. A length error along the
   // chain that the joints take up does not show (docs/accuracy.md).
+  // `scale`: how much larger the link's geometry seems than the model's, a
+  // fraction about the link frame's origin (0.05: 5% larger; a mesh
+  // exported at the wrong scale, a cover), fitted beside the shifts in
+  // each image that shows the link (ImageInformation::LinkScaleFit) and
+  // averaged over uncertainty.model_error_learned_time_constant_s, each
+  // image weighted by its fit's precision; NaN until 30 images have sized
+  // it (a link seen in a few images reads too noisily to name).
   struct LinkModelError {
     std::string link;
     double shift_m = std::numeric_limits<double>::quiet_NaN();
     int images = 0;  // that pinned some direction of it
+    double scale = std::numeric_limits<double>::quiet_NaN();
+    int scale_images = 0;  // that sized it
   };
   std::vector<LinkModelError> links;
   // Each encoder's white noise as its readings show it (the scatter of

@@ -155,11 +155,14 @@ struct MethodTiming {
 
 // How far one link of the tracker's model seems from the robot
 // (TrackingHealth::links): its pinned surface shift in each run's last
-// estimate, the median over the runs whose images pinned it.
+// estimate, the median over the runs whose images pinned it; and its
+// scale, the median over the runs whose images sized it.
 struct LinkModelFit {
   std::string link;
   double median_shift_m = std::numeric_limits<double>::quiet_NaN();
   int runs_pinned = 0;
+  double median_scale = std::numeric_limits<double>::quiet_NaN();
+  int runs_scaled = 0;
 };
 
 // Per link with geometry, model order, from every run's last estimate that

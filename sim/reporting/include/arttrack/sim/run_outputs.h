@@ -42,7 +42,8 @@ namespace arttrack::sim {
 //        "joints": {J: {"angle_abs_error_rad", "bias_abs_error_rad",
 //                       "converged_angle_abs_error_rad", "converged_bias_abs_error_rad",
 //                       "angle_within_2sigma", "bias_within_2sigma"}},
-//        "links_model_error": {L: {"pinned_shift_m", "runs_pinned"}},
+//        "links_model_error": {L: {"pinned_shift_m", "runs_pinned", "scale",
+//                                  "runs_scaled"}},
 //        "health_counts": {"runs", "acquisitions", "chains_reacquired",
 //                          "refinements_accepted", "unseen_priors_kept",
 //                          "hand_searches",
@@ -73,8 +74,9 @@ namespace arttrack::sim {
 // over all samples (converged_: from converged_after_s on); null for a
 // quantity the method does not estimate (standard deviation 0).
 // "links_model_error" (only with uncertainty.model_error): per link with
-// geometry, its pinned surface shift (TrackingHealth::links) in the runs'
-// last estimates, the median over the runs that pinned it. "health_counts"
+// geometry, its pinned surface shift and its scale (TrackingHealth::links)
+// in the runs' last estimates, the medians over the runs that pinned or
+// sized it. "health_counts"
 // (HealthCounts): the tracker's counters in each run's last estimate, summed
 // over the runs (TrackingHealth: annealed searches, chains that took a
 // search's result, Gauss-Newton steps taken, end-effector fits searched

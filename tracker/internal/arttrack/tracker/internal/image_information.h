@@ -31,7 +31,9 @@
 // image size, DOF set and worker count.
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -193,16 +195,19 @@ class ImageInformation {
   // image's (stop 83 and before) kept the noise's positive half: with the
   // robot exactly its URDF under the realistic camera, 1.2 mm of model
   // error on arm7 and 0.45 mm on the dual arm (docs/accuracy.md, stop 84).
-  // 0 when no shift is counted. Allocates its k x k
-  // matrices (k up to 3 x links) once per image. `pinned`, when given, is
+  // 0 when no shift is counted. Allocates its k x k matrices (k up to 3 x
+  // links; with `scales`, links x links too) once per image. `pinned`, when given, is
   // set per shift column (3 per link, as shift_cross_information()) to
   // whether this image pinned it (and so counted it); `column_square_m2`
   // to that shift's p_i^2 - c (A^-1)_ii where pinned, 0 elsewhere;
-  // `equations` to the fit's normal equations (ProjectedShiftEquations).
+  // `equations` to the fit's normal equations (ProjectedShiftEquations);
+  // `scales` to each link's scale fitted with them (LinkScaleFit, below).
   struct ProjectedShiftEquations;
+  struct LinkScaleFit;
   double link_shift_variance_m2(std::vector<char>* pinned = nullptr,
                                 std::vector<double>* column_square_m2 = nullptr,
                                 ProjectedShiftEquations* equations = nullptr,
+                                std::vector<LinkScaleFit>* scales = nullptr,
                                 int min_pixels = 20) const;
   // The shifts' normal equations with the DOFs projected out, as
   // link_shift_variance_m2() fits them: over the shift columns `columns`
@@ -216,6 +221,25 @@ class ImageInformation {
     Eigen::VectorXd b;
     double noise_var = 0;
   };
+  // Link scales (with params.link_shifts): a link's geometry larger or
+  // smaller than the model's by a fraction s about the link frame's origin
+  // o (a mesh exported at the wrong scale, a thicker cover; not its
+  // children, which a shift moves). A pixel's surface point X then moves by
+  // s (X - o) and its rendered depth by s j . (X - o), j the link-shift
+  // vector above. A shift of the link is a scale about another point plus
+  // a scale about o, so each link's scale is fitted beside the shifts: with
+  // the DOFs and the pinned shifts projected out, over the links at least
+  // `min_pixels` pixels show, its noise variance noise_var times the
+  // shifts' residual variance c. Per shift link (shift_links() order); NaN
+  // where not fitted, or where the fit's noise standard deviation is over
+  // kMaxScaleNoise (the image hardly tells its size). One image's fit is
+  // noisy and its noise unbiased: a caller averages over images
+  // (ReportedCovariance, the health's LinkModelError::scale).
+  struct LinkScaleFit {
+    double scale = std::numeric_limits<double>::quiet_NaN();      // s, a fraction
+    double noise_var = std::numeric_limits<double>::quiet_NaN();  // of s
+  };
+  static constexpr double kMaxScaleNoise = 0.05;
   // The camera's pose in each link with geometry's frame (index as
   // shift_links()) at the last compute()'s configuration: a shift of link k
   // along its own axis a is T_link_camera()[k].linear().row(a) in camera
@@ -282,6 +306,11 @@ class ImageInformation {
   std::vector<int> label_;                          // per pixel: shift link index, -1 none
   std::vector<int> shift_pixels_;                   // per shift link: used pixels
   Eigen::MatrixXd shift_cross_, shift_information_, field_shift_cross_;
+  // Link scales, per shift link (its own pixels): G_dof^T g (dofs x links),
+  // g^T G_shift (links x 3 links), g^T g and g^T u, g = j . (X - o) / sigma.
+  Eigen::MatrixXd scale_cross_, scale_shift_cross_;
+  Eigen::VectorXd scale_information_, scale_gradient_;
+  std::vector<Eigen::Vector3d> link_origin_camera_;  // o per shift link, camera axes, at q
   Eigen::VectorXd shift_gradient_, pixel_gradient_;
   Eigen::VectorXf depth_scale_pixels_;  // per pixel: r / sigma (0 where unused)
   Eigen::VectorXd depth_scale_cross_;
@@ -344,6 +373,14 @@ class ImageInformation {
   std::vector<std::vector<MotionTerm>> motion_terms_;       // per column x labelled link
   std::vector<Eigen::Vector3d> joint_axis_, joint_origin_;  // per link, camera axes
   void compute_link_shifts(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
+  // link_shift_variance_m2()'s scales: `dofs` the DOFs' information,
+  // `columns` the fit's shift columns, `shift_cross` their cross
+  // information with the DOFs, `shifts` and `shift_b` their normal
+  // equations with the DOFs projected out, `noise_var` c.
+  void fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs, const std::vector<int>& columns,
+                       const Eigen::MatrixXd& shift_cross,
+                       const Eigen::LDLT<Eigen::MatrixXd>& shifts, const Eigen::VectorXd& shift_b,
+                       double noise_var, int min_pixels, std::vector<LinkScaleFit>& scales) const;
   void estimate_effective_pixel_fraction(int width);
 };
 

@@ -145,8 +145,8 @@ class ReportedCovariance {
   // discount_correlated_residuals); with model_error, first averages the
   // link shifts' variance over model_error_time_constant_s, which `health`
   // reports (model_error_std_m), and each link's squared shift along the
-  // directions the image pins, averaged over the images that pin some
-  // (health.links). No-op without states.
+  // directions the image pins, averaged over the images that pin some, and
+  // its scale (health.links). No-op without states.
   void end_image(double time_s, TrackingHealth& health);
 
   // After end_image(): the means right after the image (the belief's bias
@@ -179,6 +179,11 @@ class ReportedCovariance {
   // Per link with geometry: its pinned squared shift averaged over images,
   // and the newest image that pinned it (NaN: none yet).
   std::vector<double> link_square_m2_, link_time_s_;
+  // Per link with geometry: the scales' precision-weighted sums (weights
+  // and weighted scales) and the newest image that sized it, and the
+  // image's fits (workspace).
+  std::vector<double> scale_weight_, scale_weighted_, scale_time_s_;
+  std::vector<ImageInformation::LinkScaleFit> scale_fits_;
   MeanLag mean_lag_;           // tracks the biases and the camera offset
   std::vector<double> means_;  // per state, record_means()'s workspace
   void update_link_model_errors(double time_s, TrackingHealth& health);
