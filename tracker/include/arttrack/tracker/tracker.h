@@ -181,7 +181,11 @@ struct TrackingHealth {
   // each image that shows the link (ImageInformation::LinkScaleFit) and
   // averaged over uncertainty.model_error_learned_time_constant_s, each
   // image weighted by its fit's precision; NaN until 30 images have sized
-  // it (a link seen in a few images reads too noisily to name).
+  // it (a link seen in a few images reads too noisily to name). Where to
+  // look, not a measurement: a link beside a scaled link or a wrong length
+  // can read a few percent, and a link whose geometry's centre lies far
+  // from its origin reads part of its scale as a shift (docs/accuracy.md,
+  // stop 86).
   struct LinkModelError {
     std::string link;
     double shift_m = std::numeric_limits<double>::quiet_NaN();
