@@ -682,12 +682,8 @@ void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,
     if (A(i, i) > 1e-6 * scale_information_[links[std::size_t(i)]]) kept.push_back(i);
   const int f = int(kept.size());
   if (f == 0) return;
-  Eigen::MatrixXd A_kept(f, f);
-  Eigen::VectorXd b_kept(f);
-  for (int i = 0; i < f; ++i) {
-    b_kept[i] = b[kept[std::size_t(i)]];
-    for (int j = 0; j < f; ++j) A_kept(i, j) = A(kept[std::size_t(i)], kept[std::size_t(j)]);
-  }
+  Eigen::MatrixXd A_kept = A(kept, kept);
+  const Eigen::VectorXd b_kept = b(kept);
   A_kept.diagonal().array() += 1e-9 * std::max(1.0, A_kept.diagonal().maxCoeff());
   const Eigen::LDLT<Eigen::MatrixXd> fit(A_kept);
   if (fit.info() != Eigen::Success || !(fit.vectorD().array() > 0).all()) return;
