@@ -368,20 +368,45 @@ TEST(ImageInformation, LinkShiftVarianceSeesAShiftedLink) {
 }
 
 // The board with a round post on it instead of the block (a cylinder,
-// drawn exactly), `post_scale` times the model's size about its centre.
-RobotModel board_with_post(double post_scale) {
+// drawn exactly), `post_scale` times the model's size about its centre,
+// its radius `thicker_m` more.
+RobotModel board_with_post(double post_scale, double thicker_m = 0) {
   return under_a_camera("board", R"(
   <link name="base_link"/>
   <link name="board"><visual><geometry><box size="0.5 0.4 0.04"/></geometry></visual></link>
   <link name="post"><visual><geometry><cylinder radius=")" +
-                                     std::to_string(0.06 * post_scale) + "\" length=\"" +
-                                     std::to_string(0.1 * post_scale) +
+                                     std::to_string(0.06 * post_scale + thicker_m) +
+                                     "\" length=\"" + std::to_string(0.1 * post_scale) +
                                      R"("/></geometry></visual></link>
   <joint name="board_mount" type="fixed"><parent link="base_link"/><child link="board"/>
     <origin xyz="0 0 0" rpy="0.5 0.35 0"/></joint>
   <joint name="post_mount" type="fixed"><parent link="board"/><child link="post"/>
     <origin xyz="0.08 -0.05 0.07" rpy="0 0 0.3"/></joint>)");
 }
+
+// The board with the model's post under the camera, and what the camera
+// sees of a real post `post_scale` times the model's, its radius
+// `thicker_m` more, `nearer_m` nearer the camera: `info` computed on it.
+struct PostScene {
+  const RobotModel model = board_with_post(1.0);
+  DepthRenderer renderer{model, CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4)};
+  DepthLikelihood likelihood{DepthModelParams{}};
+  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(model.num_joints());
+
+  void observe(ImageInformation& info, double post_scale, double thicker_m, double nearer_m) {
+    const RobotModel real = board_with_post(post_scale, thicker_m);
+    KinematicsState state(real);
+    forward_kinematics(real, q0, state);
+    state.T_root_link[std::size_t(real.link_index("post"))].translation() +=
+        state.T_root_link[std::size_t(real.camera_link())].linear() *
+        Eigen::Vector3d(0, 0, -nearer_m);
+    DepthRenderer real_renderer(real, renderer.camera());
+    DepthImage observed;
+    real_renderer.render(state, observed);
+    likelihood.set_observation(observed);
+    info.compute(renderer, {q0.data(), std::size_t(q0.size())}, likelihood);
+  }
+};
 
 // Link scales: the real post 3% larger about its frame's origin (its
 // centre: 1.8 mm more radius, its cap 1.5 mm higher) reads as a scale of
@@ -392,10 +417,8 @@ RobotModel board_with_post(double post_scale) {
 // be told from a shift where three faces show (each face's offset along
 // its normal is a shift's), so the test's link is round.
 TEST(ImageInformation, LinkScaleSeesALargerLink) {
-  const RobotModel model = board_with_post(1.0);
-  DepthRenderer renderer(model, CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4));
-  DepthLikelihood likelihood{DepthModelParams{}};
-  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(model.num_joints());
+  PostScene scene;
+  const RobotModel& model = scene.model;
   ImageInformation info(camera_offset_dofs(model), {.link_shifts = true});
   const auto& with_geometry = info.shift_links();
   auto index_of = [&](const char* link) {
@@ -404,17 +427,7 @@ TEST(ImageInformation, LinkScaleSeesALargerLink) {
         with_geometry.begin());
   };
   auto scales_seen = [&](double post_scale, double post_nearer_m) {
-    const RobotModel real = board_with_post(post_scale);
-    KinematicsState state(real);
-    forward_kinematics(real, q0, state);
-    state.T_root_link[std::size_t(real.link_index("post"))].translation() +=
-        state.T_root_link[std::size_t(real.camera_link())].linear() *
-        Eigen::Vector3d(0, 0, -post_nearer_m);
-    DepthRenderer real_renderer(real, renderer.camera());
-    DepthImage observed;
-    real_renderer.render(state, observed);
-    likelihood.set_observation(observed);
-    info.compute(renderer, {q0.data(), std::size_t(q0.size())}, likelihood);
+    scene.observe(info, post_scale, 0.0, post_nearer_m);
     std::vector<ImageInformation::LinkScaleFit> scales;
     info.link_shift_variance_m2(nullptr, nullptr, nullptr, &scales);
     return scales;
@@ -428,9 +441,63 @@ TEST(ImageInformation, LinkScaleSeesALargerLink) {
   EXPECT_GT(post.noise_var, 0.0);
   EXPECT_LT(std::sqrt(post.noise_var), 0.03);
   const ImageInformation::LinkScaleFit board = larger[index_of("board")];
-  if (!std::isnan(board.scale)) EXPECT_NEAR(board.scale, 0.0, 0.005);
+  if (!std::isnan(board.scale)) {
+    EXPECT_NEAR(board.scale, 0.0, 0.005);
+  }
   EXPECT_NEAR(scales_seen(1.0, 0.0)[index_of("post")].scale, 0.0, 1e-3);
   EXPECT_NEAR(scales_seen(1.0, 0.004)[index_of("post")].scale, 0.0, 0.002);
+}
+
+// Link bulges: the real post's radius 3 mm more than the model's reads as
+// its bulge (2.2 mm: one image's noise variance at the likelihood's 3 mm
+// is taken off, and the steepest pixels leave the inliers) and no longer
+// as its shifts (0; without the bulge beside them its shifts read 2.8
+// mm). A post 4 mm nearer the camera is a shift (2.9 mm; 3.5 without the
+// bulge), not a bulge (0). The board is a box, whose faces' bulge is a
+// shift of it: it has none. The same with the curved pixels found by the
+// motion field or looked up.
+TEST(ImageInformation, LinkBulgeSeesAThickerRoundLink) {
+  PostScene scene;
+  for (const bool motion_field : {false, true}) {
+    SCOPED_TRACE(motion_field ? "motion field" : "looked up");
+    ImageInformation info(camera_offset_dofs(scene.model),
+                          {.link_shifts = true, .motion_field = motion_field});
+    struct Seen {
+      std::vector<double> bulge_square_m2, column_square_m2;
+    };
+    auto seen = [&](double thicker_m, double post_nearer_m) {
+      scene.observe(info, 1.0, thicker_m, post_nearer_m);
+      Seen s;
+      info.link_shift_variance_m2(nullptr, &s.column_square_m2, nullptr, nullptr,
+                                  &s.bulge_square_m2);
+      return s;
+    };
+    const Seen thicker = seen(0.003, 0.0);
+    const auto& with_geometry = info.shift_links();  // after the first compute()
+    ASSERT_EQ(with_geometry.size(), 2u);
+    const std::size_t post = std::size_t(
+        std::find(with_geometry.begin(), with_geometry.end(), scene.model.link_index("post")) -
+        with_geometry.begin());
+    const std::size_t board = 1 - post;
+    auto post_shift_m = [&](const Seen& s) {
+      double square_m2 = 0;
+      for (std::size_t a = 0; a < 3; ++a) square_m2 += s.column_square_m2[3 * post + a];
+      return std::sqrt(std::max(0.0, square_m2));
+    };
+    ASSERT_EQ(thicker.bulge_square_m2.size(), with_geometry.size());
+    EXPECT_TRUE(std::isnan(thicker.bulge_square_m2[board]));
+    ASSERT_FALSE(std::isnan(thicker.bulge_square_m2[post]));
+    const double bulge_m = std::sqrt(std::max(0.0, thicker.bulge_square_m2[post]));
+    EXPECT_GT(bulge_m, 0.0018);
+    EXPECT_LT(bulge_m, 0.0033);
+    EXPECT_LT(post_shift_m(thicker), 0.001);
+    const Seen nearer = seen(0.0, 0.004);
+    EXPECT_GT(post_shift_m(nearer), 0.0025);
+    EXPECT_LT(post_shift_m(nearer), 0.0045);
+    EXPECT_LT(std::sqrt(std::max(0.0, nearer.bulge_square_m2[post])), 0.001);
+    const Seen exact = seen(0.0, 0.0);
+    EXPECT_LT(std::sqrt(std::max(0.0, exact.bulge_square_m2[post])), 1e-4);
+  }
 }
 
 // White depth noise and links that are the model's: each image's estimate

@@ -38,7 +38,11 @@ TEST(ReportedCovariance, StatesAreTheSampledDofsBiasesForEncoderJoints) {
     EXPECT_EQ(s.states[i].dof, fusion.n_phys + int(i) - 1);
   }
   EXPECT_EQ(s.dofs.size(), s.states.size());
-  EXPECT_EQ(s.num_consider, 3 * int(fusion.model->links_with_geometry().size()));
+  // Per link with geometry: its shift's three axes, then its bulge.
+  const int links = int(fusion.model->links_with_geometry().size());
+  EXPECT_EQ(s.num_consider, 4 * links);
+  EXPECT_EQ(s.first_bulge, 3 * links);
+  EXPECT_EQ(s.num_bulges, links);
 
   c.method = TrackingMethod::kVisionOnly;
   c.model_error = false;
@@ -188,11 +192,15 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
     for (int i = 0; i < expected.size(); ++i)
       start[i] = std::pow(prior_std[std::size_t(expected.states()[std::size_t(i)].dof)], 2);
     expected.reset(start, 1.0);
-    const Eigen::MatrixXd plain_cross = cross * model_error_m;
+    // The shifts' columns at the model error, then the bulges' (each at
+    // its own size; checked in LinkBulge tests) as the update took them.
+    Eigen::MatrixXd plain_cross = reported.consider_cross();
+    EXPECT_EQ(plain_cross.leftCols(cross.cols()), cross * model_error_m);
+    plain_cross.leftCols(cross.cols()) = cross * model_error_m;
     if (scale > 1) {
       // The physical joints' rows take the unpinned shifts widened.
       Eigen::MatrixXd widened_cross = plain_cross;
-      for (int k = 0; k < widened_cross.cols(); ++k)
+      for (int k = 0; k < cross.cols(); ++k)
         if (!pinned[std::size_t(k)]) widened_cross.col(k) *= scale * model_error_m / model_error_m;
       std::vector<char> physical(std::size_t(expected.size()));
       for (int i = 0; i < expected.size(); ++i)
@@ -411,7 +419,8 @@ TEST(ReportedCovariance, EachJointOriginWithALengthIsAConsiderState) {
     ASSERT_EQ(length.top_shift_links.size(), 1u);
     EXPECT_EQ(with_geometry[std::size_t(length.top_shift_links[0])], length.link);
   }
-  EXPECT_EQ(s.num_consider, 3 * int(with_geometry.size()) + 2);
+  EXPECT_EQ(s.num_consider, 4 * int(with_geometry.size()) + 2);
+  EXPECT_EQ(s.first_bulge, 3 * int(with_geometry.size()) + 2);  // after the lengths
   c.model_error = false;
   const TrackerSetup lengths_only(arm_model(), c, {"shoulder", "elbow"});
   EXPECT_EQ(ReportedCovarianceSetup(lengths_only, sampling_blocks(model, c)).num_consider, 2);

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "arttrack/tracker/error.h"
@@ -59,6 +60,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   q_ = Eigen::Map<const Eigen::VectorXd>(q.data(), Eigen::Index(q.size()));
   gradients_.setZero(num_pixels, m);
   used_.assign(std::size_t(num_pixels), 0);
+  curved_.assign(std::size_t(num_pixels), 0);
   residuals_.setZero(num_pixels);
   prepare_workers(renderer, pool ? pool->num_workers() : 1);
   for (auto& w : workers_) {
@@ -187,7 +189,7 @@ void ImageInformation::motion_field_gradients(const RobotModel& model,
     }
   };
   auto rows = [&](int v0, int v1, int) {
-    for_each_labelled_pixel(camera, likelihood, true, pixel, v0 * W, v1 * W);
+    for_each_labelled_pixel(camera, likelihood, true, pixel, v0 * W, v1 * W, curved_.data());
   };
   if (pool)
     pool->parallel_for(camera.height, rows, 4);
@@ -205,7 +207,8 @@ Eigen::Vector3d ImageInformation::rendered_point(int p, const CameraIntrinsics& 
 // header): (-fx r_u / r, -fy r_v / r, 1 + (x fx r_u + y fy r_v) / r), the
 // slopes between neighbours that show the same surface of the same link.
 Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsics& camera,
-                                                     double sigma, bool surface_normals) const {
+                                                     double sigma, bool surface_normals,
+                                                     bool* curved) const {
   const int W = camera.width, H = camera.height;
   const int l = label_[std::size_t(p)];
   const int u = p % W, v = p / W;
@@ -246,6 +249,7 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
   Eigen::Vector3d n;
   if (surface_normals && (round_surface_normal(shift_links_[std::size_t(l)], r * ray, n) ||
                           surface_normal(l, r * ray, n))) {
+    if (curved) *curved = true;
     const double facing = n.dot(ray);
     return std::abs(facing) > 0.25 * ray.norm() ? Eigen::Vector3d(n / facing)
                                                 : Eigen::Vector3d::Zero();
@@ -267,6 +271,14 @@ void ImageInformation::place_surfaces(const RobotModel& model) {
       T_shape_camera_[std::size_t(i++)] =
           (T_camera_root * kinematics_.T_root_link[std::size_t(l)] * s.T_link_shape).inverse();
   }
+}
+
+bool ImageInformation::on_curved_surface(int p, int shift, const CameraIntrinsics& camera) const {
+  if (params_.motion_field) return curved_[std::size_t(p)];  // motion_field_gradients() found it
+  const Eigen::Vector3d X = rendered_point(p, camera);
+  Eigen::Vector3d n;
+  return round_surface_normal(shift_links_[std::size_t(shift)], X, n) ||
+         surface_normal(shift, X, n);
 }
 
 bool ImageInformation::surface_normal(int shift, const Eigen::Vector3d& X_camera,
@@ -496,6 +508,12 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   scale_shift_cross_.setZero(L, 3 * L);
   scale_information_.setZero(L);
   scale_gradient_.setZero(L);
+  bulge_cross_.setZero(n, L);
+  field_bulge_cross_.setZero(n, L);
+  bulge_shift_cross_.setZero(L, 3 * L);
+  bulge_information_.setZero(L);
+  bulge_gradient_.setZero(L);
+  bulge_pixels_.assign(std::size_t(L), 0);
   link_origin_camera_.resize(std::size_t(L));
   for (int l = 0; l < L; ++l)
     link_origin_camera_[std::size_t(l)] = T_link_camera_[std::size_t(l)].inverse().translation();
@@ -524,6 +542,19 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
     scale_gradient_[l] += double(residuals_[p]) * g;
     for (int a : shift_above_[std::size_t(l)])
       scale_shift_cross_.block<1, 3>(l, 3 * a) += g * j.transpose();
+    // The link's own bulge, on its curved surfaces (a flat face's bulge is
+    // a shift of it): j lies along the surface's normal, and a surface
+    // moved out by d meets the ray d |j| nearer.
+    if (!on_curved_surface(p, l, camera)) return;
+    const double bulge = -j.norm();
+    if (bulge == 0) return;
+    bulge_cross_.col(l).noalias() += pixel_gradient_ * bulge;
+    if (params_.motion_field) field_bulge_cross_.col(l).noalias() += field_pixel_gradient_ * bulge;
+    bulge_information_[l] += bulge * bulge;
+    bulge_gradient_[l] += double(residuals_[p]) * bulge;
+    ++bulge_pixels_[std::size_t(l)];
+    for (int a : shift_above_[std::size_t(l)])
+      bulge_shift_cross_.block<1, 3>(l, 3 * a) += bulge * j.transpose();
   });
 }
 
@@ -570,78 +601,150 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
   });
 }
 
-double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
-                                                std::vector<double>* column_square_m2,
-                                                ProjectedShiftEquations* equations,
-                                                std::vector<LinkScaleFit>* scales,
-                                                int min_pixels) const {
-  if (scales) scales->assign(shift_links_.size(), LinkScaleFit{});
-  if (pinned) pinned->assign(3 * shift_links_.size(), 0);
-  if (column_square_m2) column_square_m2->assign(3 * shift_links_.size(), 0.0);
-  if (equations) {
-    equations->columns.clear();
-    equations->noise_var = 0;
-  }
-  if (!params_.link_shifts || pixels_used_ == 0) return 0;
+bool ImageInformation::project_shifts(int min_pixels, std::span<const int> bulges,
+                                      ShiftProjection& out) const {
   const int n = int(dofs_.size());
-  std::vector<int> columns;
+  out.columns.clear();
+  out.bulges.assign(bulges.begin(), bulges.end());
   for (int l = 0; l < int(shift_links_.size()); ++l)
     if (shift_pixels_[std::size_t(l)] >= min_pixels)
-      for (int a = 0; a < 3; ++a) columns.push_back(3 * l + a);
-  const int k = int(columns.size());
-  if (k == 0) return 0;
-  // The DOFs projected out; a small ridge keeps DOFs the image does not see solvable.
-  Eigen::MatrixXd I_xx = information_;
-  const double ridge = 1e-9 * std::max(1.0, I_xx.diagonal().maxCoeff());
-  I_xx.diagonal().array() += ridge;
-  const Eigen::LDLT<Eigen::MatrixXd> dofs(I_xx);
-  Eigen::MatrixXd C(n, k), A(k, k);
-  Eigen::VectorXd b(k);
+      for (int a = 0; a < 3; ++a) out.columns.push_back(3 * l + a);
+  const int k = int(out.columns.size()), m = int(out.bulges.size()), nm = n + m;
+  if (k == 0) return false;
+  // The nuisance: the DOFs, then the bulges (a pixel shows one link: no
+  // cross terms between bulges).
+  Eigen::MatrixXd& I_xx = out.nuisance_information;
+  I_xx.setZero(nm, nm);
+  I_xx.topLeftCorner(n, n) = information_;
+  out.nuisance_gradient.resize(nm);
+  out.nuisance_gradient.head(n) = gradient_;
+  for (int i = 0; i < m; ++i) {
+    const int l = out.bulges[std::size_t(i)];
+    I_xx.block(0, n + i, n, 1) = bulge_cross_.col(l);
+    I_xx.block(n + i, 0, 1, n) = bulge_cross_.col(l).transpose();
+    I_xx(n + i, n + i) = bulge_information_[l];
+    out.nuisance_gradient[n + i] = bulge_gradient_[l];
+  }
+  // A small ridge keeps DOFs the image does not see solvable.
+  I_xx.diagonal().array() += 1e-9 * std::max(1.0, I_xx.diagonal().maxCoeff());
+  out.nuisance.compute(I_xx);
+  out.C.resize(nm, k);
+  out.A.resize(k, k);
+  out.b.resize(k);
   for (int c = 0; c < k; ++c) {
-    C.col(c) = shift_cross_.col(columns[std::size_t(c)]);
-    b[c] = shift_gradient_[columns[std::size_t(c)]];
+    const int column = out.columns[std::size_t(c)];
+    out.C.col(c).head(n) = shift_cross_.col(column);
+    for (int i = 0; i < m; ++i)
+      out.C(n + i, c) = bulge_shift_cross_(out.bulges[std::size_t(i)], column);
+    out.b[c] = shift_gradient_[column];
     for (int d = 0; d < k; ++d)
-      A(c, d) = shift_information_(columns[std::size_t(c)], columns[std::size_t(d)]);
+      out.A(c, d) = shift_information_(column, out.columns[std::size_t(d)]);
   }
-  A -= C.transpose() * dofs.solve(C);
-  b -= C.transpose() * dofs.solve(gradient_);
-  if (equations) {  // before the ridge: a caller that sums images' adds its own
-    equations->A = A;
-    equations->b = b;
-  }
+  out.A -= out.C.transpose() * out.nuisance.solve(out.C);
+  out.b -= out.C.transpose() * out.nuisance.solve(out.nuisance_gradient);
+  Eigen::MatrixXd A = out.A;  // the ridge on a copy: out.A is the caller's, without
   A.diagonal().array() += 1e-9 * std::max(1.0, A.diagonal().maxCoeff());
-  const Eigen::LDLT<Eigen::MatrixXd> shifts(A);
+  out.shifts.compute(A);
   // A is positive semi-definite in exact arithmetic. Where the image barely
   // sees a DOF (the camera's broad prior at the first image, arm7's
   // world-fixed camera) projecting it out cancels to rounding and leaves A
   // indefinite: the "fit" then ran to metres with negative noise variances
   // (2.7 m of model error from one image). Such an image says nothing about
   // the shifts.
-  if (shifts.info() != Eigen::Success || !(shifts.vectorD().array() > 0).all()) return 0;
-  const Eigen::VectorXd estimate = shifts.solve(b);  // the shifts' least-squares fit, m
-  const double chi2 = b.dot(estimate);
-  const double fitted = gradient_.dot(dofs.solve(gradient_));
-  const int left = pixels_used_ - n - k;
-  const double c = left > 0 ? std::max(1.0, (residual_sum_sq_ - fitted - chi2) / left) : 1.0;
+  if (out.shifts.info() != Eigen::Success || !(out.shifts.vectorD().array() > 0).all())
+    return false;
+  out.estimate = out.shifts.solve(out.b);
+  const double chi2 = out.b.dot(out.estimate);
+  const double fitted = out.nuisance_gradient.dot(out.nuisance.solve(out.nuisance_gradient));
+  const int left = pixels_used_ - nm - k;
+  out.noise_var = left > 0 ? std::max(1.0, (residual_sum_sq_ - fitted - chi2) / left) : 1.0;
+  return true;
+}
+
+double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
+                                                std::vector<double>* column_square_m2,
+                                                ProjectedShiftEquations* equations,
+                                                std::vector<LinkScaleFit>* scales,
+                                                std::vector<double>* bulge_square_m2,
+                                                int min_pixels) const {
+  const std::size_t L = shift_links_.size();
+  if (scales) scales->assign(L, LinkScaleFit{});
+  if (pinned) pinned->assign(3 * L, 0);
+  if (column_square_m2) column_square_m2->assign(3 * L, 0.0);
+  if (bulge_square_m2) bulge_square_m2->assign(L, std::numeric_limits<double>::quiet_NaN());
   if (equations) {
-    equations->columns = columns;
+    equations->columns.clear();
+    equations->noise_var = 0;
+  }
+  if (!params_.link_shifts || pixels_used_ == 0) return 0;
+  ShiftProjection fit;
+  if (!project_shifts(min_pixels, {}, fit)) return 0;
+  // The scales beside the DOFs and shifts alone: a round link's scale is
+  // mostly its bulge.
+  if (scales)
+    fit_link_scales(fit.nuisance, fit.columns, fit.C, fit.shifts, fit.b, fit.noise_var, min_pixels,
+                    *scales);
+  // The bulges beside the DOFs, of the links with curved pixels enough.
+  std::vector<int> bulges;
+  for (int l = 0; l < int(shift_links_.size()); ++l)
+    if (bulge_pixels_[std::size_t(l)] >= min_pixels) bulges.push_back(l);
+  if (!bulges.empty() && !project_shifts(min_pixels, bulges, fit)) return 0;
+  const int k = int(fit.columns.size());
+  const double c = fit.noise_var;
+  if (equations) {
+    equations->columns = fit.columns;
+    equations->A = fit.A;
+    equations->b = fit.b;
     equations->noise_var = c;
   }
-  if (scales) fit_link_scales(dofs, columns, C, shifts, b, c, min_pixels, *scales);
+  if (bulge_square_m2) fit_link_bulges(fit, *bulge_square_m2);
   // Each shift's square less its noise variance c (A^-1)_ii, averaged over
   // the shifts: every link counts the same, however many pixels it has.
-  const Eigen::MatrixXd noise = shifts.solve(Eigen::MatrixXd::Identity(k, k));
+  const Eigen::MatrixXd noise = fit.shifts.solve(Eigen::MatrixXd::Identity(k, k));
   double sum = 0;
   int counted = 0;
   for (int i = 0; i < k; ++i) {
     if (!(c * noise(i, i) < kMaxShiftNoiseVar_m2)) continue;  // the image hardly sees it
-    const double square_m2 = estimate[i] * estimate[i] - c * noise(i, i);
+    const double square_m2 = fit.estimate[i] * fit.estimate[i] - c * noise(i, i);
     sum += square_m2;
     ++counted;
-    if (pinned) (*pinned)[std::size_t(columns[std::size_t(i)])] = 1;
-    if (column_square_m2) (*column_square_m2)[std::size_t(columns[std::size_t(i)])] = square_m2;
+    if (pinned) (*pinned)[std::size_t(fit.columns[std::size_t(i)])] = 1;
+    if (column_square_m2) (*column_square_m2)[std::size_t(fit.columns[std::size_t(i)])] = square_m2;
   }
   return counted > 0 ? sum / counted : 0.0;  // unbiased: the caller clips its average
+}
+
+void ImageInformation::fit_link_bulges(const ShiftProjection& fit,
+                                       std::vector<double>& bulge_square_m2) const {
+  const int n = int(dofs_.size()), m = int(fit.bulges.size()), k = int(fit.columns.size());
+  if (m == 0) return;
+  // The whole normal equations over (DOFs, bulges, shifts): each bulge's fit
+  // and noise variance with the DOFs and every shift beside it.
+  const int nm = n + m, N = nm + k;
+  Eigen::MatrixXd M(N, N);
+  Eigen::VectorXd g(N);
+  M.topLeftCorner(nm, nm) = fit.nuisance_information;  // ridged
+  M.topRightCorner(nm, k) = fit.C;
+  M.bottomLeftCorner(k, nm) = fit.C.transpose();
+  g.head(nm) = fit.nuisance_gradient;
+  for (int c = 0; c < k; ++c) {
+    g[nm + c] = shift_gradient_[fit.columns[std::size_t(c)]];
+    for (int d = 0; d < k; ++d)
+      M(nm + c, nm + d) =
+          shift_information_(fit.columns[std::size_t(c)], fit.columns[std::size_t(d)]);
+  }
+  M.diagonal().array() += 1e-9 * std::max(1.0, M.diagonal().maxCoeff());
+  const Eigen::LDLT<Eigen::MatrixXd> all(M);
+  if (all.info() != Eigen::Success) return;
+  const Eigen::VectorXd x = all.solve(g);
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(N);
+  for (int i = 0; i < m; ++i) {
+    unit.setZero();
+    unit[n + i] = 1;
+    const double var = fit.noise_var * all.solve(unit)[n + i];
+    if (!(var > 0 && var < kMaxShiftNoiseVar_m2)) continue;  // the image hardly sees it
+    bulge_square_m2[std::size_t(fit.bulges[std::size_t(i)])] = x[n + i] * x[n + i] - var;
+  }
 }
 
 void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,

@@ -74,8 +74,10 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
   information.link_shifts = model_error || !lengths.empty();
   information.motion_field = true;
   information.depth_scale = depth_scale_std > 0;
-  num_consider = (model_error ? 3 * int(setup.model->links_with_geometry().size()) : 0) +
-                 int(lengths.size()) + (depth_scale_std > 0 ? 1 : 0);
+  const int links = int(setup.model->links_with_geometry().size());
+  first_bulge = (model_error ? 3 * links : 0) + int(lengths.size());
+  num_bulges = model_error ? links : 0;
+  num_consider = first_bulge + num_bulges + (depth_scale_std > 0 ? 1 : 0);
 }
 
 void ReportedCovarianceSetup::find_lengths(const RobotModel& model) {
@@ -189,7 +191,8 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     // noisy, and unbiased: negative samples count, only the average is
     // clipped).
     const double sample = information_.link_shift_variance_m2(
-        &pinned_, &column_square_m2_, learned_ ? &shift_equations_ : nullptr, &scale_fits_);
+        &pinned_, &column_square_m2_, learned_ ? &shift_equations_ : nullptr, &scale_fits_,
+        &bulge_samples_m2_);
     if (learned_) {  // each image's fit weighs its independent pixels' share
       learned_->add_image(time_s, shift_equations_, information_.T_link_camera(), discount);
       learned_->solve();
@@ -210,6 +213,7 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     // estimate; the camera offset, which every link informs, at the estimate
     // (stop 42: scaled there too, the dual arm's camera went to 99-100%).
     unpinned_std_m = std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
+    fill_bulge_columns(time_s);
   }
   fill_length_columns(shift_cross);
   if (setup_.depth_scale_std > 0)
@@ -298,6 +302,29 @@ void ReportedCovariance::widen_learned_axes(const Eigen::MatrixXd& shift_cross, 
     const Eigen::Matrix3d widened = (prior_m2 + excess_camera_m2 + floor_m2).llt().matrixL();
     consider_cross_.middleCols<3>(3 * k).noalias() = shift_cross.middleCols<3>(3 * k) * factor;
     widened_cross_.middleCols<3>(3 * k).noalias() = shift_cross.middleCols<3>(3 * k) * widened;
+  }
+}
+
+void ReportedCovariance::fill_bulge_columns(double time_s) {
+  const Eigen::MatrixXd& bulge_cross = information_.motion_field_bulge_cross_information();
+  const int links = setup_.num_bulges;
+  if (bulge_cross.cols() != links || std::ssize(bulge_samples_m2_) != links) {  // no pixel used
+    consider_cross_.middleCols(setup_.first_bulge, links).setZero();
+    return;
+  }
+  if (bulge_square_m2_.size() != std::size_t(links)) {
+    bulge_square_m2_.assign(std::size_t(links), 0.0);
+    bulge_time_s_.assign(std::size_t(links), std::numeric_limits<double>::quiet_NaN());
+  }
+  for (int l = 0; l < links; ++l) {
+    // Each link's own size: a link whose surfaces are its model's (or flat:
+    // no bulge) keeps none.
+    const double sample_m2 = bulge_samples_m2_[std::size_t(l)];
+    if (!std::isnan(sample_m2))
+      average_over_time(sample_m2, time_s, setup_.model_error_time_constant_s,
+                        bulge_square_m2_[std::size_t(l)], bulge_time_s_[std::size_t(l)]);
+    consider_cross_.col(setup_.first_bulge + l) =
+        bulge_cross.col(l) * std::sqrt(std::max(0.0, bulge_square_m2_[std::size_t(l)]));
   }
 }
 

@@ -195,20 +195,42 @@ class ImageInformation {
   // image's (stop 83 and before) kept the noise's positive half: with the
   // robot exactly its URDF under the realistic camera, 1.2 mm of model
   // error on arm7 and 0.45 mm on the dual arm (docs/accuracy.md, stop 84).
-  // 0 when no shift is counted. Allocates its k x k matrices (k up to 3 x
-  // links; with `scales`, links x links too) once per image. `pinned`, when given, is
+  // 0 when no shift is counted. Each link's bulge (below) is projected out
+  // with the DOFs. Allocates its matrices (k up to 3 x links, plus the
+  // DOFs and bulges) once per image. `pinned`, when given, is
   // set per shift column (3 per link, as shift_cross_information()) to
   // whether this image pinned it (and so counted it); `column_square_m2`
   // to that shift's p_i^2 - c (A^-1)_ii where pinned, 0 elsewhere;
   // `equations` to the fit's normal equations (ProjectedShiftEquations);
-  // `scales` to each link's scale fitted with them (LinkScaleFit, below).
+  // `scales` to each link's scale fitted with the DOFs and shifts alone
+  // (LinkScaleFit, below); `bulge_square_m2` per shift link to its bulge's
+  // fit squared less its noise variance, as the shifts' (NaN where not
+  // fitted or where one image does not pin it to within 3 mm).
   struct ProjectedShiftEquations;
   struct LinkScaleFit;
   double link_shift_variance_m2(std::vector<char>* pinned = nullptr,
                                 std::vector<double>* column_square_m2 = nullptr,
                                 ProjectedShiftEquations* equations = nullptr,
                                 std::vector<LinkScaleFit>* scales = nullptr,
+                                std::vector<double>* bulge_square_m2 = nullptr,
                                 int min_pixels = 20) const;
+  // Link bulges (with params.link_shifts): a link's surface moved out along
+  // its own normals by a distance d (a thicker cover, a casting rounder or
+  // flatter than its model, a simplified mesh's faces inside the surface
+  // they approximate), the links below it not moved. j lies along the
+  // surface's normal, so the rendered depth at the link's own pixels falls
+  // by d |j|. A round link's bulge is no shift of it (a shift moves its
+  // near side and one flank; a bulge, the whole visible surface towards
+  // the camera), and fitted as shifts it reads as one: on the realistic
+  // dual arm, whose links are scaled by 3-5%, the pooled shift estimate
+  // was about twice the shift the links have (docs/accuracy.md, stop 87).
+  // Over the link's own used pixels, normalised by sigma, the motion
+  // field's G_dof^T g (dofs x links; the finite differences' without
+  // params.motion_field), g = -|j| / sigma: a bulge's columns as consider
+  // parameters (ReportedCovariance).
+  const Eigen::MatrixXd& motion_field_bulge_cross_information() const {
+    return params_.motion_field ? field_bulge_cross_ : bulge_cross_;
+  }
   // The shifts' normal equations with the DOFs projected out, as
   // link_shift_variance_m2() fits them: over the shift columns `columns`
   // (indices as shift_cross_information()'s), A (k x k) and b (k), in
@@ -311,6 +333,11 @@ class ImageInformation {
   Eigen::MatrixXd scale_cross_, scale_shift_cross_;
   Eigen::VectorXd scale_information_, scale_gradient_;
   std::vector<Eigen::Vector3d> link_origin_camera_;  // o per shift link, camera axes, at q
+  // Link bulges, per shift link (its own pixels), as the scales' with
+  // g = -|j| / sigma; the motion field's DOF columns too.
+  Eigen::MatrixXd bulge_cross_, field_bulge_cross_, bulge_shift_cross_;
+  Eigen::VectorXd bulge_information_, bulge_gradient_;
+  std::vector<int> bulge_pixels_;
   Eigen::VectorXd shift_gradient_, pixel_gradient_;
   Eigen::VectorXf depth_scale_pixels_;  // per pixel: r / sigma (0 where unused)
   Eigen::VectorXd depth_scale_cross_;
@@ -330,8 +357,14 @@ class ImageInformation {
   // The rendered surface point at pixel p (the base render's depth along
   // the pixel centre's ray), camera axes.
   Eigen::Vector3d rendered_point(int p, const CameraIntrinsics& camera) const;
+  // `curved`, when given, is set when the surface normal came from a round
+  // shape or a curved mesh triangle.
   Eigen::Vector3d depth_slope_vector(int p, const CameraIntrinsics& camera, double sigma,
-                                     bool surface_normals) const;
+                                     bool surface_normals, bool* curved = nullptr) const;
+  // Per pixel: on a round shape or a curved mesh triangle (with
+  // params.motion_field, from motion_field_gradients(); else looked up).
+  std::vector<char> curved_;
+  bool on_curved_surface(int p, int shift, const CameraIntrinsics& camera) const;
   // Every link's round shapes (RoundShape) seen from the camera at q
   // (place_surfaces(), per compute()): the link's are
   // [first_round_shape_[l], first_round_shape_[l + 1]) (prepare_workers(),
@@ -353,16 +386,20 @@ class ImageInformation {
                             Eigen::Vector3d& n_camera) const;
   // Calls f(pixel, labelled link index, j / sigma) for every used pixel of
   // the labelled render (j: depth_slope_vector), in [begin, end) (row-major
-  // pixel indices; end -1: the whole image).
+  // pixel indices; end -1: the whole image); `curved`, when given, per
+  // pixel: whether j came from a curved surface's normal.
   template <class F>
   void for_each_labelled_pixel(const CameraIntrinsics& camera, const DepthLikelihood& likelihood,
-                               bool surface_normals, F&& f, int begin = 0, int end = -1) const {
+                               bool surface_normals, F&& f, int begin = 0, int end = -1,
+                               char* curved = nullptr) const {
     if (end < 0) end = camera.width * camera.height;
     for (int p = begin; p < end; ++p) {
       if (!used_[std::size_t(p)] || label_[std::size_t(p)] < 0) continue;
       const double sigma = likelihood.noise_std_at_m(likelihood.observed_depth_m(p));
-      f(p, label_[std::size_t(p)],
-        Eigen::Vector3d(depth_slope_vector(p, camera, sigma, surface_normals) / sigma));
+      bool on_curve = false;
+      const Eigen::Vector3d j = depth_slope_vector(p, camera, sigma, surface_normals, &on_curve);
+      if (curved) curved[p] = on_curve;
+      f(p, label_[std::size_t(p)], Eigen::Vector3d(j / sigma));
     }
   }
   struct MotionTerm {
@@ -373,6 +410,29 @@ class ImageInformation {
   std::vector<std::vector<MotionTerm>> motion_terms_;       // per column x labelled link
   std::vector<Eigen::Vector3d> joint_axis_, joint_origin_;  // per link, camera axes
   void compute_link_shifts(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
+  // The shifts' normal equations with a nuisance projected out: the DOFs
+  // and, with_bulges, the bulges of the links at least min_pixels of
+  // their own pixels show (bulges, shift_links_ indices), over the shift
+  // columns of the links at least min_pixels pixels show (columns). The
+  // nuisance's information (ridged) and gradient, its cross information
+  // with the shifts C, A and b (before A's ridge), A's factor (ridged),
+  // the shifts' fit and the residuals' variance left, c (noise_var).
+  // False when no shift is shown or A is indefinite.
+  struct ShiftProjection {
+    std::vector<int> columns, bulges;
+    Eigen::MatrixXd nuisance_information;
+    Eigen::VectorXd nuisance_gradient;
+    Eigen::LDLT<Eigen::MatrixXd> nuisance;
+    Eigen::MatrixXd C, A;
+    Eigen::VectorXd b;
+    Eigen::LDLT<Eigen::MatrixXd> shifts;
+    Eigen::VectorXd estimate;
+    double noise_var = 1;
+  };
+  bool project_shifts(int min_pixels, std::span<const int> bulges, ShiftProjection& out) const;
+  // link_shift_variance_m2()'s bulges: each fitted with the DOFs and the
+  // shifts beside it, from `fit` (project_shifts with_bulges).
+  void fit_link_bulges(const ShiftProjection& fit, std::vector<double>& bulge_square_m2) const;
   // link_shift_variance_m2()'s scales: `dofs` the DOFs' information,
   // `columns` the fit's shift columns, `shift_cross` their cross
   // information with the DOFs, `shifts` and `shift_b` their normal

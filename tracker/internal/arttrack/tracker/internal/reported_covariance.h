@@ -3,8 +3,9 @@
 // the particle filter samples, each image's information about them (from
 // the motion field, image_information.h) folded in after the image's
 // particle filter, and,
-// with uncertainty.model_error, the link shifts' variance estimated from the
-// images' residuals as consider parameters; with
+// with uncertainty.model_error, the link shifts' variance and each curved
+// link's bulge (image_information.h) estimated from the images' residuals
+// as consider parameters; with
 // uncertainty.link_length_std_m, each joint origin's length error, the
 // user's stated URDF tolerance, as one more consider parameter per joint;
 // with uncertainty.model_error_learned_shifts, each link's shift learned
@@ -58,12 +59,15 @@ struct ReportedCovarianceSetup {
   std::vector<char> physical_joint;  // per state: its DOF is a physical joint (not the camera's)
   // Consider parameters: 3 per link with geometry with model_error (the
   // link shifts, image_information.h), then one per entry of `lengths`,
-  // then with depth_scale_std > 0 the depth's scale (every return (1 + c)
+  // then with model_error one per link with geometry (its bulge,
+  // image_information.h: each at the size its own images fit), then with
+  // depth_scale_std > 0 the depth's scale (every return (1 + c)
   // times the truth; ImageInformation::depth_scale_cross_information()).
   // Like a length, the images cannot size it: the camera offset moves along
   // its optical axis to take it up (docs/accuracy.md, "A camera's
   // calibration").
   int num_consider = 0;
+  int first_bulge = 0, num_bulges = 0;  // the bulges' consider columns
   // uncertainty.link_length_std_m > 0: a joint origin whose length the real
   // robot may not have (the URDF's link lengths are measured, machined and
   // assembled to a tolerance). Its error moves the joint's child link and
@@ -135,6 +139,9 @@ class ReportedCovariance {
   void set_rigid_fit_links(const RobotModel& model, std::vector<int> links) {
     information_.set_rigid_fit_links(model, std::move(links));
   }
+  // The consider parameters' cross-information the last end_image() took
+  // (setup().num_consider columns; a learned shift widens its link's).
+  const Eigen::MatrixXd& consider_cross() const { return consider_cross_; }
   // The information end_image() folds in (the motion field's).
   const Eigen::MatrixXd& information_matrix() const {
     return information_.motion_field_information();
@@ -184,6 +191,12 @@ class ReportedCovariance {
   // image's fits (workspace).
   std::vector<double> scale_weight_, scale_weighted_, scale_time_s_;
   std::vector<ImageInformation::LinkScaleFit> scale_fits_;
+  // Per link with geometry: its bulge's squared fit less noise averaged over
+  // the images that fit it, the newest such image (NaN: none yet), and the
+  // image's samples (workspace).
+  std::vector<double> bulge_square_m2_, bulge_time_s_, bulge_samples_m2_;
+  // The bulges' columns of consider_cross_: each link's at its own size.
+  void fill_bulge_columns(double time_s);
   MeanLag mean_lag_;           // tracks the biases and the camera offset
   std::vector<double> means_;  // per state, record_means()'s workspace
   void update_link_model_errors(double time_s, TrackingHealth& health);
