@@ -153,10 +153,11 @@ std::shared_ptr<const RobotModel> arm_with_forearm_nearer(double forearm_nearer_
 
 // With model error, each link shift is a consider parameter: one the image
 // pins at the estimated model error's standard deviation, one it does not
-// pin (the DOFs absorb it) at model_error_unpinned_scale times it. The real
-// arm's forearm sits 8 mm nearer the camera than the model's; the base's
-// shift along the view is the camera's depth offset, which the DOFs absorb.
-TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
+// pin (the DOFs absorb it) at model_error_unpinned_scale times it, for the
+// joints and the camera offset alike. The real arm's forearm sits 8 mm
+// nearer the camera than the model's; the base's shift along the view is
+// the camera's depth offset, which the DOFs absorb.
+TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenEveryState) {
   const auto real = arm_with_forearm_nearer(0.008);
   TrackerConfig c = small_config(TrackingMethod::kFullFusion);
   const TrackerSetup setup(arm_model(), c, {"shoulder", "elbow"});
@@ -192,25 +193,17 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
     for (int i = 0; i < expected.size(); ++i)
       start[i] = std::pow(prior_std[std::size_t(expected.states()[std::size_t(i)].dof)], 2);
     expected.reset(start, 1.0);
-    // The shifts' columns at the model error, then the bulges' (each at
-    // its own size; checked in LinkBulge tests) as the update took them.
-    Eigen::MatrixXd plain_cross = reported.consider_cross();
-    EXPECT_EQ(plain_cross.leftCols(cross.cols()), cross * model_error_m);
-    plain_cross.leftCols(cross.cols()) = cross * model_error_m;
-    if (scale > 1) {
-      // The physical joints' rows take the unpinned shifts widened.
-      Eigen::MatrixXd widened_cross = plain_cross;
-      for (int k = 0; k < cross.cols(); ++k)
-        if (!pinned[std::size_t(k)]) widened_cross.col(k) *= scale * model_error_m / model_error_m;
-      std::vector<char> physical(std::size_t(expected.size()));
-      for (int i = 0; i < expected.size(); ++i)
-        physical[std::size_t(i)] = expected.states()[std::size_t(i)].dof < scaled.n_phys;
-      expected.update(reported.information_matrix(), plain_cross, widened_cross, physical,
-                      reported.information().effective_pixel_fraction());
-    } else {
-      expected.update(reported.information_matrix(), plain_cross,
-                      reported.information().effective_pixel_fraction());
-    }
+    // The shifts' columns at the model error, the unpinned ones times the
+    // scale, then the bulges' (each at its own size; LinkBulge tests) as
+    // the update took them. One image teaches no learned shift: no state
+    // takes wider columns.
+    Eigen::MatrixXd consider_cross = reported.consider_cross();
+    for (int k = 0; k < cross.cols(); ++k)
+      consider_cross.col(k) =
+          cross.col(k) * (pinned[std::size_t(k)] ? model_error_m : scale * model_error_m);
+    EXPECT_EQ(consider_cross, reported.consider_cross());
+    expected.update(reported.information_matrix(), consider_cross,
+                    reported.information().effective_pixel_fraction());
     EXPECT_EQ(reported.covariance().covariance(), expected.covariance()) << "scale " << scale;
     return reported.covariance().covariance();
   };
@@ -230,21 +223,15 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenTheJointsNotTheCamera) {
   ASSERT_TRUE(unpinned_seen);
   EXPECT_GT((at_3 - at_1).trace(), 0.0);
   EXPECT_GE(at_3.eigenvalues().real().minCoeff(), -1e-12 * at_3.trace());
-  // Only the physical joints' rows are widened: after one image the camera
-  // offset's variances are those at scale 1, bit for bit, and some joint's
-  // is larger.
+  // Some camera offset's variance and some joint's are larger.
   ReportedCovariance states(setup, sampling_blocks(model, c));
-  int camera_states = 0;
-  bool joint_wider = false;
+  bool camera_wider = false, joint_wider = false;
   for (int i = 0; i < at_1.rows(); ++i) {
-    if (states.setup().states[std::size_t(i)].dof >= setup.n_phys) {
-      ++camera_states;
-      EXPECT_EQ(at_3(i, i), at_1(i, i)) << "state " << i;
-    } else {
-      joint_wider = joint_wider || at_3(i, i) > at_1(i, i);
-    }
+    bool& wider =
+        states.setup().states[std::size_t(i)].dof >= setup.n_phys ? camera_wider : joint_wider;
+    wider = wider || at_3(i, i) > at_1(i, i) * (1 + 1e-9);
   }
-  EXPECT_GT(camera_states, 0);
+  EXPECT_TRUE(camera_wider);
   EXPECT_TRUE(joint_wider);
 }
 
@@ -387,14 +374,16 @@ TEST(ReportedCovariance, ALearnedShiftLargerThanTheEstimateWidensItsPrior) {
                            .states;
   ASSERT_EQ(off.size(), Eigen::Index(states.size()));
   // The camera's six (its offset is what the forearm's depth informs most
-  // here: the encoders' biases are the bias prior's): 1.5-2x on y and roll.
+  // here: the encoders' biases are the bias prior's): 1.21x in all (1.5-2x
+  // on y and roll before stop 87, when without the learned shift the
+  // camera took the unpinned shifts at the estimate, not scaled).
   double camera_off = 0, camera_on = 0;
   for (std::size_t i = 0; i < states.size(); ++i)
     if (states[i].kind == Kind::kAngle) {
       camera_off += off[Eigen::Index(i)];
       camera_on += on[Eigen::Index(i)];
     }
-  EXPECT_GT(camera_on, 1.5 * camera_off);
+  EXPECT_GT(camera_on, 1.15 * camera_off);
   EXPECT_EQ(variances_after_poses(0.0, true), variances_after_poses(0.0, false));
 }
 

@@ -67,6 +67,7 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
     }
     dofs.push_back(j);
     physical_joint.push_back(j < setup.n_phys);
+    camera_offset.push_back(j >= setup.n_phys);
   }
   link_length_std_m = setup.config.link_length_std_m;
   if (link_length_std_m > 0) find_lengths(*setup.model);
@@ -205,27 +206,27 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     update_link_model_errors(time_s, health);
     std_m = std::max(health.model_error_std_m, setup_.model_error_min_std_m);
     model_error_std_m_ = std_m;
-    consider_cross_.leftCols(shift_cross.cols()) = shift_cross * std_m;
     // A shift this image does not pin is one the DOFs absorb (arm7's upper-arm
     // length, taken up by the shoulder) or one it hardly sees: the estimate,
     // from the shifts that fit, says least about those (docs/accuracy.md,
-    // stop 41). The physical joints carry such a shift at the scaled
-    // estimate; the camera offset, which every link informs, at the estimate
-    // (stop 42: scaled there too, the dual arm's camera went to 99-100%).
+    // stop 41). Every state carries such a shift at the scaled estimate.
+    // (Stops 42-86 kept the camera offset's at the estimate: scaled, the
+    // dual arm's camera went to 99-100% while the bulges inflated the
+    // estimate; with them fitted apart it is in the band, stop 87.)
     unpinned_std_m = std::max(std_m, setup_.model_error_unpinned_scale * health.model_error_std_m);
+    for (int c = 0; c < shift_cross.cols(); ++c)
+      consider_cross_.col(c) =
+          shift_cross.col(c) * (pinned_[std::size_t(c)] ? std_m : unpinned_std_m);
     fill_bulge_columns(time_s);
   }
   fill_length_columns(shift_cross);
   if (setup_.depth_scale_std > 0)
     consider_cross_.col(setup_.num_consider - 1) =
         information_.depth_scale_cross_information() * setup_.depth_scale_std;
-  if (unpinned_std_m > std_m || learned_) {
+  if (learned_) {
     widened_cross_ = consider_cross_;
-    if (unpinned_std_m > std_m)
-      for (int c = 0; c < shift_cross.cols(); ++c)
-        if (!pinned_[std::size_t(c)]) widened_cross_.col(c) *= unpinned_std_m / std_m;
-    if (learned_) widen_learned_axes(shift_cross, std_m, unpinned_std_m);
-    covariance_.update(info, consider_cross_, widened_cross_, setup_.physical_joint, scale);
+    widen_learned_axes(shift_cross, std_m, unpinned_std_m);
+    covariance_.update(info, consider_cross_, widened_cross_, setup_.camera_offset, scale);
   } else {
     covariance_.update(info, consider_cross_, scale);
   }
@@ -290,18 +291,13 @@ void ReportedCovariance::widen_learned_axes(const Eigen::MatrixXd& shift_cross, 
     if (!(excess_m2.array() > 0).any()) continue;
     // Link axis b is row b of R_link_camera in camera axes.
     const Eigen::Matrix3d R = T_link_camera[std::size_t(k)].linear();
-    const Eigen::Matrix3d excess_camera_m2 = R.transpose() * excess_m2.asDiagonal() * R;
-    // A floor of (1 nm)^2 keeps the factor defined where the prior is 0.
-    const Eigen::Matrix3d floor_m2 = Eigen::Matrix3d::Identity() * 1e-18;
-    Eigen::Matrix3d prior_m2 = Eigen::Matrix3d::Identity() * (std_m * std_m);
-    const Eigen::Matrix3d factor = (prior_m2 + excess_camera_m2 + floor_m2).llt().matrixL();
+    Eigen::Matrix3d prior_m2 = R.transpose() * excess_m2.asDiagonal() * R;
     for (int a = 0; a < 3; ++a) {
-      const double sd = pinned_[std::size_t(3 * k + a)] ? std_m : std::max(std_m, unpinned_std_m);
-      prior_m2(a, a) = sd * sd;
+      const double sd = pinned_[std::size_t(3 * k + a)] ? std_m : unpinned_std_m;
+      prior_m2(a, a) += sd * sd + 1e-18;  // a floor of (1 nm)^2 keeps the factor defined
     }
-    const Eigen::Matrix3d widened = (prior_m2 + excess_camera_m2 + floor_m2).llt().matrixL();
-    consider_cross_.middleCols<3>(3 * k).noalias() = shift_cross.middleCols<3>(3 * k) * factor;
-    widened_cross_.middleCols<3>(3 * k).noalias() = shift_cross.middleCols<3>(3 * k) * widened;
+    widened_cross_.middleCols<3>(3 * k).noalias() =
+        shift_cross.middleCols<3>(3 * k) * Eigen::Matrix3d(prior_m2.llt().matrixL());
   }
 }
 

@@ -210,11 +210,12 @@ struct TrackerConfig {
   // covariance, posterior_covariance.h; link shifts, image_information.h),
   // with a standard deviation estimated from the images' residuals,
   // averaged over model_error_time_constant_s, and at least
-  // model_error_min_std_m (a user who knows their URDF is off by about that).
+  // model_error_min_std_m (a user who knows their URDF is off by about that);
+  // and each curved link's bulge (its surface out along its normals, fitted
+  // apart from the shifts) at the size its own images fit.
   // A shift one image does not pin (the DOFs absorb it: a link's length
   // along the chain) is taken model_error_unpinned_scale times that
-  // estimate in the physical joints' uncertainty (the camera offset keeps
-  // the estimate), and so is the hand's along the direction the
+  // estimate, and so is the hand's along the direction the
   // end-effector fit determines least (end_effector_fit.h), in [1, 10]:
   // the estimate comes from the links that fit.
   bool model_error = true;
@@ -225,7 +226,9 @@ struct TrackerConfig {
   // (learned_link_shifts.h: each image's shift fit summed over
   // model_error_learned_time_constant_s); where an axis is learned (the
   // sum's standard deviation under model_error_learned_max_std_m), the
-  // shift's prior along it is at least the learned shift's size. A length
+  // shift's prior along it is at least the learned shift's size in the
+  // camera offset's uncertainty (the joints' unpinned shifts are already
+  // scaled: with it too they went over the 2 sigma band). A length
   // the joints take up shows over poses, not in one image: on the
   // realistic dual arm the camera's pitch is then within 2 sigma as often
   // as it claims (docs/accuracy.md, stop 59).

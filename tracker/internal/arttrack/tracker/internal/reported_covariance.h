@@ -57,6 +57,7 @@ struct ReportedCovarianceSetup {
   std::vector<PosteriorCovariance::State> states;
   std::vector<int> dofs;
   std::vector<char> physical_joint;  // per state: its DOF is a physical joint (not the camera's)
+  std::vector<char> camera_offset;   // per state: its DOF is the camera offset's
   // Consider parameters: 3 per link with geometry with model_error (the
   // link shifts, image_information.h), then one per entry of `lengths`,
   // then with model_error one per link with geometry (its bulge,
@@ -204,12 +205,16 @@ class ReportedCovariance {
   // (null without) and the image's equations for them (workspace).
   std::unique_ptr<LearnedLinkShifts> learned_;
   ImageInformation::ProjectedShiftEquations shift_equations_;
-  // Replaces each link's columns of consider_cross_ (prior sd std_m per
-  // camera axis) and widened_cross_ (unpinned_std_m where the image did not
-  // pin the axis) by the prior with the learned shift's excess over std_m
-  // added along every learned link axis: the columns times the Cholesky
-  // factor of that covariance (continuous in it, so the consider
-  // parameters stay the same ones from image to image).
+  // Replaces each link's columns of widened_cross_, the camera offset's
+  // (from consider_cross_: prior sd std_m per camera axis the image pinned,
+  // unpinned_std_m per other), by the prior with the learned shift's
+  // excess over std_m added along every learned link axis: the columns
+  // times the Cholesky factor of that covariance (continuous in it, so the
+  // consider parameters stay the same ones from image to image). The
+  // physical joints keep consider_cross_: a learned shift is one the
+  // camera's pose takes up over many poses (the dual arm's pitch, stop
+  // 59), and the joints, whose unpinned shifts are already scaled,
+  // widened with it went over the band (stop 87).
   void widen_learned_axes(const Eigen::MatrixXd& shift_cross, double std_m, double unpinned_std_m);
   // The lengths' columns of consider_cross_ at the image's mean (after
   // begin_image()'s kinematics), from the shifts' cross-information.
