@@ -222,8 +222,10 @@ class ImageInformation {
   // by d |j|. A round link's bulge is no shift of it (a shift moves its
   // near side and one flank; a bulge, the whole visible surface towards
   // the camera), and fitted as shifts it reads as one: on the realistic
-  // dual arm, whose links are scaled by 3-5%, the pooled shift estimate
-  // was about twice the shift the links have (docs/accuracy.md, stop 87).
+  // dual arm, four links scaled by 3-5%, the pooled shift estimate read
+  // 1.7-1.8 mm, 0.8-0.9 mm with the bulges fitted apart (docs/accuracy.md,
+  // stop 87). Only pixels on round shapes and curved mesh triangles count:
+  // a flat face's bulge is a shift of it.
   // Over the link's own used pixels, normalised by sigma, the motion
   // field's G_dof^T g (dofs x links; the finite differences' without
   // params.motion_field), g = -|j| / sigma: a bulge's columns as consider
