@@ -247,8 +247,7 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
   // band were kept.
   const Eigen::Vector3d ray(x, y, 1);
   Eigen::Vector3d n;
-  if (surface_normals && (round_surface_normal(shift_links_[std::size_t(l)], r * ray, n) ||
-                          surface_normal(l, r * ray, n))) {
+  if (surface_normals && curved_surface_normal(l, r * ray, n)) {
     if (curved) *curved = true;
     const double facing = n.dot(ray);
     return std::abs(facing) > 0.25 * ray.norm() ? Eigen::Vector3d(n / facing)
@@ -273,12 +272,16 @@ void ImageInformation::place_surfaces(const RobotModel& model) {
   }
 }
 
+bool ImageInformation::curved_surface_normal(int shift, const Eigen::Vector3d& X_camera,
+                                             Eigen::Vector3d& n_camera) const {
+  return round_surface_normal(shift_links_[std::size_t(shift)], X_camera, n_camera) ||
+         surface_normal(shift, X_camera, n_camera);
+}
+
 bool ImageInformation::on_curved_surface(int p, int shift, const CameraIntrinsics& camera) const {
   if (params_.motion_field) return curved_[std::size_t(p)];  // motion_field_gradients() found it
-  const Eigen::Vector3d X = rendered_point(p, camera);
   Eigen::Vector3d n;
-  return round_surface_normal(shift_links_[std::size_t(shift)], X, n) ||
-         surface_normal(shift, X, n);
+  return curved_surface_normal(shift, rendered_point(p, camera), n);
 }
 
 bool ImageInformation::surface_normal(int shift, const Eigen::Vector3d& X_camera,

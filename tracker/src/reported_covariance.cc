@@ -121,6 +121,8 @@ ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
       q_(setup.n),
       mean_lag_(lag_tracked(setup_), setup_.mean_lag_scale, setup_.mean_lag_time_constant_s),
       means_(setup_.states.size(), 0.0) {
+  bulge_square_m2_.assign(std::size_t(setup_.num_bulges), 0.0);
+  bulge_time_s_.assign(std::size_t(setup_.num_bulges), std::numeric_limits<double>::quiet_NaN());
   if (setup_.model_error_learned_shifts && covariance_.size() > 0)
     learned_ = std::make_unique<LearnedLinkShifts>(int(setup.model->links_with_geometry().size()),
                                                    setup_.model_error_learned_time_constant_s);
@@ -304,13 +306,10 @@ void ReportedCovariance::widen_learned_axes(const Eigen::MatrixXd& shift_cross, 
 void ReportedCovariance::fill_bulge_columns(double time_s) {
   const Eigen::MatrixXd& bulge_cross = information_.motion_field_bulge_cross_information();
   const int links = setup_.num_bulges;
-  if (bulge_cross.cols() != links || std::ssize(bulge_samples_m2_) != links) {  // no pixel used
+  if (bulge_cross.cols() != links || std::ssize(bulge_samples_m2_) != links) {
+    // Not this model's (an end_image() without its begin_image()): no bulge.
     consider_cross_.middleCols(setup_.first_bulge, links).setZero();
     return;
-  }
-  if (bulge_square_m2_.size() != std::size_t(links)) {
-    bulge_square_m2_.assign(std::size_t(links), 0.0);
-    bulge_time_s_.assign(std::size_t(links), std::numeric_limits<double>::quiet_NaN());
   }
   for (int l = 0; l < links; ++l) {
     // Each link's own size: a link whose surfaces are its model's (or flat:

@@ -386,6 +386,10 @@ class ImageInformation {
   bool surface_normal(int shift, const Eigen::Vector3d& X_camera, Eigen::Vector3d& n_camera) const;
   bool round_surface_normal(int link, const Eigen::Vector3d& X_camera,
                             Eigen::Vector3d& n_camera) const;
+  // Either: the normal of a round shape or of a curved mesh triangle of
+  // shift link `shift` at X.
+  bool curved_surface_normal(int shift, const Eigen::Vector3d& X_camera,
+                             Eigen::Vector3d& n_camera) const;
   // Calls f(pixel, labelled link index, j / sigma) for every used pixel of
   // the labelled render (j: depth_slope_vector), in [begin, end) (row-major
   // pixel indices; end -1: the whole image); `curved`, when given, per
@@ -413,9 +417,9 @@ class ImageInformation {
   std::vector<Eigen::Vector3d> joint_axis_, joint_origin_;  // per link, camera axes
   void compute_link_shifts(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
   // The shifts' normal equations with a nuisance projected out: the DOFs
-  // and, with_bulges, the bulges of the links at least min_pixels of
-  // their own pixels show (bulges, shift_links_ indices), over the shift
-  // columns of the links at least min_pixels pixels show (columns). The
+  // and the bulges of `bulges` (shift_links_ indices; the caller picks the
+  // links with min_pixels curved pixels), over the shift columns of the
+  // links at least min_pixels pixels show (columns). The
   // nuisance's information (ridged) and gradient, its cross information
   // with the shifts C, A and b (before A's ridge), A's factor (ridged),
   // the shifts' fit and the residuals' variance left, c (noise_var).
@@ -433,7 +437,7 @@ class ImageInformation {
   };
   bool project_shifts(int min_pixels, std::span<const int> bulges, ShiftProjection& out) const;
   // link_shift_variance_m2()'s bulges: each fitted with the DOFs and the
-  // shifts beside it, from `fit` (project_shifts with_bulges).
+  // shifts beside it, from `fit` (project_shifts with bulges).
   void fit_link_bulges(const ShiftProjection& fit, std::vector<double>& bulge_square_m2) const;
   // link_shift_variance_m2()'s scales: `dofs` the DOFs' information,
   // `columns` the fit's shift columns, `shift_cross` their cross
