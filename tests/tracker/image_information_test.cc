@@ -367,6 +367,58 @@ TEST(ImageInformation, LinkShiftVarianceSeesAShiftedLink) {
   EXPECT_NEAR(fit_m[it - equations.columns.begin()], -0.004, 0.001);
 }
 
+// A block hung from a bracket `bracket_x_m` to the side of it (the camera
+// sees about 0.4 m either side of the block at 1 m).
+RobotModel block_on_a_bracket(double bracket_x_m) {
+  const std::string x = std::to_string(bracket_x_m);
+  return under_a_camera("bracket", R"(
+  <link name="base_link"/>
+  <link name="bracket"><visual><geometry><box size="0.1 0.1 0.04"/></geometry></visual></link>
+  <link name="block"><visual><geometry><box size="0.12 0.1 0.08"/></geometry></visual></link>
+  <joint name="bracket_mount" type="fixed"><parent link="base_link"/><child link="bracket"/>
+    <origin xyz=")" + x + R"( 0 0" rpy="0 0 0"/></joint>
+  <joint name="block_mount" type="fixed"><parent link="bracket"/><child link="block"/>
+    <origin xyz=")" + std::to_string(-bracket_x_m) +
+                                       R"( 0 0.06" rpy="0.3 0.2 0.3"/></joint>)");
+}
+
+// A shift moves its link and every link below it, so a bracket out of view
+// moves exactly the block's pixels: the two shifts are one, and only the
+// block's columns stay. In view, the bracket's are its own.
+TEST(ImageInformation, ShiftsThatMoveTheSamePixelsAreOne) {
+  for (const double bracket_x_m : {3.0, 0.2}) {
+    const RobotModel model = block_on_a_bracket(bracket_x_m);
+    DepthRenderer renderer(model,
+                           CameraIntrinsics::from_vertical_fov(80, 60, std::numbers::pi / 4));
+    DepthLikelihood likelihood{DepthModelParams{}};
+    const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(model.num_joints());
+    KinematicsState state(model);
+    forward_kinematics(model, q0, state);
+    DepthImage observed;
+    renderer.render(state, observed);
+    likelihood.set_observation(observed);
+    ImageInformation info(camera_offset_dofs(model), {.link_shifts = true});
+    info.compute(renderer, {q0.data(), std::size_t(q0.size())}, likelihood);
+    const std::vector<int>& links = info.shift_links();
+    ASSERT_EQ(links.size(), 2u);
+    const int bracket =
+        int(std::find(links.begin(), links.end(), model.link_index("bracket")) - links.begin());
+    const int block = 1 - bracket;
+    const Eigen::MatrixXd& I = info.shift_information();
+    const Eigen::MatrixXd& cross = info.motion_field_shift_cross_information();
+    EXPECT_GT((I.block<3, 3>(3 * block, 3 * block).trace()), 0.0);
+    EXPECT_GT(cross.middleCols<3>(3 * block).norm(), 0.0);
+    const bool hidden = bracket_x_m > 1;
+    EXPECT_EQ(I.middleRows<3>(3 * bracket).norm() == 0, hidden) << bracket_x_m;
+    EXPECT_EQ(cross.middleCols<3>(3 * bracket).norm() == 0, hidden) << bracket_x_m;
+    EXPECT_EQ(info.shift_cross_information().middleCols<3>(3 * bracket).norm() == 0, hidden);
+    std::vector<char> pinned;
+    info.link_shift_variance_m2(&pinned);
+    if (hidden)
+      EXPECT_EQ(std::count(pinned.begin() + 3 * bracket, pinned.begin() + 3 * bracket + 3, 1), 0);
+  }
+}
+
 // The board with a round post on it instead of the block (a cylinder,
 // drawn exactly), `post_scale` times the model's size about its centre,
 // its radius `thicker_m` more.

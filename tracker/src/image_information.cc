@@ -346,7 +346,9 @@ void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers)
       shift_above_.emplace_back();
       for (int a = l; a >= 0; a = model.link(a).parent)
         if (index[std::size_t(a)] >= 0) shift_above_.back().push_back(index[std::size_t(a)]);
+      shift_parent_.push_back(shift_above_.back().size() > 1 ? shift_above_.back()[1] : -1);
     }
+    shift_merged_.assign(shift_links_.size(), 0);
     first_round_shape_.assign(std::size_t(model.num_links()) + 1, 0);
     for (int l = 0; l < model.num_links(); ++l)
       first_round_shape_[std::size_t(l) + 1] =
@@ -559,6 +561,33 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
     for (int a : shift_above_[std::size_t(l)])
       bulge_shift_cross_.block<1, 3>(l, 3 * a) += bulge * j.transpose();
   });
+  merge_identical_shifts();
+}
+
+void ImageInformation::merge_identical_shifts() {
+  // A link's pixels are its own and its subtree's, so a parent that shows
+  // as many as one of its children shows none of its own: the two shifts
+  // move the same pixels. The parent's columns go (the child, the deepest
+  // of a chain, keeps them). Marked first: a chain of three shows one count.
+  const int L = int(shift_links_.size());
+  std::fill(shift_merged_.begin(), shift_merged_.end(), 0);
+  for (int c = 0; c < L; ++c) {
+    const int a = shift_parent_[std::size_t(c)];
+    if (a >= 0 && shift_pixels_[std::size_t(c)] > 0 &&
+        shift_pixels_[std::size_t(a)] == shift_pixels_[std::size_t(c)])
+      shift_merged_[std::size_t(a)] = 1;
+  }
+  for (int a = 0; a < L; ++a) {
+    if (!shift_merged_[std::size_t(a)]) continue;
+    shift_cross_.middleCols<3>(3 * a).setZero();
+    field_shift_cross_.middleCols<3>(3 * a).setZero();
+    shift_information_.middleRows<3>(3 * a).setZero();
+    shift_information_.middleCols<3>(3 * a).setZero();
+    shift_gradient_.segment<3>(3 * a).setZero();
+    scale_shift_cross_.middleCols<3>(3 * a).setZero();
+    bulge_shift_cross_.middleCols<3>(3 * a).setZero();
+    shift_pixels_[std::size_t(a)] = 0;
+  }
 }
 
 void ImageInformation::set_rigid_fit_links(const RobotModel& model, std::vector<int> links) {

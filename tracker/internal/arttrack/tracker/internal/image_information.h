@@ -161,6 +161,15 @@ class ImageInformation {
   //   shift_information()        G_shift^T G_shift (3 links square, 3x3 blocks)
   //   shift_gradient()           G_shift^T u       (u the normalised residuals)
   // Column 3 k + a is axis a of shift_links()[k] (the model's links with geometry).
+  // A shift moves its link's pixels and those of every link below it. Two
+  // shifts that move the same pixels are one: a link that shows no pixel
+  // of its own above a child that shows them all (the sculpted dual arm's
+  // right shoulder, three links deep, none of them in view) moves what the
+  // child's moves. Its columns are zero in that image and only the deepest
+  // keeps them, so that the shift is fitted and considered once
+  // (docs/accuracy.md, stop 88: counted three times, the whole arm's
+  // translation went into the reported covariance at three times its
+  // variance).
   const std::vector<int>& shift_links() const { return shift_links_; }
   const Eigen::MatrixXd& shift_cross_information() const { return shift_cross_; }
   // shift_cross_information() with the motion field's DOF columns (with
@@ -327,8 +336,10 @@ class ImageInformation {
   std::vector<int> shift_links_;
   std::vector<std::vector<bool>> shift_link_sets_;  // per shift link: it alone
   std::vector<std::vector<int>> shift_above_;       // per shift link: it and those above it
-  std::vector<int> label_;                          // per pixel: shift link index, -1 none
-  std::vector<int> shift_pixels_;                   // per shift link: used pixels
+  std::vector<int> shift_parent_;                   // per shift link: the nearest above it, -1 none
+  std::vector<char> shift_merged_;  // per shift link: merged into a child (workspace)
+  std::vector<int> label_;          // per pixel: shift link index, -1 none
+  std::vector<int> shift_pixels_;   // per shift link: used pixels
   Eigen::MatrixXd shift_cross_, shift_information_, field_shift_cross_;
   // Link scales, per shift link (its own pixels): G_dof^T g (dofs x links),
   // g^T G_shift (links x 3 links), g^T g and g^T u, g = j . (X - o) / sigma.
@@ -416,6 +427,9 @@ class ImageInformation {
   std::vector<std::vector<MotionTerm>> motion_terms_;       // per column x labelled link
   std::vector<Eigen::Vector3d> joint_axis_, joint_origin_;  // per link, camera axes
   void compute_link_shifts(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
+  // After compute_link_shifts(): zeroes the columns of the shifts that move
+  // the same pixels as a child's (shift_links() above).
+  void merge_identical_shifts();
   // The shifts' normal equations with a nuisance projected out: the DOFs
   // and the bulges of `bulges` (shift_links_ indices; the caller picks the
   // links with min_pixels curved pixels), over the shift columns of the
