@@ -346,7 +346,6 @@ void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers)
       shift_above_.emplace_back();
       for (int a = l; a >= 0; a = model.link(a).parent)
         if (index[std::size_t(a)] >= 0) shift_above_.back().push_back(index[std::size_t(a)]);
-      shift_parent_.push_back(shift_above_.back().size() > 1 ? shift_above_.back()[1] : -1);
     }
     shift_merged_.assign(shift_links_.size(), 0);
     first_round_shape_.assign(std::size_t(model.num_links()) + 1, 0);
@@ -572,7 +571,8 @@ void ImageInformation::merge_identical_shifts() {
   const int L = int(shift_links_.size());
   std::fill(shift_merged_.begin(), shift_merged_.end(), 0);
   for (int c = 0; c < L; ++c) {
-    const int a = shift_parent_[std::size_t(c)];
+    const std::vector<int>& above = shift_above_[std::size_t(c)];  // c first, then its parent
+    const int a = above.size() > 1 ? above[1] : -1;
     if (a >= 0 && shift_pixels_[std::size_t(c)] > 0 &&
         shift_pixels_[std::size_t(a)] == shift_pixels_[std::size_t(c)])
       shift_merged_[std::size_t(a)] = 1;

@@ -336,7 +336,6 @@ class ImageInformation {
   std::vector<int> shift_links_;
   std::vector<std::vector<bool>> shift_link_sets_;  // per shift link: it alone
   std::vector<std::vector<int>> shift_above_;       // per shift link: it and those above it
-  std::vector<int> shift_parent_;                   // per shift link: the nearest above it, -1 none
   std::vector<char> shift_merged_;  // per shift link: merged into a child (workspace)
   std::vector<int> label_;          // per pixel: shift link index, -1 none
   std::vector<int> shift_pixels_;   // per shift link: used pixels
