@@ -292,6 +292,8 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.model_error_learned_shifts", &C::model_error_learned_shifts),
     key("uncertainty.model_error_learned_time_constant_s", &C::model_error_learned_time_constant_s),
     key("uncertainty.model_error_learned_max_std_m", &C::model_error_learned_max_std_m),
+    key("uncertainty.model_error_unpinned_scale_on_learned",
+        &C::model_error_unpinned_scale_on_learned),
     key("uncertainty.link_length_std_m", &C::link_length_std_m),
     key("uncertainty.depth_scale_std", &C::depth_scale_std),
     key("uncertainty.mean_lag_scale", &C::mean_lag_scale),

@@ -150,7 +150,9 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
         {"uncertainty: {discount_correlated_residuals: often}\n",
          "uncertainty.discount_correlated_residuals"},
         {"uncertainty: {model_error_learned_shifts: maybe}\n",
-         "uncertainty.model_error_learned_shifts"}})
+         "uncertainty.model_error_learned_shifts"},
+        {"uncertainty: {model_error_unpinned_scale_on_learned: 2}\n",
+         "uncertainty.model_error_unpinned_scale_on_learned"}})
     EXPECT_NE(tracker_config_error(yaml).find(part), std::string::npos) << yaml;
 }
 

@@ -50,6 +50,7 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
                                  setup.config.model_error_learned_shifts),
       model_error_learned_time_constant_s(setup.config.model_error_learned_time_constant_s),
       model_error_learned_max_std_m(setup.config.model_error_learned_max_std_m),
+      model_error_unpinned_scale_on_learned(setup.config.model_error_unpinned_scale_on_learned),
       mean_lag_scale(setup.config.mean_lag_scale),
       mean_lag_time_constant_s(setup.config.mean_lag_time_constant_s) {
   const JointFilterModel& filter = *setup.filter_model;
@@ -228,6 +229,8 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   if (learned_) {
     widened_cross_ = consider_cross_;
     widen_learned_axes(shift_cross, std_m, unpinned_std_m);
+    if (!setup_.model_error_unpinned_scale_on_learned)
+      fill_learned_joint_columns(shift_cross, std_m);
     covariance_.update(info, consider_cross_, widened_cross_, setup_.camera_offset, scale);
   } else {
     covariance_.update(info, consider_cross_, scale);
@@ -274,31 +277,57 @@ void ReportedCovariance::update_link_model_errors(double time_s, TrackingHealth&
   }
 }
 
-void ReportedCovariance::widen_learned_axes(const Eigen::MatrixXd& shift_cross, double std_m,
-                                            double unpinned_std_m) {
+bool ReportedCovariance::learned_excess_m2(int k, double std_m, Eigen::Matrix3d& excess_m2) const {
+  // The learned shift's excess over the prior, per learned axis of the
+  // link: a shift N(0, s^2) learned as p with noise variance v has
+  // E[p^2] = s^2 + v, so s^2 is about p^2 - v.
   const double max_var_m2 =
       setup_.model_error_learned_max_std_m * setup_.model_error_learned_max_std_m;
-  const std::vector<Eigen::Isometry3d>& T_link_camera = information_.T_link_camera();
+  Eigen::Vector3d excess_link_m2 = Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d& covariance_m2 = learned_->covariance_m2(k);
+  for (int b = 0; b < 3; ++b)
+    if (covariance_m2(b, b) < max_var_m2) {
+      const double p_m = learned_->shift_m(k)[b];
+      excess_link_m2[b] = std::max(0.0, p_m * p_m - covariance_m2(b, b) - std_m * std_m);
+    }
+  // Link axis b is row b of R_link_camera in camera axes.
+  const Eigen::Matrix3d R = information_.T_link_camera()[std::size_t(k)].linear();
+  excess_m2 = R.transpose() * excess_link_m2.asDiagonal() * R;
+  return (excess_link_m2.array() > 0).any();
+}
+
+void ReportedCovariance::widen_learned_axes(const Eigen::MatrixXd& shift_cross, double std_m,
+                                            double unpinned_std_m) {
+  Eigen::Matrix3d prior_m2;
   for (int k = 0; k < learned_->num_links(); ++k) {
-    // The learned shift's excess over the prior, per learned axis of the
-    // link: a shift N(0, s^2) learned as p with noise variance v has
-    // E[p^2] = s^2 + v, so s^2 is about p^2 - v.
-    Eigen::Vector3d excess_m2 = Eigen::Vector3d::Zero();
-    const Eigen::Matrix3d& covariance_m2 = learned_->covariance_m2(k);
-    for (int b = 0; b < 3; ++b)
-      if (covariance_m2(b, b) < max_var_m2) {
-        const double p_m = learned_->shift_m(k)[b];
-        excess_m2[b] = std::max(0.0, p_m * p_m - covariance_m2(b, b) - std_m * std_m);
-      }
-    if (!(excess_m2.array() > 0).any()) continue;
-    // Link axis b is row b of R_link_camera in camera axes.
-    const Eigen::Matrix3d R = T_link_camera[std::size_t(k)].linear();
-    Eigen::Matrix3d prior_m2 = R.transpose() * excess_m2.asDiagonal() * R;
+    if (!learned_excess_m2(k, std_m, prior_m2)) continue;
     for (int a = 0; a < 3; ++a) {
       const double sd = pinned_[std::size_t(3 * k + a)] ? std_m : unpinned_std_m;
       prior_m2(a, a) += sd * sd + 1e-18;  // a floor of (1 nm)^2 keeps the factor defined
     }
     widened_cross_.middleCols<3>(3 * k).noalias() =
+        shift_cross.middleCols<3>(3 * k) * Eigen::Matrix3d(prior_m2.llt().matrixL());
+  }
+}
+
+void ReportedCovariance::fill_learned_joint_columns(const Eigen::MatrixXd& shift_cross,
+                                                    double std_m) {
+  if (shift_cross.cols() != 3 * learned_->num_links()) return;  // no shifts computed
+  const double max_var_m2 =
+      setup_.model_error_learned_max_std_m * setup_.model_error_learned_max_std_m;
+  Eigen::Matrix3d prior_m2;
+  for (int k = 0; k < learned_->num_links(); ++k) {
+    if (!(learned_->covariance_m2(k).diagonal().array() < max_var_m2).all()) continue;
+    // The excess along the camera axes the image does not pin (rows and
+    // columns of the pinned ones zeroed: still a covariance), std_m on all.
+    learned_excess_m2(k, std_m, prior_m2);
+    for (int a = 0; a < 3; ++a)
+      if (pinned_[std::size_t(3 * k + a)]) {
+        prior_m2.row(a).setZero();
+        prior_m2.col(a).setZero();
+      }
+    for (int a = 0; a < 3; ++a) prior_m2(a, a) += std_m * std_m + 1e-18;
+    consider_cross_.middleCols<3>(3 * k).noalias() =
         shift_cross.middleCols<3>(3 * k) * Eigen::Matrix3d(prior_m2.llt().matrixL());
   }
 }

@@ -331,6 +331,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   c.model_error = uncertainty.get<bool>("model_error", c.model_error);
   c.model_error_learned_shifts =
       uncertainty.get<bool>("model_error_learned_shifts", c.model_error_learned_shifts);
+  c.model_error_unpinned_scale_on_learned = uncertainty.get<bool>(
+      "model_error_unpinned_scale_on_learned", c.model_error_unpinned_scale_on_learned);
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
   read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels},

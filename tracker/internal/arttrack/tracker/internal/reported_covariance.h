@@ -105,6 +105,7 @@ struct ReportedCovarianceSetup {
   bool model_error_learned_shifts = false;
   double model_error_learned_time_constant_s = 0;
   double model_error_learned_max_std_m = 0;
+  bool model_error_unpinned_scale_on_learned = false;
   double mean_lag_scale = 0;  // uncertainty.mean_lag_*
   double mean_lag_time_constant_s = 0;
 
@@ -216,6 +217,21 @@ class ReportedCovariance {
   // 59), and the joints, whose unpinned shifts are already scaled,
   // widened with it went over the band (stop 87).
   void widen_learned_axes(const Eigen::MatrixXd& shift_cross, double std_m, double unpinned_std_m);
+  // The learned shift's excess over std_m of link k in camera axes, zero
+  // along an axis not learned (covariance over model_error_learned_max_std_m
+  // squared); false if it is zero on every axis.
+  bool learned_excess_m2(int k, double std_m, Eigen::Matrix3d& excess_m2) const;
+  // Replaces the columns of consider_cross_ (the joints') of each link
+  // learned on all three axes: the prior std_m on every camera axis, plus
+  // the learned excess along the axes the image does not pin, instead of
+  // unpinned_std_m there. The unpinned scale stands for what is unknown of
+  // a shift the joints take up unseen; of a link the poses have learned,
+  // the learned size is known (an arm7 length the shoulder takes up in
+  // each image is learned larger than std_m: it keeps that size). Adding
+  // the excess on the pinned axes too put the dual arm further over the
+  // 2 sigma band (docs/accuracy.md, stop 90). After widen_learned_axes(),
+  // which keeps the scale for the camera offset.
+  void fill_learned_joint_columns(const Eigen::MatrixXd& shift_cross, double std_m);
   // The lengths' columns of consider_cross_ at the image's mean (after
   // begin_image()'s kinematics), from the shifts' cross-information.
   void fill_length_columns(const Eigen::MatrixXd& shift_cross);
