@@ -401,7 +401,7 @@ TEST(ReportedCovariance, ALearnedShiftLargerThanTheEstimateWidensItsPrior) {
 // plus the learned excess, not at the unpinned scale: the joints' reported
 // variance is smaller. On the exact arm at an unpinned scale of 1 (nothing
 // learned above the noise) the setting changes nothing.
-TEST(ReportedCovariance, ALinkLearnedOnEveryAxisLeavesTheJointsUnscaled) {
+TEST(ReportedCovariance, ALinkLearnedOnEveryAxisCanLeaveTheJointsUnscaled) {
   const TrackerConfig c = small_config(TrackingMethod::kFullFusion);
   const auto& states = ReportedCovarianceSetup(TrackerSetup(arm_model(), c, {"shoulder", "elbow"}),
                                                sampling_blocks(*arm_model(), c))

@@ -237,13 +237,14 @@ struct TrackerConfig {
   double model_error_learned_max_std_m = 0.001;
   // Whether the joints take the unpinned shifts of a link learned on all
   // three axes (as above) at model_error_unpinned_scale times the estimate
-  // too (true; stops 42-89), or at the estimate plus the learned shift's
+  // too (true, the default), or at the estimate plus the learned shift's
   // excess over it (false). The scale stands for what is unknown of the
   // shifts the joints take up unseen; of a learned link the size is known.
   // The camera offset keeps the scale either way. On the realistic family
-  // the joints of the sculpted dual arm came from over the 2 sigma band
-  // into it (docs/accuracy.md, stop 90).
-  bool model_error_unpinned_scale_on_learned = false;
+  // false brings the sculpted dual arm's joints into the 2 sigma band, but
+  // the refinement's step, bounded by the reported deviations, then lags
+  // more where a hand comes back into view (docs/accuracy.md, stop 90).
+  bool model_error_unpinned_scale_on_learned = true;
   // The user's stated standard deviation of the URDF's link lengths, m, in
   // [0, 0.1]: each joint origin the camera does not hang from may be that
   // much longer or shorter along its translation, an error shared by every
