@@ -335,7 +335,9 @@ TEST(ReportedCovariance, TheHealthReportsALinksScale) {
 // The reported covariance after 40 poses of the arm whose forearm is
 // `forearm_nearer_m` nearer the camera than its model, tracked under
 // `config` (its states in ReportedCovarianceSetup order).
-Eigen::MatrixXd covariance_after_poses(const TrackerConfig& config, double forearm_nearer_m) {
+// (`step_bound`: the refinement's step-bound covariance instead of the reported one.)
+Eigen::MatrixXd covariance_after_poses(const TrackerConfig& config, double forearm_nearer_m,
+                                       bool step_bound = false) {
   const TrackerSetup setup(arm_model(), config, {"shoulder", "elbow"});
   const RobotModel& model = *setup.model;
   const auto real = arm_with_forearm_nearer(forearm_nearer_m);
@@ -355,7 +357,7 @@ Eigen::MatrixXd covariance_after_poses(const TrackerConfig& config, double forea
     EXPECT_TRUE(reported.begin_image(t, prior_std, reopened, mean, renderer, likelihood));
     reported.end_image(t, health);
   }
-  return reported.covariance().covariance();
+  return (step_bound ? reported.step_bound_covariance() : reported.covariance()).covariance();
 }
 
 // uncertainty.model_error_learned_shifts: the forearm, 8 mm nearer the
@@ -399,15 +401,16 @@ TEST(ReportedCovariance, ALearnedShiftLargerThanTheEstimateWidensItsPrior) {
 // forearm (8 mm nearer the camera than its model) on all three axes, so
 // the joints take its shifts that one image does not pin at the estimate
 // plus the learned excess, not at the unpinned scale: the joints' reported
-// variance is smaller. On the exact arm at an unpinned scale of 1 (nothing
-// learned above the noise) the setting changes nothing.
+// variance is smaller. The refinement's step stays bounded by the scaled
+// covariance, to the bit. On the exact arm at an unpinned scale of 1
+// (nothing learned above the noise) the setting changes nothing.
 TEST(ReportedCovariance, ALinkLearnedOnEveryAxisCanLeaveTheJointsUnscaled) {
   const TrackerConfig c = small_config(TrackingMethod::kFullFusion);
   const auto& states = ReportedCovarianceSetup(TrackerSetup(arm_model(), c, {"shoulder", "elbow"}),
                                                sampling_blocks(*arm_model(), c))
                            .states;
   auto joints_after_poses = [&](double forearm_nearer_m, double unpinned_scale,
-                                bool scale_on_learned) {
+                                bool scale_on_learned, bool step_bound = false) {
     TrackerConfig cs = c;
     cs.model_error_unpinned_scale = unpinned_scale;
     cs.model_error_unpinned_scale_on_learned = scale_on_learned;
@@ -415,7 +418,7 @@ TEST(ReportedCovariance, ALinkLearnedOnEveryAxisCanLeaveTheJointsUnscaled) {
     // A 64x48 image of planar poses pins the forearm's axes to a few
     // millimetres, not to 1 mm: learned here to within 5.
     cs.model_error_learned_max_std_m = 0.005;
-    const Eigen::MatrixXd covariance = covariance_after_poses(cs, forearm_nearer_m);
+    const Eigen::MatrixXd covariance = covariance_after_poses(cs, forearm_nearer_m, step_bound);
     double joints_var = 0;
     for (std::size_t i = 0; i < states.size(); ++i)
       if (states[i].kind == Kind::kBias) joints_var += covariance(Eigen::Index(i), Eigen::Index(i));
@@ -425,6 +428,8 @@ TEST(ReportedCovariance, ALinkLearnedOnEveryAxisCanLeaveTheJointsUnscaled) {
   const auto [unscaled, unscaled_joints_var] = joints_after_poses(0.008, 3.0, false);
   EXPECT_LT(unscaled_joints_var, 0.9 * scaled_joints_var);
   EXPECT_GE(unscaled.eigenvalues().real().minCoeff(), -1e-12 * unscaled.trace());
+  EXPECT_EQ(joints_after_poses(0.008, 3.0, false, true).first, scaled);
+  EXPECT_EQ(joints_after_poses(0.008, 3.0, true, true).first, scaled);
   EXPECT_TRUE(joints_after_poses(0.0, 1.0, true)
                   .first.isApprox(joints_after_poses(0.0, 1.0, false).first, 1e-9));
 }

@@ -153,8 +153,8 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
         unseen_joints_.keep_priors(covariance_.information().pixels_per_dof(), belief);
   if (informed && refinement_.on())
     health_.refinements_accepted +=
-        refinement_.refine(covariance_.covariance(), covariance_.information(), prior_mean_,
-                           prior_std_, filter_, belief);
+        refinement_.refine(covariance_.step_bound_covariance(), covariance_.information(),
+                           prior_mean_, prior_std_, filter_, belief);
   covariance_.end_image(time_s, health_);
   covariance_.record_means(time_s, belief);
   // Not at the first image: its search has just placed the arms.

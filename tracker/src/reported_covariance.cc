@@ -127,6 +127,8 @@ ReportedCovariance::ReportedCovariance(const TrackerSetup& setup,
   if (setup_.model_error_learned_shifts && covariance_.size() > 0)
     learned_ = std::make_unique<LearnedLinkShifts>(int(setup.model->links_with_geometry().size()),
                                                    setup_.model_error_learned_time_constant_s);
+  if (learned_ && !setup_.model_error_unpinned_scale_on_learned)
+    step_bound_ = std::make_unique<PosteriorCovariance>(setup_.states, setup_.num_consider);
 }
 
 bool ReportedCovariance::begin_image(double time_s, std::span<const double> prior_std,
@@ -141,14 +143,17 @@ bool ReportedCovariance::begin_image(double time_s, std::span<const double> prio
       start_[i] = sd * sd;
     }
     covariance_.reset(start_, time_s);
+    if (step_bound_) step_bound_->reset(start_, time_s);
   } else {
     covariance_.predict_to(time_s);
+    if (step_bound_) step_bound_->predict_to(time_s);
   }
   bool any_reopened = false;
   for (int i = 0; i < covariance_.size(); ++i) {
     const int dof = states[std::size_t(i)].dof;
     if (reopened[dof]) {
       covariance_.restart_state(i, setup_.reopened_bias_var_rad2);
+      if (step_bound_) step_bound_->restart_state(i, setup_.reopened_bias_var_rad2);
       mean_lag_.restart(i);
     }
     any_reopened = any_reopened || reopened[dof];
@@ -163,7 +168,9 @@ void ReportedCovariance::add_variance(std::span<const double> added_var) {
   const auto& states = covariance_.states();
   for (int i = 0; i < covariance_.size(); ++i) {
     const double v = added_var[std::size_t(states[std::size_t(i)].dof)];
-    if (v > 0) covariance_.add_variance(i, v);
+    if (v <= 0) continue;
+    covariance_.add_variance(i, v);
+    if (step_bound_) step_bound_->add_variance(i, v);
   }
 }
 
@@ -229,8 +236,11 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   if (learned_) {
     widened_cross_ = consider_cross_;
     widen_learned_axes(shift_cross, std_m, unpinned_std_m);
-    if (!setup_.model_error_unpinned_scale_on_learned)
+    if (step_bound_) {
+      step_bound_cross_ = consider_cross_;
       fill_learned_joint_columns(shift_cross, std_m);
+      step_bound_->update(info, step_bound_cross_, widened_cross_, setup_.camera_offset, scale);
+    }
     covariance_.update(info, consider_cross_, widened_cross_, setup_.camera_offset, scale);
   } else {
     covariance_.update(info, consider_cross_, scale);

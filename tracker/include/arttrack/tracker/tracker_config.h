@@ -241,9 +241,10 @@ struct TrackerConfig {
   // excess over it (false). The scale stands for what is unknown of the
   // shifts the joints take up unseen; of a learned link the size is known.
   // The camera offset keeps the scale either way. On the realistic family
-  // false brings the sculpted dual arm's joints into the 2 sigma band, but
-  // the refinement's step, bounded by the reported deviations, then lags
-  // more where a hand comes back into view (docs/accuracy.md, stop 90).
+  // false brings the sculpted dual arm's joints into the 2 sigma band. The
+  // refinement's step stays bounded by the scaled deviations (bounded by the
+  // reported ones it lagged where a hand came back into view: stop 90;
+  // ReportedCovariance::step_bound_covariance(), stop 91).
   bool model_error_unpinned_scale_on_learned = true;
   // The user's stated standard deviation of the URDF's link lengths, m, in
   // [0, 0.1]: each joint origin the camera does not hang from may be that

@@ -119,6 +119,17 @@ class ReportedCovariance {
 
   const ReportedCovarianceSetup& setup() const { return setup_; }
   const PosteriorCovariance& covariance() const { return covariance_; }
+  // The covariance the refinement's step is bounded by (refinement.h): the
+  // reported one, but with uncertainty.model_error_unpinned_scale_on_learned
+  // false, a second one whose joints keep the unpinned scale on every link,
+  // the width stop 55 bounded the step by. The bound is about how far the
+  // mean may be off while it converges (a hand re-entering the view), not
+  // about the model error the joints carry: at the learned size the step
+  // lagged more where a hand leaves and re-enters (docs/accuracy.md, stop
+  // 90). Both share the filter's own covariance P (the same updates).
+  const PosteriorCovariance& step_bound_covariance() const {
+    return step_bound_ ? *step_bound_ : covariance_;
+  }
 
   // The first half of an image's update at time_s: starts the covariance
   // from the prior's angle variances (prior_std per DOF) at the first image,
@@ -174,6 +185,11 @@ class ReportedCovariance {
  private:
   const ReportedCovarianceSetup setup_;
   PosteriorCovariance covariance_;
+  // step_bound_covariance()'s own, when it differs (null otherwise), and
+  // the consider columns it takes (consider_cross_ before
+  // fill_learned_joint_columns()).
+  std::unique_ptr<PosteriorCovariance> step_bound_;
+  Eigen::MatrixXd step_bound_cross_;
   ImageInformation information_;
   std::shared_ptr<const RobotModel> model_;
   KinematicsState kinematics_;  // at the image's mean, for the lengths' directions
