@@ -237,15 +237,16 @@ struct TrackerConfig {
   double model_error_learned_max_std_m = 0.001;
   // Whether the joints take the unpinned shifts of a link learned on all
   // three axes (as above) at model_error_unpinned_scale times the estimate
-  // too (true, the default), or at the estimate plus the learned shift's
-  // excess over it (false). The scale stands for what is unknown of the
-  // shifts the joints take up unseen; of a learned link the size is known.
-  // The camera offset keeps the scale either way. On the realistic family
-  // false brings the sculpted dual arm's joints into the 2 sigma band. The
-  // refinement's step stays bounded by the scaled deviations (bounded by the
-  // reported ones it lagged where a hand came back into view: stop 90;
-  // ReportedCovariance::step_bound_covariance(), stop 91).
-  bool model_error_unpinned_scale_on_learned = true;
+  // too (true, stops 42-90), or at the estimate plus the learned shift's
+  // excess over it (false, the default since stop 91). The scale stands for
+  // what is unknown of the shifts the joints take up unseen; of a learned
+  // link the size is known. The camera offset keeps the scale either way.
+  // On the realistic family false brings the sculpted dual arm's joints
+  // into the 2 sigma band (99.7 -> 96.8%) with the means unchanged: the
+  // refinement's step stays bounded by the scaled deviations (bounded by
+  // the reported ones it lagged where a hand came back into view: stop 90;
+  // ReportedCovariance::step_bound_covariance(), docs/accuracy.md, stop 91).
+  bool model_error_unpinned_scale_on_learned = false;
   // The user's stated standard deviation of the URDF's link lengths, m, in
   // [0, 0.1]: each joint origin the camera does not hang from may be that
   // much longer or shorter along its translation, an error shared by every

@@ -237,11 +237,11 @@ class ReportedCovariance {
   // along an axis not learned (covariance over model_error_learned_max_std_m
   // squared); false if it is zero on every axis.
   bool learned_excess_m2(int k, double std_m, Eigen::Matrix3d& excess_m2) const;
-  // With uncertainty.model_error_unpinned_scale_on_learned false (not the
-  // default), replaces the columns of consider_cross_ (the joints') of each
-  // link learned on all three axes: the prior std_m on every camera axis, plus
-  // the learned excess along the axes the image does not pin, instead of
-  // unpinned_std_m there. The unpinned scale stands for what is unknown of
+  // With uncertainty.model_error_unpinned_scale_on_learned false (the
+  // default since stop 91), replaces the columns of consider_cross_ (the
+  // joints') of each link learned on all three axes: the prior std_m on
+  // every camera axis, plus the learned excess along the axes the image
+  // does not pin, instead of unpinned_std_m there. The unpinned scale stands for what is unknown of
   // a shift the joints take up unseen; of a link the poses have learned,
   // the learned size is known (an arm7 length the shoulder takes up in
   // each image is learned larger than std_m: it keeps that size). Adding
