@@ -13,7 +13,10 @@
 // larger; with uncertainty.depth_scale_std, the camera's depth scale, the
 // user's stated calibration, as the last consider parameter. Apart from the
 // covariance, the means' lag (mean_lag.h) that Tracker::estimate() adds to
-// the biases' and the camera offset's reported variances.
+// the biases' and the camera offset's reported variances, and, with
+// uncertainty.model_error_unpinned_scale_on_learned false, a second
+// covariance whose joints keep the unpinned scale, which bounds the mean
+// refinement's step (step_bound_covariance()).
 //
 // An image's update comes in two halves, with the mean's refinement
 // (refinement.h) between them: begin_image() moves the covariance to the
@@ -241,9 +244,9 @@ class ReportedCovariance {
   // default since stop 91), replaces the columns of consider_cross_ (the
   // joints') of each link learned on all three axes: the prior std_m on
   // every camera axis, plus the learned excess along the axes the image
-  // does not pin, instead of unpinned_std_m there. The unpinned scale stands for what is unknown of
-  // a shift the joints take up unseen; of a link the poses have learned,
-  // the learned size is known (an arm7 length the shoulder takes up in
+  // does not pin, instead of unpinned_std_m there. The unpinned scale
+  // stands for what is unknown of a shift the joints take up unseen; of a
+  // link the poses have learned, the learned size is known (an arm7 length the shoulder takes up in
   // each image is learned larger than std_m: it keeps that size). Adding
   // the excess on the pinned axes too put the dual arm further over the
   // 2 sigma band (docs/accuracy.md, stop 90). After widen_learned_axes(),
