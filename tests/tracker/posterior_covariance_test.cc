@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "../count_allocations.h"
 #include "../error_of.h"
 #include "arttrack/tracker/error.h"
 
@@ -162,6 +163,39 @@ TEST(PosteriorCovariance, AngleCovarianceAtIsAPredictedCopy) {
     EXPECT_EQ(cov.time_s(), 0.3);
     EXPECT_THROW(cov.angle_covariance_at(0.2, at), InputError);
   }
+}
+
+// An image's update is on the image thread's path (per image, twice with
+// the step-bound covariance, reported_covariance.h): once constructed, the
+// covariance predicts, updates in each of its three forms and reports
+// without a heap allocation, at the dual arm's size (about 20 states and
+// 100 consider parameters: past Eigen's small fixed-size paths).
+TEST(PosteriorCovariance, AnImageUpdateAllocatesNothing) {
+  const int m = 20, c = 100;
+  std::vector<PosteriorCovariance::State> states;
+  for (int i = 0; i < m; ++i)
+    states.push_back({i, i % 3 == 0 ? Kind::kAngle : Kind::kBias, i % 3 == 0 ? 0.0 : 0.05, 0.003});
+  PosteriorCovariance cov(states, c);
+  cov.reset(Eigen::VectorXd::Constant(m, 0.01), 0.0);
+  const Eigen::MatrixXd H = Eigen::MatrixXd::Random(3 * m, m);
+  const Eigen::MatrixXd info = H.transpose() * H;
+  const Eigen::MatrixXd cross = Eigen::MatrixXd::Random(m, c);
+  const Eigen::MatrixXd widened_cross = 2 * cross;
+  std::vector<char> widened(std::size_t(m), 0);
+  widened[std::size_t(m - 1)] = 1;
+  Eigen::MatrixXd out(m, m);
+  const long before = g_allocations.load();
+  for (int image = 1; image <= 10; ++image) {
+    cov.predict_to(image / 30.0);
+    cov.add_variance(0, 1e-4);
+    cov.update(info, 0.5);
+    cov.update(info, cross, 0.5);
+    cov.update(info, cross, widened_cross, widened, 0.5);
+    cov.angle_covariance(out);
+    cov.angle_covariance_at(image / 30.0 + 0.01, out);
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_TRUE(out.allFinite());
 }
 
 TEST(PosteriorCovariance, RejectsBadInput) {

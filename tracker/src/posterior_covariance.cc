@@ -37,6 +37,9 @@ void predict_covariance(const std::vector<PosteriorCovariance::State>& states, d
   }
 }
 
+// out = (M + M^T) / 2, without a temporary (`out` must not be M).
+void symmetrise(const Eigen::MatrixXd& M, Eigen::MatrixXd& out) { out = 0.5 * (M + M.transpose()); }
+
 }  // namespace
 
 PosteriorCovariance::PosteriorCovariance(std::vector<State> states, int num_consider)
@@ -57,9 +60,10 @@ PosteriorCovariance::PosteriorCovariance(std::vector<State> states, int num_cons
   scratch_ = Eigen::MatrixXd::Zero(m, m);
   identity_ = Eigen::MatrixXd::Identity(m, m);
   J_ = Eigen::MatrixXd::Zero(m, m);
+  lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(m);
   if (num_consider_ > 0) {
     Q_ee_ = A_ = PJ_ = Eigen::MatrixXd::Zero(m, m);
-    Q_ec_ = B_ = B_widened_ = AQ_ = Eigen::MatrixXd::Zero(m, num_consider_);
+    Q_ec_ = B_ = B_widened_ = AQ_ = signed_cross_ = Eigen::MatrixXd::Zero(m, num_consider_);
   }
 }
 
@@ -154,8 +158,9 @@ void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_informatio
   scratch_ *= information_scale;
   scratch_ += identity_;
   J_ *= information_scale;  // J_xx, for propagate_error()
-  P_ = scratch_.partialPivLu().solve(P_);
-  P_ = 0.5 * (P_ + P_.transpose()).eval();
+  lu_.compute(scratch_);    // into its sized storage: no allocation
+  scratch_.noalias() = lu_.solve(P_);
+  symmetrise(scratch_, P_);
 }
 
 // The error's covariance after the update that gave P_ (P+), with J_ = J_xx.
@@ -166,10 +171,12 @@ void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
   PJ_.noalias() = P_ * J_;  // P+ J_xx
   A_ = identity_ - PJ_;
   if (consider_cross) {
-    B_.noalias() = P_ * (sign_.asDiagonal() * *consider_cross);
+    signed_cross_.noalias() = sign_.asDiagonal() * *consider_cross;
+    B_.noalias() = P_ * signed_cross_;
     B_ *= -information_scale;
     if (widened_cross) {
-      B_widened_.noalias() = P_ * (sign_.asDiagonal() * *widened_cross);
+      signed_cross_.noalias() = sign_.asDiagonal() * *widened_cross;
+      B_widened_.noalias() = P_ * signed_cross_;
       B_widened_ *= -information_scale;
       for (int i = 0; i < size(); ++i)
         if ((*widened)[std::size_t(i)]) B_.row(i) = B_widened_.row(i);
@@ -185,7 +192,8 @@ void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
   Q_ee_ += scratch_ + scratch_.transpose();
   Q_ee_.noalias() += B_ * B_.transpose();
   Q_ee_.noalias() += PJ_ * P_;
-  Q_ee_ = 0.5 * (Q_ee_ + Q_ee_.transpose()).eval();
+  scratch_ = Q_ee_;
+  symmetrise(scratch_, Q_ee_);
   // Q_ec <- A Q_ec + B.
   Q_ec_ = AQ_ + B_;
 }

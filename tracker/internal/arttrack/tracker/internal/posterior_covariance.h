@@ -42,6 +42,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <vector>
 
 namespace arttrack {
@@ -118,11 +119,15 @@ class PosteriorCovariance {
   std::vector<State> states_;
   Eigen::VectorXd sign_;  // D's diagonal
   int num_consider_ = 0;
+  // Every matrix an update uses is sized at construction, so an image's
+  // update allocates nothing (it runs per image on the image thread).
   Eigen::MatrixXd P_, scratch_, identity_;
-  Eigen::MatrixXd J_;  // the last image's J_xx
+  Eigen::MatrixXd J_;                        // the last image's J_xx
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;  // of Id + P s D I D
   // With consider parameters: the error's covariance with them, and scratch.
   Eigen::MatrixXd Q_ee_, Q_ec_, A_, B_, AQ_, PJ_;
-  Eigen::MatrixXd B_widened_;  // B from widened_cross
+  Eigen::MatrixXd B_widened_;     // B from widened_cross
+  Eigen::MatrixXd signed_cross_;  // D times a cross-information
 
   // The three update()s: a null part is absent. Checks every size.
   void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd* consider_cross,
