@@ -414,8 +414,9 @@ TEST(ImageInformation, ShiftsThatMoveTheSamePixelsAreOne) {
     EXPECT_EQ(info.shift_cross_information().middleCols<3>(3 * bracket).norm() == 0, hidden);
     std::vector<char> pinned;
     info.link_shift_variance_m2(&pinned);
-    if (hidden)
+    if (hidden) {
       EXPECT_EQ(std::count(pinned.begin() + 3 * bracket, pinned.begin() + 3 * bracket + 3, 1), 0);
+    }
   }
 }
 
