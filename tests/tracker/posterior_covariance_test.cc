@@ -177,9 +177,16 @@ TEST(PosteriorCovariance, AnImageUpdateAllocatesNothing) {
     states.push_back({i, i % 3 == 0 ? Kind::kAngle : Kind::kBias, i % 3 == 0 ? 0.0 : 0.05, 0.003});
   PosteriorCovariance cov(states, c);
   cov.reset(Eigen::VectorXd::Constant(m, 0.01), 0.0);
-  const Eigen::MatrixXd H = Eigen::MatrixXd::Random(3 * m, m);
+  // Fixed values, not drawn (any information and cross-information do).
+  const Eigen::MatrixXd H =
+      Eigen::MatrixXd::NullaryExpr(3 * m, m, [](Eigen::Index i, Eigen::Index j) {
+        return std::sin(1.0 + double(i) + 0.7 * double(i * j));
+      });
   const Eigen::MatrixXd info = H.transpose() * H;
-  const Eigen::MatrixXd cross = Eigen::MatrixXd::Random(m, c);
+  const Eigen::MatrixXd cross =
+      Eigen::MatrixXd::NullaryExpr(m, c, [](Eigen::Index i, Eigen::Index j) {
+        return std::cos(0.5 + double(j) + 0.3 * double(i * j));
+      });
   const Eigen::MatrixXd widened_cross = 2 * cross;
   std::vector<char> widened(std::size_t(m), 0);
   widened[std::size_t(m - 1)] = 1;
