@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 
+#include "../count_allocations.h"
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
 #include "arttrack/tracker/internal/worker_pool.h"
@@ -551,6 +552,44 @@ TEST(ImageInformation, LinkBulgeSeesAThickerRoundLink) {
     const Seen exact = seen(0.0, 0.0);
     EXPECT_LT(std::sqrt(std::max(0.0, exact.bulge_square_m2[post])), 1e-4);
   }
+}
+
+// The model-error fits run once per image on the image thread (the
+// reported covariance's link_shift_variance_m2() with every output), so
+// once sized they allocate nothing: an image that shows the same links as
+// the last takes the same workspaces.
+TEST(ImageInformation, TheModelErrorFitsAllocateNothingOnceSized) {
+  PostScene scene;
+  ImageInformation info(camera_offset_dofs(scene.model),
+                        {.link_shifts = true, .motion_field = true});
+  scene.observe(info, 1.0, 0.003, 0.0);  // a thicker post: shifts, a bulge and scales to fit
+  std::vector<char> pinned;
+  std::vector<double> column_square_m2, bulge_square_m2;
+  ImageInformation::ProjectedShiftEquations equations;
+  std::vector<ImageInformation::LinkScaleFit> scales;
+  const std::span<const double> at_q0{scene.q0.data(), std::size_t(scene.q0.size())};
+  long in_compute = 0, in_fits = 0;
+  auto image = [&] {
+    const long start = g_allocations.load();
+    info.compute(scene.renderer, at_q0, scene.likelihood);
+    const long computed = g_allocations.load();
+    const double variance_m2 = info.link_shift_variance_m2(&pinned, &column_square_m2, &equations,
+                                                           &scales, &bulge_square_m2);
+    in_compute += computed - start;
+    in_fits += g_allocations.load() - computed;
+    return variance_m2;
+  };
+  const double first = image();
+  ASSERT_FALSE(equations.columns.empty());
+  ASSERT_TRUE(std::any_of(bulge_square_m2.begin(), bulge_square_m2.end(),
+                          [](double b) { return !std::isnan(b); }));
+  ASSERT_TRUE(
+      std::any_of(scales.begin(), scales.end(),
+                  [](const ImageInformation::LinkScaleFit& f) { return !std::isnan(f.scale); }));
+  in_compute = in_fits = 0;
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(image(), first);
+  EXPECT_EQ(in_compute, 0);
+  EXPECT_EQ(in_fits, 0);
 }
 
 // White depth noise and links that are the model's: each image's estimate

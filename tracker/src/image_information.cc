@@ -110,16 +110,22 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   pixels_per_dof_.assign(std::size_t(m), 0);
   for (int k = 0; k < m; ++k)
     for (int p = 0; p < num_pixels; ++p) pixels_per_dof_[std::size_t(k)] += gradients_(p, k) != 0;
-  information_.noalias() = (gradients_.transpose() * gradients_).cast<double>();
-  gradient_.noalias() = (gradients_.transpose() * residuals_).cast<double>();
+  // The float products into kept matrices, then to double (a cast of the
+  // product would evaluate it into a temporary: the same numbers, allocated).
+  product_f_.noalias() = gradients_.transpose() * gradients_;
+  information_ = product_f_.cast<double>();
+  product_vector_f_.noalias() = gradients_.transpose() * residuals_;
+  gradient_ = product_vector_f_.cast<double>();
   if (params_.motion_field) {
     field_gradients_.setZero(num_pixels, m);
     motion_field_gradients(model, renderer.camera(), likelihood, pool);
-    field_information_.noalias() = (field_gradients_.transpose() * field_gradients_).cast<double>();
+    product_f_.noalias() = field_gradients_.transpose() * field_gradients_;
+    field_information_ = product_f_.cast<double>();
   }
   if (params_.depth_scale) {
     const Eigen::MatrixXf& G = params_.motion_field ? field_gradients_ : gradients_;
-    depth_scale_cross_.noalias() = (G.transpose() * depth_scale_pixels_).cast<double>();
+    product_vector_f_.noalias() = G.transpose() * depth_scale_pixels_;
+    depth_scale_cross_ = product_vector_f_.cast<double>();
   }
   estimate_effective_pixel_fraction(likelihood.width());
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
@@ -672,11 +678,17 @@ bool ImageInformation::project_shifts(int min_pixels, std::span<const int> bulge
     for (int d = 0; d < k; ++d)
       out.A(c, d) = shift_information_(column, out.columns[std::size_t(d)]);
   }
-  out.A -= out.C.transpose() * out.nuisance.solve(out.C);
-  out.b -= out.C.transpose() * out.nuisance.solve(out.nuisance_gradient);
-  Eigen::MatrixXd A = out.A;  // the ridge on a copy: out.A is the caller's, without
-  A.diagonal().array() += 1e-9 * std::max(1.0, A.diagonal().maxCoeff());
-  out.shifts.compute(A);
+  // Each product into the workspace, then subtracted: what `out.A -= C^T
+  // solve(C)` evaluates through temporaries, without allocating them.
+  out.solved_C = out.nuisance.solve(out.C);
+  out.product.noalias() = out.C.transpose() * out.solved_C;
+  out.A -= out.product;
+  out.solved_gradient = out.nuisance.solve(out.nuisance_gradient);
+  out.product_vector.noalias() = out.C.transpose() * out.solved_gradient;
+  out.b -= out.product_vector;
+  out.ridged = out.A;  // the ridge on a copy: out.A is the caller's, without
+  out.ridged.diagonal().array() += 1e-9 * std::max(1.0, out.ridged.diagonal().maxCoeff());
+  out.shifts.compute(out.ridged);
   // A is positive semi-definite in exact arithmetic. Where the image barely
   // sees a DOF (the camera's broad prior at the first image, arm7's
   // world-fixed camera) projecting it out cancels to rounding and leaves A
@@ -687,7 +699,7 @@ bool ImageInformation::project_shifts(int min_pixels, std::span<const int> bulge
     return false;
   out.estimate = out.shifts.solve(out.b);
   const double chi2 = out.b.dot(out.estimate);
-  const double fitted = out.nuisance_gradient.dot(out.nuisance.solve(out.nuisance_gradient));
+  const double fitted = out.nuisance_gradient.dot(out.solved_gradient);
   const int left = pixels_used_ - nm - k;
   out.noise_var = left > 0 ? std::max(1.0, (residual_sum_sq_ - fitted - chi2) / left) : 1.0;
   return true;
@@ -709,18 +721,23 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
     equations->noise_var = 0;
   }
   if (!params_.link_shifts || pixels_used_ == 0) return 0;
-  ShiftProjection fit;
-  if (!project_shifts(min_pixels, {}, fit)) return 0;
+  // Two projections, each with its own workspace: the sizes of each stay
+  // the same from image to image.
+  FitWorkspace& ws = fit_workspace_;
+  const ShiftProjection& alone = ws.shifts_alone;
+  if (!project_shifts(min_pixels, {}, ws.shifts_alone)) return 0;
   // The scales beside the DOFs and shifts alone: a round link's scale is
   // mostly its bulge.
   if (scales)
-    fit_link_scales(fit.nuisance, fit.columns, fit.C, fit.shifts, fit.b, fit.noise_var, min_pixels,
-                    *scales);
+    fit_link_scales(alone.nuisance, alone.columns, alone.C, alone.shifts, alone.b, alone.noise_var,
+                    min_pixels, *scales);
   // The bulges beside the DOFs, of the links with curved pixels enough.
-  std::vector<int> bulges;
+  std::vector<int>& bulges = ws.bulges;
+  bulges.clear();
   for (int l = 0; l < int(shift_links_.size()); ++l)
     if (bulge_pixels_[std::size_t(l)] >= min_pixels) bulges.push_back(l);
-  if (!bulges.empty() && !project_shifts(min_pixels, bulges, fit)) return 0;
+  if (!bulges.empty() && !project_shifts(min_pixels, bulges, ws.with_bulges)) return 0;
+  const ShiftProjection& fit = bulges.empty() ? alone : ws.with_bulges;
   const int k = int(fit.columns.size());
   const double c = fit.noise_var;
   if (equations) {
@@ -732,7 +749,8 @@ double ImageInformation::link_shift_variance_m2(std::vector<char>* pinned,
   if (bulge_square_m2) fit_link_bulges(fit, *bulge_square_m2);
   // Each shift's square less its noise variance c (A^-1)_ii, averaged over
   // the shifts: every link counts the same, however many pixels it has.
-  const Eigen::MatrixXd noise = fit.shifts.solve(Eigen::MatrixXd::Identity(k, k));
+  Eigen::MatrixXd& noise = ws.shift_noise;
+  noise = fit.shifts.solve(Eigen::MatrixXd::Identity(k, k));
   double sum = 0;
   int counted = 0;
   for (int i = 0; i < k; ++i) {
@@ -753,8 +771,11 @@ void ImageInformation::fit_link_bulges(const ShiftProjection& fit,
   // The whole normal equations over (DOFs, bulges, shifts): each bulge's fit
   // and noise variance with the DOFs and every shift beside it.
   const int nm = n + m, N = nm + k;
-  Eigen::MatrixXd M(N, N);
-  Eigen::VectorXd g(N);
+  FitWorkspace& ws = fit_workspace_;
+  Eigen::MatrixXd& M = ws.whole;
+  Eigen::VectorXd& g = ws.whole_gradient;
+  M.resize(N, N);
+  g.resize(N);
   M.topLeftCorner(nm, nm) = fit.nuisance_information;  // ridged
   M.topRightCorner(nm, k) = fit.C;
   M.bottomLeftCorner(k, nm) = fit.C.transpose();
@@ -766,14 +787,18 @@ void ImageInformation::fit_link_bulges(const ShiftProjection& fit,
           shift_information_(fit.columns[std::size_t(c)], fit.columns[std::size_t(d)]);
   }
   M.diagonal().array() += 1e-9 * std::max(1.0, M.diagonal().maxCoeff());
-  const Eigen::LDLT<Eigen::MatrixXd> all(M);
+  Eigen::LDLT<Eigen::MatrixXd>& all = ws.whole_factor;
+  all.compute(M);
   if (all.info() != Eigen::Success) return;
-  const Eigen::VectorXd x = all.solve(g);
-  Eigen::VectorXd unit = Eigen::VectorXd::Zero(N);
+  Eigen::VectorXd& x = ws.whole_fit;
+  x = all.solve(g);
+  Eigen::VectorXd& unit = ws.unit;
+  unit.setZero(N);
   for (int i = 0; i < m; ++i) {
     unit.setZero();
     unit[n + i] = 1;
-    const double var = fit.noise_var * all.solve(unit)[n + i];
+    ws.unit_solved = all.solve(unit);
+    const double var = fit.noise_var * ws.unit_solved[n + i];
     if (!(var > 0 && var < kMaxShiftNoiseVar_m2)) continue;  // the image hardly sees it
     bulge_square_m2[std::size_t(fit.bulges[std::size_t(i)])] = x[n + i] * x[n + i] - var;
   }
@@ -785,7 +810,9 @@ void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,
                                        const Eigen::LDLT<Eigen::MatrixXd>& shifts,
                                        const Eigen::VectorXd& shift_b, double noise_var,
                                        int min_pixels, std::vector<LinkScaleFit>& scales) const {
-  std::vector<int> links;
+  FitWorkspace& ws = fit_workspace_;
+  std::vector<int>& links = ws.scale_links;
+  links.clear();
   for (int l = 0; l < int(shift_links_.size()); ++l)
     if (shift_pixels_[std::size_t(l)] >= min_pixels && scale_information_[l] > 0)
       links.push_back(l);
@@ -793,9 +820,12 @@ void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,
   if (m == 0) return;
   // The normal equations over (DOFs, the fit's shift columns, the scales),
   // the DOFs then the shifts projected out (Schur complements).
-  Eigen::MatrixXd S(n, m), X(k, m), A(m, m);
-  Eigen::VectorXd b(m);
-  A.setZero();
+  Eigen::MatrixXd &S = ws.scale_dofs, &X = ws.scale_shifts, &A = ws.scales;
+  Eigen::VectorXd& b = ws.scale_gradient;
+  S.resize(n, m);
+  X.resize(k, m);
+  A.setZero(m, m);
+  b.resize(m);
   for (int i = 0; i < m; ++i) {
     const int l = links[std::size_t(i)];
     S.col(i) = scale_cross_.col(l);
@@ -803,27 +833,45 @@ void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,
     A(i, i) = scale_information_[l];  // a pixel shows one link: no cross terms
     b[i] = scale_gradient_[l];
   }
-  const Eigen::MatrixXd dofs_S = dofs.solve(S);
-  X -= shift_cross.transpose() * dofs_S;
-  A -= S.transpose() * dofs_S;
-  b -= S.transpose() * dofs.solve(gradient_);
-  A -= X.transpose() * shifts.solve(X);
-  b -= X.transpose() * shifts.solve(shift_b);
+  // Each product into the workspace, then subtracted (as project_shifts()).
+  ws.dofs_solved = dofs.solve(S);  // dofs_S
+  ws.scale_shift_product.noalias() = shift_cross.transpose() * ws.dofs_solved;
+  X -= ws.scale_shift_product;
+  ws.scale_product.noalias() = S.transpose() * ws.dofs_solved;
+  A -= ws.scale_product;
+  ws.dofs_solved_gradient = dofs.solve(gradient_);
+  ws.scale_product_vector.noalias() = S.transpose() * ws.dofs_solved_gradient;
+  b -= ws.scale_product_vector;
+  ws.shifts_solved = shifts.solve(X);
+  ws.scale_product.noalias() = X.transpose() * ws.shifts_solved;
+  A -= ws.scale_product;
+  ws.shifts_solved_gradient = shifts.solve(shift_b);
+  ws.scale_product_vector.noalias() = X.transpose() * ws.shifts_solved_gradient;
+  b -= ws.scale_product_vector;
   // A scale the DOFs and shifts reproduce leaves nothing (a flat face's
   // scale is a tilt and a shift of it): it is left out, as 0, where
   // rounding would leave the others' fit indefinite.
-  std::vector<int> kept;
+  std::vector<int>& kept = ws.scales_kept;
+  kept.clear();
   for (int i = 0; i < m; ++i)
     if (A(i, i) > 1e-6 * scale_information_[links[std::size_t(i)]]) kept.push_back(i);
   const int f = int(kept.size());
   if (f == 0) return;
-  Eigen::MatrixXd A_kept = A(kept, kept);
-  const Eigen::VectorXd b_kept = b(kept);
+  Eigen::MatrixXd& A_kept = ws.scales_kept_ridged;
+  A_kept.resize(f, f);  // A(kept, kept) and b(kept) would copy `kept` (an allocation)
+  ws.scale_gradient_kept.resize(f);
+  for (int i = 0; i < f; ++i) {
+    ws.scale_gradient_kept[i] = b[kept[std::size_t(i)]];
+    for (int j = 0; j < f; ++j) A_kept(i, j) = A(kept[std::size_t(i)], kept[std::size_t(j)]);
+  }
   A_kept.diagonal().array() += 1e-9 * std::max(1.0, A_kept.diagonal().maxCoeff());
-  const Eigen::LDLT<Eigen::MatrixXd> fit(A_kept);
+  Eigen::LDLT<Eigen::MatrixXd>& fit = ws.scale_factor;
+  fit.compute(A_kept);
   if (fit.info() != Eigen::Success || !(fit.vectorD().array() > 0).all()) return;
-  const Eigen::VectorXd estimate = fit.solve(b_kept);
-  const Eigen::MatrixXd noise = fit.solve(Eigen::MatrixXd::Identity(f, f));
+  Eigen::VectorXd& estimate = ws.scale_fit;
+  estimate = fit.solve(ws.scale_gradient_kept);
+  Eigen::MatrixXd& noise = ws.scale_noise;
+  noise = fit.solve(Eigen::MatrixXd::Identity(f, f));
   for (int i = 0; i < f; ++i) {
     const double var = noise_var * noise(i, i);
     if (!(var > 0 && var < kMaxScaleNoise * kMaxScaleNoise)) continue;  // hardly seen

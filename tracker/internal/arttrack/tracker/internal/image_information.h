@@ -205,8 +205,8 @@ class ImageInformation {
   // robot exactly its URDF under the realistic camera, 1.2 mm of model
   // error on arm7 and 0.45 mm on the dual arm (docs/accuracy.md, stop 84).
   // 0 when no shift is counted. Each link's bulge (below) is projected out
-  // with the DOFs. Allocates its matrices (k up to 3 x links, plus the
-  // DOFs and bulges) once per image. `pinned`, when given, is
+  // with the DOFs. Its matrices (k up to 3 x links, plus the DOFs and
+  // bulges) are kept between calls. `pinned`, when given, is
   // set per shift column (3 per link, as shift_cross_information()) to
   // whether this image pinned it (and so counted it); `column_square_m2`
   // to that shift's p_i^2 - c (A^-1)_ii where pinned, 0 elsewhere;
@@ -214,7 +214,9 @@ class ImageInformation {
   // `scales` to each link's scale fitted with the DOFs and shifts alone
   // (LinkScaleFit, below); `bulge_square_m2` per shift link to its bulge's
   // fit squared less its noise variance, as the shifts' (NaN where not
-  // fitted or where one image does not pin it to within 3 mm).
+  // fitted or where one image does not pin it to within 3 mm). Allocates
+  // nothing when this image shows the same links as the last (its
+  // workspaces keep their sizes).
   struct ProjectedShiftEquations;
   struct LinkScaleFit;
   double link_shift_variance_m2(std::vector<char>* pinned = nullptr,
@@ -326,7 +328,9 @@ class ImageInformation {
   std::vector<char> used_;     // per pixel
   Eigen::VectorXf residuals_;  // per pixel: (z - r) / sigma (0 where unused)
   Eigen::MatrixXd information_, field_information_;
-  Eigen::MatrixXf field_gradients_;  // pixel x DOF, motion field (params.motion_field)
+  Eigen::MatrixXf product_f_;         // a float product before its cast to double
+  Eigen::VectorXf product_vector_f_;  // the same for a vector
+  Eigen::MatrixXf field_gradients_;   // pixel x DOF, motion field (params.motion_field)
   Eigen::VectorXd field_pixel_gradient_;
   Eigen::VectorXd gradient_;
   int pixels_used_ = 0;
@@ -447,8 +451,32 @@ class ImageInformation {
     Eigen::LDLT<Eigen::MatrixXd> shifts;
     Eigen::VectorXd estimate;
     double noise_var = 1;
+    // Scratch: the solves and products subtracted from A and b, A ridged.
+    Eigen::MatrixXd solved_C, product, ridged;
+    Eigen::VectorXd solved_gradient, product_vector;
   };
   bool project_shifts(int min_pixels, std::span<const int> bulges, ShiftProjection& out) const;
+  // The model-error fits' matrices (link_shift_variance_m2() and the
+  // functions it calls), kept between images: an image that shows the
+  // same links as the last resizes nothing, so its fits allocate nothing
+  // (they run per image on the image thread).
+  struct FitWorkspace {
+    ShiftProjection shifts_alone, with_bulges;  // the DOFs projected out; and the bulges
+    std::vector<int> bulges, scale_links, scales_kept;
+    Eigen::MatrixXd shift_noise;  // A^-1 of the shifts' fit
+    // fit_link_bulges(): the whole normal equations, their factor and fit.
+    Eigen::MatrixXd whole;
+    Eigen::VectorXd whole_gradient, whole_fit, unit, unit_solved;
+    Eigen::LDLT<Eigen::MatrixXd> whole_factor;
+    // fit_link_scales(): the scales' cross terms, normal equations, their
+    // solves and products, and fit.
+    Eigen::MatrixXd scale_dofs, scale_shifts, scales, scale_noise, scales_kept_ridged;
+    Eigen::MatrixXd dofs_solved, shifts_solved, scale_shift_product, scale_product;
+    Eigen::VectorXd scale_gradient, scale_gradient_kept, scale_fit;
+    Eigen::VectorXd dofs_solved_gradient, shifts_solved_gradient, scale_product_vector;
+    Eigen::LDLT<Eigen::MatrixXd> scale_factor;
+  };
+  mutable FitWorkspace fit_workspace_;
   // link_shift_variance_m2()'s bulges: each fitted with the DOFs and the
   // shifts beside it, from `fit` (project_shifts with bulges).
   void fit_link_bulges(const ShiftProjection& fit, std::vector<double>& bulge_square_m2) const;
