@@ -1,6 +1,7 @@
 // Benchmarks of the tracker's calls on the default scene's robot:
 // one joint update of the whole robot, one estimate() (which holds the
-// tracker's lock), and one delayed depth image update
+// tracker's lock; by value and into a kept object), and one delayed depth
+// image update
 // (particle filter over rendered hypotheses, then re-filtering 100 ms of 1 kHz
 // joint readings) at 80x60 and 160x120 likelihood resolution.
 //
@@ -113,17 +114,35 @@ BENCHMARK(BM_DelayedImageUpdate)
 // Tracker::estimate() after images (the full covariance reported, both
 // hands' covariances): it holds the tracker's lock, so its cost is how long
 // a joint update may wait for a caller that polls the estimate.
-void BM_Estimate(benchmark::State& state) {
-  const Fixture& f = fixture();
-  Tracker tracker(f.robot, config_for(80, 60, 10), f.sim_model->joint_names);
+std::unique_ptr<Tracker> tracker_after_three_images(const Fixture& f) {
+  auto tracker =
+      std::make_unique<Tracker>(f.robot, config_for(80, 60, 10), f.sim_model->joint_names);
   double t = 0;
   for (int k = 0; k < 3; ++k) {
-    add_readings(f, tracker, t);
-    tracker.add_depth_image(t - 0.1, f.observed, f.camera);
+    add_readings(f, *tracker, t);
+    tracker->add_depth_image(t - 0.1, f.observed, f.camera);
   }
-  for (auto _ : state) benchmark::DoNotOptimize(tracker.estimate());
+  return tracker;
+}
+
+void BM_Estimate(benchmark::State& state) {
+  const std::unique_ptr<Tracker> tracker = tracker_after_three_images(fixture());
+  for (auto _ : state) benchmark::DoNotOptimize(tracker->estimate());
 }
 BENCHMARK(BM_Estimate)->Unit(benchmark::kMicrosecond);
+
+// The same into a kept TrackerEstimate (Tracker::estimate(out)), which
+// allocates nothing once it has held one.
+void BM_EstimateIntoKept(benchmark::State& state) {
+  const std::unique_ptr<Tracker> tracker = tracker_after_three_images(fixture());
+  TrackerEstimate kept;
+  tracker->estimate(kept);
+  for (auto _ : state) {
+    tracker->estimate(kept);
+    benchmark::DoNotOptimize(kept.angle_rad.data());
+  }
+}
+BENCHMARK(BM_EstimateIntoKept)->Unit(benchmark::kMicrosecond);
 
 // A fresh tracker's first image: the annealed acquisition from the encoders
 // (acquisition.passes x acquisition.searches particle-filter runs) and the

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "../count_allocations.h"
 #include "../error_of.h"
 #include "arttrack/tracker/depth_renderer.h"
 #include "arttrack/tracker/error.h"
@@ -228,6 +229,40 @@ TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
   EXPECT_NEAR(e.angle_rad[model->joint_index("elbow")], true_q1, 1 * kRadPerDeg);
   EXPECT_NEAR(e.bias_rad[model->joint_index("shoulder")], bias, 1 * kRadPerDeg);
   EXPECT_GT(tracker.stats().images_applied, 80);
+}
+
+// A controller polls the estimate at the encoders' rate: filled into a
+// kept TrackerEstimate it equals estimate()'s and, once the object has held
+// one, allocates nothing (full fusion after images: the covariance, the
+// end effector's pose and covariance, the health's chains and links).
+TEST(TrackerTest, EstimateIntoAKeptObjectAllocatesNothing) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const double bias = 6 * kRadPerDeg;
+  const DepthImage truth = render_truth(*model, 0.4, -0.6);
+  TrackerEstimate kept;
+  long allocations = 0;
+  for (int k = 0; k <= 400; ++k) {
+    const double t = 0.001 * k;
+    tracker.add_joint_measurement(t, std::vector<double>{0.4 + bias, -0.6 + bias});
+    if (k % 33 == 0) tracker.add_depth_image(t, truth, kCamera);
+    if (k < 200) continue;  // the first images size the health
+    if (k == 200) tracker.estimate(kept);  // and the first fill `kept`
+    const long before = g_allocations.load();
+    tracker.estimate(kept);
+    allocations += g_allocations.load() - before;
+  }
+  EXPECT_EQ(allocations, 0);
+  const TrackerEstimate fresh = tracker.estimate();
+  EXPECT_EQ(kept.angle_rad, fresh.angle_rad);
+  EXPECT_EQ(kept.angle_std_rad, fresh.angle_std_rad);
+  EXPECT_EQ(kept.bias_std_rad, fresh.bias_std_rad);
+  ASSERT_EQ(kept.T_camera_ee.size(), 1u);
+  ASSERT_EQ(kept.T_camera_ee_covariance.size(), 1u);
+  EXPECT_EQ(kept.T_camera_ee[0].matrix(), fresh.T_camera_ee[0].matrix());
+  EXPECT_EQ(kept.T_camera_ee_covariance[0], fresh.T_camera_ee_covariance[0]);
+  EXPECT_EQ(kept.health.links.size(), fresh.health.links.size());
+  EXPECT_GT(tracker.stats().images_applied, 5);
 }
 
 // A planar arm with a round forearm and a ball of a hand (their slopes show

@@ -70,6 +70,7 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
   for (int j = 0; j < s.n_phys; ++j) q_[j] = e.angle_rad[j];
   for (int k = 0; k < 6; ++k) q_[s.n_phys + k] = e.camera_offset[k];
   forward_kinematics(model, q_, kinematics_);
+  e.T_camera_ee.clear();  // `e` may hold an earlier estimate (Tracker::estimate(out))
   for (int link : s.ee_links) e.T_camera_ee.push_back(T_camera_link(model, kinematics_, link));
   // End-effector covariance: J C J^T, C the DOFs' covariance: independent
   // (their reported variances), but where the full covariance knows better.
@@ -85,6 +86,7 @@ void EstimateReport::fill(const JointBelief& belief, std::span<const double> rea
         dof_cov(cov.states()[std::size_t(a)].dof, cov.states()[std::size_t(b)].dof) =
             angle_cov(a, b);
   }
+  e.T_camera_ee_covariance.clear();
   for (int link : s.ee_links) {
     camera_link_jacobian(model, kinematics_, link, jacobian_);
     jacobian_cov_.noalias() = jacobian_ * dof_cov;

@@ -482,19 +482,23 @@ void Tracker::wait_until_idle() {
 }
 
 TrackerEstimate Tracker::estimate() const {
+  TrackerEstimate e;
+  estimate(e);
+  return e;
+}
+
+void Tracker::estimate(TrackerEstimate& e) const {
   const Impl& s = *impl_;
   std::lock_guard lock(s.mutex);
   if (!s.initialized) throw InputError("tracker estimate asked for before any joint measurement");
-  TrackerEstimate e;
   s.report.fill(s.belief, s.readings_bank, s.time_s, s.published_covariance,
                 s.published_mean_lag_var, s.published_fits, e);
-  e.health = s.published_health;
+  e.health = s.published_health;  // assigned element-wise: kept capacity is reused
   if (s.noise_meter) {
     e.health.encoder_noise_measured_rad.resize(std::size_t(s.setup.n_phys));
     for (int j = 0; j < s.setup.n_phys; ++j)
       e.health.encoder_noise_measured_rad[std::size_t(j)] = s.noise_meter->noise_std(j);
   }
-  return e;
 }
 
 double TrackingHealth::weakest_part_explained_fraction() const {

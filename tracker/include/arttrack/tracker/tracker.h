@@ -421,6 +421,10 @@ class Tracker {
   // 5 us of CPU on the dual arm (build/bench_tracker_update, BM_Estimate),
   // so a controller may poll it at the encoders' rate.
   TrackerEstimate estimate() const;
+  // The same into `out`, reusing its storage: once `out` has held this
+  // tracker's estimate, filling it again allocates nothing (a controller's
+  // loop that polls at the encoders' rate need not touch the heap).
+  void estimate(TrackerEstimate& out) const;
   TrackerStats stats() const;
 
   const RobotModel& model() const;

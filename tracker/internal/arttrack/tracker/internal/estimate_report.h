@@ -44,7 +44,8 @@ class EstimateReport {
 
   // The estimate at time_s of `belief` (DOF order), with the newest encoder
   // readings (physical DOFs; what encoders_only reports) and the reported
-  // covariance (not started: none yet). Leaves e.health alone.
+  // covariance (not started: none yet). Leaves e.health alone. `e` may
+  // hold an earlier estimate: every field is overwritten, in its storage.
   // `mean_lag_var`: per state of `covariance`, the variance its mean's lag
   // adds (empty: none). `fits`: per end effector, the end-effector fit's
   // (none: empty).
