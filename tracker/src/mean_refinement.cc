@@ -1,6 +1,5 @@
 #include "mean_refinement.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -40,7 +39,8 @@ bool MeanRefinement::solve(const Eigen::MatrixXd& nominal_covariance, const Eige
     rhs_[i] = 0;
   }
   if (moving == 0) return false;
-  unclipped_ = system_.partialPivLu().solve(rhs_);
+  system_lu_.compute(system_);
+  unclipped_ = system_lu_.solve(rhs_);
   if (!unclipped_.allFinite()) return false;
   // Trust region: no state moves further than the particles' own spread;
   // a longer step is shortened along its direction. A step beyond where the
@@ -76,8 +76,9 @@ bool MeanRefinement::widen(const Eigen::MatrixXd& reported_covariance, double be
 }
 
 double MeanRefinement::log_prior(double fraction) const {
-  const Eigen::VectorXd d = x_ + fraction * delta_;
-  return -0.5 * d.dot(prior_ldlt_.solve(d));
+  point_ = x_ + fraction * delta_;
+  point_solved_ = prior_ldlt_.solve(point_);
+  return -0.5 * point_.dot(point_solved_);
 }
 
 }  // namespace arttrack

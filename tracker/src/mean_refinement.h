@@ -26,6 +26,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 namespace arttrack {
 
@@ -66,6 +67,10 @@ class MeanRefinement {
   Eigen::VectorXd x_, delta_, rhs_, unclipped_, scratch_;
   Eigen::MatrixXd prior_, system_;
   Eigen::LDLT<Eigen::MatrixXd> prior_ldlt_, reported_ldlt_;
+  // Kept between images (a temporary factor or vector per call allocated):
+  // the step's factor, and log_prior()'s point and its solve.
+  Eigen::PartialPivLU<Eigen::MatrixXd> system_lu_;
+  mutable Eigen::VectorXd point_, point_solved_;
 
   // delta_ = unclipped_, shortened so that |delta_i| <= limit_i (0: held).
   // False when a limit is not finite.
