@@ -285,6 +285,7 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("particle_filter.seed", &C::seed), key("particle_filter.threads", &C::threads));
   f(key("uncertainty.image_information_scale", &C::image_information_scale),
     key("uncertainty.discount_correlated_residuals", &C::discount_correlated_residuals),
+    key("uncertainty.pixel_noise_after_fit", &C::pixel_noise_after_fit),
     key("uncertainty.model_error", &C::model_error),
     key("uncertainty.model_error_time_constant_s", &C::model_error_time_constant_s),
     key("uncertainty.model_error_min_std_m", &C::model_error_min_std_m),

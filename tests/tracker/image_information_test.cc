@@ -43,14 +43,17 @@ struct PlateScene {
   int dof_z = model.joint_index("camera_offset_z");
   int dof_roll = model.joint_index("camera_offset_roll");
 
-  // Observe the plate rendered at configuration q.
-  void observe(const Eigen::VectorXd& q) {
+  // The plate rendered at configuration q.
+  DepthImage render(const Eigen::VectorXd& q) {
     KinematicsState state(model);
     forward_kinematics(model, q, state);
     DepthImage image;
     renderer.render(state, image);
-    likelihood.set_observation(image);
+    return image;
   }
+
+  // Observe the plate rendered at configuration q.
+  void observe(const Eigen::VectorXd& q) { likelihood.set_observation(render(q)); }
 };
 
 // Against a closed form: moving the camera along its optical axis changes the
@@ -102,10 +105,7 @@ TEST(ImageInformation, OccludedPixelsCarryNoInformation) {
 TEST(ImageInformation, EffectivePixelFractionFromTheResiduals) {
   PlateScene s;
   const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(s.model.num_joints());
-  KinematicsState state(s.model);
-  forward_kinematics(s.model, q0, state);
-  DepthImage rendered;
-  s.renderer.render(state, rendered);
+  const DepthImage rendered = s.render(q0);
   ImageInformation info(std::vector<int>{s.dof_z});
   const std::span<const double> at_q0{q0.data(), std::size_t(q0.size())};
 
@@ -151,6 +151,36 @@ TEST(ImageInformation, EffectivePixelFractionFromTheResiduals) {
   info.compute(s.renderer, at_q0, s.likelihood);
   EXPECT_NEAR(info.effective_pixel_fraction() / large_fraction, 25.0, 1.0);
   EXPECT_LT(info.effective_pixel_fraction(), 1.0);
+}
+
+// The residuals with the DOFs' fit taken out are the pixels' noise alone:
+// independent noise of the model's sigma reads about 1; the estimate 4 mm
+// off along the one DOF (the whole plate nearer) reads about 0 alone, and
+// about 1 under that noise, where the fraction above, from the residuals
+// before the fit, takes the offset for correlated noise.
+TEST(ImageInformation, FittedResidualFactorSeesThePixelsNoiseNotTheEstimatesError) {
+  PlateScene s;
+  const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(s.model.num_joints());
+  const DepthImage rendered = s.render(q0);
+  ImageInformation info(std::vector<int>{s.dof_z}, {.fitted_residuals = true});
+  ImageInformation without(std::vector<int>{s.dof_z});
+  const std::span<const double> at_q0{q0.data(), std::size_t(q0.size())};
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.0f, float(s.params.noise_std_m));
+  auto observe = [&](float offset_m, bool noisy) {
+    DepthImage observed = rendered;
+    for (float& z : observed.depth_m)
+      if (z > 0) z += offset_m + (noisy ? noise(rng) : 0.0f);
+    s.likelihood.set_observation(observed);
+    info.compute(s.renderer, at_q0, s.likelihood);
+    without.compute(s.renderer, at_q0, s.likelihood);
+    EXPECT_EQ(without.fitted_residual_factor(), 1.0);  // not asked for
+    return info.fitted_residual_factor();
+  };
+  EXPECT_NEAR(observe(0.0f, true), 1.0, 0.15);
+  EXPECT_LT(observe(0.004f, false), 1e-6);
+  EXPECT_NEAR(observe(0.004f, true), 1.0, 0.15);
+  EXPECT_LT(info.effective_pixel_fraction(), 0.5);
 }
 
 // A tilted board in front of the camera with a block fixed on it: two links,

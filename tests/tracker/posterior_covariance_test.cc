@@ -116,6 +116,44 @@ TEST(PosteriorCovariance, ConsiderParametersLeaveTheFitsErrorFloor) {
   EXPECT_TRUE(with.covariance().isApprox(plain.covariance(), 1e-12));
 }
 
+// A noise scale n (the image's pixels quieter than the weights assume)
+// scales the pixel noise's term alone: the brute force above with the
+// noise's covariance n R, the same gain K. The filter's own covariance
+// (the weights) does not change.
+TEST(PosteriorCovariance, NoiseScaleScalesThePixelNoisesTermAlone) {
+  const int m = 2, c = 1;
+  PosteriorCovariance cov({{3, Kind::kBias, 0.05, 0.003}, {7, Kind::kAngle, 0, 1e-4}}, c);
+  PosteriorCovariance nominal({{3, Kind::kBias, 0.05, 0.003}, {7, Kind::kAngle, 0, 1e-4}}, c);
+  Eigen::MatrixXd H(3, m + c);
+  H << 3, 1, 0.5,  //
+      -1, 4, 0.2,  //
+      2, 2, 0.1;
+  const double s = 0.5, n = 0.2;
+  const Eigen::MatrixXd info = H.transpose() * H;
+  const Eigen::MatrixXd I_xx = info.topLeftCorner(m, m), I_xc = info.topRightCorner(m, c);
+  Eigen::MatrixXd Hx = H.leftCols(m);
+  Hx.col(0) *= -1;
+  cov.reset(Eigen::Vector2d(0.04, 0.09), 0.0);
+  nominal.reset(Eigen::Vector2d(0.04, 0.09), 0.0);
+  Eigen::MatrixXd P = Eigen::Vector2d(0.04, 0.09).asDiagonal();
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(m + c, m + c);
+  Q.topLeftCorner(m, m) = P;
+  for (int image = 0; image < 3; ++image) {
+    cov.update(I_xx, I_xc, s, n);
+    nominal.update(I_xx, I_xc, s);
+    P = (P.inverse() + s * Hx.transpose() * Hx).inverse();
+    const Eigen::MatrixXd K = P * Hx.transpose() * s;
+    Eigen::MatrixXd A = Eigen::MatrixXd::Identity(m + c, m + c);
+    A.topRows(m) -= K * H;
+    A.topLeftCorner(m, m) = Eigen::MatrixXd::Identity(m, m) - K * Hx;
+    Q = A * Q * A.transpose();
+    Q.topLeftCorner(m, m) += n * K * K.transpose() / s;
+    EXPECT_EQ(cov.nominal_covariance(), nominal.nominal_covariance());
+    EXPECT_TRUE(cov.covariance().isApprox(Q.topLeftCorner(m, m), 1e-10)) << image;
+  }
+  EXPECT_LT(cov.covariance().trace(), nominal.covariance().trace());
+}
+
 // Process noise other than time's: added to the filter's and the reported
 // variance of that state alone, the correlations kept.
 TEST(PosteriorCovariance, AddedVarianceGrowsOneStateInBothCovariances) {
@@ -226,6 +264,8 @@ TEST(PosteriorCovariance, RejectsBadInput) {
   EXPECT_EQ(test_support::error_of([&] { with.update(info, cross, cross, {1}, 1); }),
             "posterior covariance: 1 widened flags, not one per state (2)");
   EXPECT_EQ(test_support::error_of([&] { with.update(info, cross, cross, flags, 1); }), "");
+  EXPECT_EQ(test_support::error_of([&] { with.update(info, cross, 1, 1.5); }),
+            "posterior covariance: noise scale 1.500000 is not in [0, 1]");
 }
 
 }  // namespace

@@ -128,6 +128,7 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     depth_scale_cross_ = product_vector_f_.cast<double>();
   }
   estimate_effective_pixel_fraction(likelihood.width());
+  if (params_.fitted_residuals) estimate_fitted_residual_factor(likelihood.width());
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
   if (!rigid_fits_.empty()) compute_rigid_fits(renderer.camera(), likelihood);
   return information_;
@@ -879,31 +880,56 @@ void ImageInformation::fit_link_scales(const Eigen::LDLT<Eigen::MatrixXd>& dofs,
   }
 }
 
-void ImageInformation::estimate_effective_pixel_fraction(int width) {
+double ImageInformation::neighbour_correlation(const Eigen::VectorXf& r, int step,
+                                               int width) const {
   const int num_pixels = int(used_.size());
+  const bool same_row = step < width;
+  double cross = 0, a2 = 0, b2 = 0;
+  for (int p = 0; p + step < num_pixels; ++p) {
+    if (same_row && (p % width) + step >= width) continue;
+    if (!used_[std::size_t(p)] || !used_[std::size_t(p + step)]) continue;
+    const double a = r[p], b = r[p + step];
+    cross += a * b;
+    a2 += a * a;
+    b2 += b * b;
+  }
+  if (!(a2 > 0 && b2 > 0)) return 0.0;
+  return std::clamp(cross / std::sqrt(a2 * b2), 0.0, 0.99);
+}
+
+void ImageInformation::estimate_effective_pixel_fraction(int width) {
   effective_pixel_fraction_ = 1;
   if (pixels_used_ == 0) return;
-  // Correlation of the residuals of used pixels `step` apart (1: the next
-  // column, width: the next row), without removing the mean: a shared
-  // offset is exactly the correlated part that must not count N times.
-  auto neighbour_correlation = [&](int step, bool same_row) {
-    double cross = 0, a2 = 0, b2 = 0;
-    for (int p = 0; p + step < num_pixels; ++p) {
-      if (same_row && (p % width) + step >= width) continue;
-      if (!used_[std::size_t(p)] || !used_[std::size_t(p + step)]) continue;
-      const double a = residuals_[p], b = residuals_[p + step];
-      cross += a * b;
-      a2 += a * a;
-      b2 += b * b;
-    }
-    if (!(a2 > 0 && b2 > 0)) return 0.0;
-    return std::clamp(cross / std::sqrt(a2 * b2), 0.0, 0.99);
-  };
-  const double rho_x = neighbour_correlation(1, true);
-  const double rho_y = neighbour_correlation(width, false);
+  // Correlation without removing the mean: a shared offset is exactly the
+  // correlated part that must not count N times.
+  const double rho_x = neighbour_correlation(residuals_, 1, width);
+  const double rho_y = neighbour_correlation(residuals_, width, width);
   const double mean_square = residual_sum_sq_ / pixels_used_;
   effective_pixel_fraction_ =
       std::min(1.0, (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / mean_square);
+}
+
+void ImageInformation::estimate_fitted_residual_factor(int width) {
+  fitted_residual_factor_ = 1;
+  const int m = int(dofs_.size());
+  if (pixels_used_ <= m || m == 0) return;
+  const Eigen::MatrixXf& G = params_.motion_field ? field_gradients_ : gradients_;
+  residual_fit_information_ = params_.motion_field ? field_information_ : information_;
+  // A small ridge keeps DOFs the image does not see solvable (their fit 0).
+  residual_fit_information_.diagonal().array() +=
+      1e-9 * std::max(1.0, residual_fit_information_.diagonal().maxCoeff());
+  residual_fit_factor_.compute(residual_fit_information_);
+  product_vector_f_.noalias() = G.transpose() * residuals_;
+  residual_fit_gradient_ = product_vector_f_.cast<double>();
+  residual_fit_ = residual_fit_factor_.solve(residual_fit_gradient_);
+  fitted_residuals_ = residuals_;  // 0 where unused, and G's rows are 0 there
+  residual_fit_f_ = residual_fit_.cast<float>();
+  fitted_residuals_.noalias() -= G * residual_fit_f_;
+  const double rho_x = neighbour_correlation(fitted_residuals_, 1, width);
+  const double rho_y = neighbour_correlation(fitted_residuals_, width, width);
+  const double ess = (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y);
+  const double mean_square = double(fitted_residuals_.squaredNorm()) / (pixels_used_ - m);
+  fitted_residual_factor_ = mean_square / ess;
 }
 
 }  // namespace arttrack

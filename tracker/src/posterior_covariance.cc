@@ -115,25 +115,32 @@ void PosteriorCovariance::add_variance(int i, double variance) {
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  double information_scale) {
-  update(angle_information, nullptr, nullptr, nullptr, information_scale);
+  update(angle_information, nullptr, nullptr, nullptr, information_scale, 1.0);
 }
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
-                                 const Eigen::MatrixXd& consider_cross, double information_scale) {
-  update(angle_information, &consider_cross, nullptr, nullptr, information_scale);
+                                 const Eigen::MatrixXd& consider_cross, double information_scale,
+                                 double noise_scale) {
+  update(angle_information, &consider_cross, nullptr, nullptr, information_scale, noise_scale);
 }
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  const Eigen::MatrixXd& consider_cross,
                                  const Eigen::MatrixXd& widened_cross,
-                                 const std::vector<char>& widened, double information_scale) {
-  update(angle_information, &consider_cross, &widened_cross, &widened, information_scale);
+                                 const std::vector<char>& widened, double information_scale,
+                                 double noise_scale) {
+  update(angle_information, &consider_cross, &widened_cross, &widened, information_scale,
+         noise_scale);
 }
 
 void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
                                  const Eigen::MatrixXd* consider_cross,
                                  const Eigen::MatrixXd* widened_cross,
-                                 const std::vector<char>* widened, double information_scale) {
+                                 const std::vector<char>* widened, double information_scale,
+                                 double noise_scale) {
+  if (!(noise_scale >= 0 && noise_scale <= 1))
+    throw InputError("posterior covariance: noise scale " + std::to_string(noise_scale) +
+                     " is not in [0, 1]");
   auto check = [&](const Eigen::MatrixXd& m, int cols, const char* what) {
     if (m.rows() != size() || m.cols() != cols)
       throw InputError(std::string("posterior covariance: ") + what + " is " +
@@ -147,7 +154,8 @@ void PosteriorCovariance::update(const Eigen::MatrixXd& angle_information,
     throw InputError("posterior covariance: " + std::to_string(widened->size()) +
                      " widened flags, not one per state (" + std::to_string(size()) + ")");
   update_nominal(angle_information, information_scale);
-  if (num_consider_ > 0) propagate_error(consider_cross, information_scale, widened_cross, widened);
+  if (num_consider_ > 0)
+    propagate_error(consider_cross, information_scale, widened_cross, widened, noise_scale);
 }
 
 void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_information,
@@ -167,7 +175,7 @@ void PosteriorCovariance::update_nominal(const Eigen::MatrixXd& angle_informatio
 void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
                                           double information_scale,
                                           const Eigen::MatrixXd* widened_cross,
-                                          const std::vector<char>* widened) {
+                                          const std::vector<char>* widened, double noise_scale) {
   PJ_.noalias() = P_ * J_;  // P+ J_xx
   A_ = identity_ - PJ_;
   if (consider_cross) {
@@ -191,7 +199,12 @@ void PosteriorCovariance::propagate_error(const Eigen::MatrixXd* consider_cross,
   scratch_.noalias() = AQ_ * B_.transpose();
   Q_ee_ += scratch_ + scratch_.transpose();
   Q_ee_.noalias() += B_ * B_.transpose();
-  Q_ee_.noalias() += PJ_ * P_;
+  if (noise_scale == 1) {
+    Q_ee_.noalias() += PJ_ * P_;
+  } else {  // the pixels' noise as the image's fitted residuals size it
+    scratch_.noalias() = PJ_ * P_;
+    Q_ee_ += noise_scale * scratch_;
+  }
   scratch_ = Q_ee_;
   symmetrise(scratch_, Q_ee_);
   // Q_ec <- A Q_ec + B.

@@ -42,6 +42,7 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
                              setup.config.acquisition.bias_std_rad),
       image_information_scale(setup.config.image_information_scale),
       discount_correlated_residuals(setup.config.discount_correlated_residuals),
+      pixel_noise_after_fit(setup.config.pixel_noise_after_fit),
       model_error(setup.config.model_error),
       model_error_time_constant_s(setup.config.model_error_time_constant_s),
       model_error_min_std_m(setup.config.model_error_min_std_m),
@@ -80,6 +81,8 @@ ReportedCovarianceSetup::ReportedCovarianceSetup(const TrackerSetup& setup,
   first_bulge = (model_error ? 3 * links : 0) + int(lengths.size());
   num_bulges = model_error ? links : 0;
   num_consider = first_bulge + num_bulges + (depth_scale_std > 0 ? 1 : 0);
+  // Only the consider analysis has a separate pixel-noise term.
+  information.fitted_residuals = pixel_noise_after_fit && num_consider > 0;
 }
 
 void ReportedCovarianceSetup::find_lengths(const RobotModel& model) {
@@ -190,6 +193,13 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
   const double discount =
       setup_.discount_correlated_residuals ? information_.effective_pixel_fraction() : 1.0;
   const double scale = setup_.image_information_scale * discount;
+  // The gain applies `scale` to the pixels' noise, which the fitted
+  // residuals size at fitted_residual_factor() of the model's: the noise
+  // term is scale times that share of the weights' (at most all of it).
+  const double noise_scale =
+      setup_.information.fitted_residuals
+          ? std::clamp(scale * information_.fitted_residual_factor(), 0.0, 1.0)
+          : 1.0;
   if (setup_.num_consider == 0) {
     covariance_.update(info, scale);
     return;
@@ -239,11 +249,14 @@ void ReportedCovariance::end_image(double time_s, TrackingHealth& health) {
     if (step_bound_) {
       step_bound_cross_ = consider_cross_;
       fill_learned_joint_columns(shift_cross, std_m);
+      // With the weights' own pixel noise (not noise_scale): the means stay
+      // what they are without pixel_noise_after_fit.
       step_bound_->update(info, step_bound_cross_, widened_cross_, setup_.camera_offset, scale);
     }
-    covariance_.update(info, consider_cross_, widened_cross_, setup_.camera_offset, scale);
+    covariance_.update(info, consider_cross_, widened_cross_, setup_.camera_offset, scale,
+                       noise_scale);
   } else {
-    covariance_.update(info, consider_cross_, scale);
+    covariance_.update(info, consider_cross_, scale, noise_scale);
   }
 }
 

@@ -328,6 +328,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
                 {"mean_lag_time_constant_s", &c.mean_lag_time_constant_s}});
   c.discount_correlated_residuals =
       uncertainty.get<bool>("discount_correlated_residuals", c.discount_correlated_residuals);
+  c.pixel_noise_after_fit = uncertainty.get<bool>("pixel_noise_after_fit", c.pixel_noise_after_fit);
   c.model_error = uncertainty.get<bool>("model_error", c.model_error);
   c.model_error_learned_shifts =
       uncertainty.get<bool>("model_error_learned_shifts", c.model_error_learned_shifts);

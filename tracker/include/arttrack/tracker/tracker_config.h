@@ -205,6 +205,15 @@ struct TrackerConfig {
   // Also scale each image's information by how many independent pixels its
   // residuals are worth (ImageInformation::effective_pixel_fraction).
   bool discount_correlated_residuals = true;
+  // With model_error: the reported covariance's pixel-noise term (the gain
+  // times the pixels' noise, posterior_covariance.h) at the noise the
+  // image's residuals show once the DOFs' fit is taken out
+  // (ImageInformation::fitted_residual_factor; at most the weights'
+  // noise), not at the noise the weights assume. The weights, and so the
+  // means, are unchanged. The residuals before the fit also hold the
+  // estimate's own error: with exact depth that is nearly all of them
+  // (docs/accuracy.md, stop 93).
+  bool pixel_noise_after_fit = false;
   // The real robot is not its model: treat a shift of each link's surface
   // as an error shared by every image (consider states of the reported
   // covariance, posterior_covariance.h; link shifts, image_information.h),

@@ -63,6 +63,9 @@ struct ImageInformationParams {
   // Also compute how the image depends on the camera's depth scale
   // (depth_scale_cross_information(), below).
   bool depth_scale = false;
+  // Also size the residuals' noise with the DOFs' fit taken out
+  // (fitted_residual_factor(), below).
+  bool fitted_residuals = false;
 };
 
 class ImageInformation {
@@ -144,6 +147,19 @@ class ImageInformation {
   // reported standard deviations about ten times the errors. 1 when no
   // pixel was used.
   double effective_pixel_fraction() const { return effective_pixel_fraction_; }
+  // The same residuals with the DOFs' least-squares fit taken out (with
+  // params.fitted_residuals; else 1): e = u - G x, x = (G^T G)^-1 G^T u,
+  // G the motion field's d r / d q (the finite differences' without
+  // params.motion_field). A residual the DOFs explain is the estimate's
+  // own error, not the pixels' noise: the fraction above counts both
+  // (with exact depth its residuals are the estimate's error, correlated
+  // 0.8; with it fitted out they are a twentieth of sigma and correlated
+  // 0.1). With rho_x', rho_y' and ess' from e as above and s'^2 = e^T e /
+  // (pixels_used() - DOFs), the noise the pixels put into a fit is
+  //   factor = s'^2 / ess'
+  // times the pixel model's (the sandwich of a least-squares fit). 1 when
+  // no pixel was used or the pixels do not outnumber the DOFs.
+  double fitted_residual_factor() const { return fitted_residual_factor_; }
 
   // Link shifts (with params.link_shifts): the real robot's links are not
   // the model's (lengths, shapes, simplified meshes), and the error is the
@@ -336,6 +352,13 @@ class ImageInformation {
   int pixels_used_ = 0;
   std::vector<int> pixels_per_dof_;
   double effective_pixel_fraction_ = 1;
+  double fitted_residual_factor_ = 1;
+  // fitted_residual_factor()'s fit: (G^T G, ridged) factored, the fit and
+  // the residuals left (per pixel, 0 where unused).
+  Eigen::LDLT<Eigen::MatrixXd> residual_fit_factor_;
+  Eigen::MatrixXd residual_fit_information_;
+  Eigen::VectorXd residual_fit_gradient_, residual_fit_;
+  Eigen::VectorXf residual_fit_f_, fitted_residuals_;
   // Link shifts.
   std::vector<int> shift_links_;
   std::vector<std::vector<bool>> shift_link_sets_;  // per shift link: it alone
@@ -489,6 +512,11 @@ class ImageInformation {
                        const Eigen::LDLT<Eigen::MatrixXd>& shifts, const Eigen::VectorXd& shift_b,
                        double noise_var, int min_pixels, std::vector<LinkScaleFit>& scales) const;
   void estimate_effective_pixel_fraction(int width);
+  void estimate_fitted_residual_factor(int width);
+  // The correlation of the used pixels' values in `r` `step` apart (1: the
+  // next column, width: the next row), about 0 (not the mean: a shared
+  // offset is the correlated part), clamped to [0, 0.99].
+  double neighbour_correlation(const Eigen::VectorXf& r, int step, int width) const;
 };
 
 }  // namespace arttrack

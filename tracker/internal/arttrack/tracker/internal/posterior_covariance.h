@@ -38,7 +38,9 @@
 //   Q_ec <- A Q_ec + B,   with A = Id - P+ J_xx, B = -P+ J_xc,
 // predicted like P. N images of one pose then leave the error the shared
 // model error gives the fit, where P alone goes to zero as 1/N. P stays the
-// filter's own weights (the refinement's prior).
+// filter's own weights (the refinement's prior). The last term is the
+// gain times the pixels' noise as the weights assume it; an update may
+// scale it (noise_scale) where the image's residuals show quieter pixels.
 #pragma once
 
 #include <Eigen/Core>
@@ -83,8 +85,12 @@ class PosteriorCovariance {
   void update(const Eigen::MatrixXd& angle_information, double information_scale);
   // The same with the image's information between the DOFs' angles and the
   // consider parameters (size() x num_consider(), in their units).
+  // `noise_scale` in [0, 1] scales the pixel noise's term P+ J_xx P+: the
+  // noise the image's pixels put into the fit as a share of what the
+  // weights assume (ImageInformation::fitted_residual_factor() times the
+  // information scale; 1: the weights' own).
   void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd& consider_cross,
-              double information_scale);
+              double information_scale, double noise_scale = 1);
   // The same, where the states flagged in `widened` (one flag per state)
   // take their response to the consider parameters from `widened_cross`
   // instead (the same shape, larger columns): their error moves with the
@@ -93,7 +99,7 @@ class PosteriorCovariance {
   // positive semi-definite.
   void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd& consider_cross,
               const Eigen::MatrixXd& widened_cross, const std::vector<char>& widened,
-              double information_scale);
+              double information_scale, double noise_scale = 1);
   // Variance of state i in the reported covariance after predicting to
   // time_s (>= time_s()), without changing the covariance.
   double variance_at(int i, double time_s) const;
@@ -132,10 +138,11 @@ class PosteriorCovariance {
   // The three update()s: a null part is absent. Checks every size.
   void update(const Eigen::MatrixXd& angle_information, const Eigen::MatrixXd* consider_cross,
               const Eigen::MatrixXd* widened_cross, const std::vector<char>* widened,
-              double information_scale);
+              double information_scale, double noise_scale);
   void update_nominal(const Eigen::MatrixXd& angle_information, double information_scale);
   void propagate_error(const Eigen::MatrixXd* consider_cross, double information_scale,
-                       const Eigen::MatrixXd* widened_cross, const std::vector<char>* widened);
+                       const Eigen::MatrixXd* widened_cross, const std::vector<char>* widened,
+                       double noise_scale);
   double time_s_ = 0;
   bool started_ = false;
 };

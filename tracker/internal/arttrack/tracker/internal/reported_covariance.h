@@ -101,6 +101,7 @@ struct ReportedCovarianceSetup {
   double reopened_bias_var_rad2 = 0;  // (acquisition.bias_std_rad)^2
   double image_information_scale = 0;
   bool discount_correlated_residuals = false;
+  bool pixel_noise_after_fit = false;
   bool model_error = false;
   double model_error_time_constant_s = 0;
   double model_error_min_std_m = 0;
