@@ -203,8 +203,11 @@ TEST(ReportedCovariance, ShiftsTheImageDoesNotPinWidenEveryState) {
       consider_cross.col(k) =
           cross.col(k) * (pinned[std::size_t(k)] ? model_error_m : scale * model_error_m);
     EXPECT_EQ(consider_cross, reported.consider_cross());
-    expected.update(reported.information_matrix(), consider_cross,
-                    reported.information().effective_pixel_fraction());
+    // The pixel noise's term as the fitted residuals size it
+    // (uncertainty.pixel_noise_after_fit, the default).
+    const double fraction = reported.information().effective_pixel_fraction();
+    expected.update(reported.information_matrix(), consider_cross, fraction,
+                    std::min(1.0, fraction * reported.information().fitted_residual_factor()));
     EXPECT_EQ(reported.covariance().covariance(), expected.covariance()) << "scale " << scale;
     return reported.covariance().covariance();
   };
@@ -581,7 +584,8 @@ TEST(ReportedCovariance, AStatedLengthErrorAddsItsSquareToTheCovariance) {
 // of one pose the camera's z is left that uncertain (the arm's near faces
 // are 0.975-0.98 m from the camera, its base's 0.95), where without it the
 // images pin z to a small fraction of that. Linear in the stated variance, as any
-// consider parameter.
+// consider parameter (between stated values: without one there is no
+// consider analysis, whose pixel-noise term differs, pixel_noise_after_fit).
 TEST(ReportedCovariance, AStatedDepthScaleLeavesTheCameraAlongItsAxisThatUncertain) {
   OnePoseImages images(arm_model(), *arm_model());
   const RobotModel& model = *images.model;
@@ -601,10 +605,12 @@ TEST(ReportedCovariance, AStatedDepthScaleLeavesTheCameraAlongItsAxisThatUncerta
     ADD_FAILURE() << "no state for the camera's z";
     return 0.0;
   };
-  const double none = camera_z_std_m(0), at_1 = camera_z_std_m(0.01), at_2 = camera_z_std_m(0.02);
+  const double none = camera_z_std_m(0), at_1 = camera_z_std_m(0.01), at_2 = camera_z_std_m(0.02),
+               at_3 = camera_z_std_m(0.03);
   EXPECT_NEAR(at_1, 0.01 * 0.97, 0.03 * 0.01 * 0.97);
   EXPECT_LT(none, 0.2 * at_1);
-  EXPECT_NEAR(at_2 * at_2 - none * none, 4 * (at_1 * at_1 - none * none), 1e-6 * at_2 * at_2);
+  // (9 - 1) / (4 - 1) times the variance added from 1 to 2 percent.
+  EXPECT_NEAR(3 * (at_3 * at_3 - at_1 * at_1), 8 * (at_2 * at_2 - at_1 * at_1), 1e-6 * at_3 * at_3);
 }
 
 }  // namespace
