@@ -553,7 +553,7 @@ void bind_tracker(py::module_& m) {
       .def("wait_until_idle", &Tracker::wait_until_idle, py::call_guard<py::gil_scoped_release>(),
            "Asynchronous mode: blocks until no image update is running or waiting to run. "
            "Synchronous mode: returns at once."_doc)
-      .def("estimate", &Tracker::estimate,
+      .def("estimate", py::overload_cast<>(&Tracker::estimate, py::const_),
            "The current belief (after the newest joint reading or image): an Estimate."_doc)
       .def(
           "stats", [](const Tracker& t) { return stats_dict(t.stats()); },
