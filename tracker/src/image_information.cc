@@ -929,7 +929,8 @@ void ImageInformation::estimate_fitted_residual_factor(int width) {
   const double rho_y = neighbour_correlation(fitted_residuals_, width, width);
   const double ess = (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y);
   const double mean_square = double(fitted_residuals_.squaredNorm()) / (pixels_used_ - m);
-  fitted_residual_factor_ = mean_square / ess;
+  const double factor = mean_square / ess;
+  if (std::isfinite(factor)) fitted_residual_factor_ = factor;  // else 1: the model's
 }
 
 }  // namespace arttrack

@@ -158,7 +158,8 @@ class ImageInformation {
   // (pixels_used() - DOFs), the noise the pixels put into a fit is
   //   factor = s'^2 / ess'
   // times the pixel model's (the sandwich of a least-squares fit). 1 when
-  // no pixel was used or the pixels do not outnumber the DOFs.
+  // no pixel was used, the pixels do not outnumber the DOFs, or the fit
+  // is not finite.
   double fitted_residual_factor() const { return fitted_residual_factor_; }
 
   // Link shifts (with params.link_shifts): the real robot's links are not
