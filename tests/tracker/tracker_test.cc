@@ -246,7 +246,7 @@ TEST(TrackerTest, EstimateIntoAKeptObjectAllocatesNothing) {
     const double t = 0.001 * k;
     tracker.add_joint_measurement(t, std::vector<double>{0.4 + bias, -0.6 + bias});
     if (k % 33 == 0) tracker.add_depth_image(t, truth, kCamera);
-    if (k < 200) continue;  // the first images size the health
+    if (k < 200) continue;                 // the first images size the health
     if (k == 200) tracker.estimate(kept);  // and the first fill `kept`
     const long before = g_allocations.load();
     tracker.estimate(kept);
