@@ -151,6 +151,7 @@ TEST(TrackerConfigTest, BadKeysAndValuesAreNamed) {
          "uncertainty.discount_correlated_residuals"},
         {"uncertainty: {model_error_learned_shifts: maybe}\n",
          "uncertainty.model_error_learned_shifts"},
+        {"uncertainty: {pixel_noise_after_fit: 1.5}\n", "uncertainty.pixel_noise_after_fit"},
         {"uncertainty: {model_error_unpinned_scale_on_learned: 2}\n",
          "uncertainty.model_error_unpinned_scale_on_learned"}})
     EXPECT_NE(tracker_config_error(yaml).find(part), std::string::npos) << yaml;

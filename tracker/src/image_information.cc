@@ -897,16 +897,20 @@ double ImageInformation::neighbour_correlation(const Eigen::VectorXf& r, int ste
   return std::clamp(cross / std::sqrt(a2 * b2), 0.0, 0.99);
 }
 
+double ImageInformation::independent_sample_fraction(const Eigen::VectorXf& r, int width) const {
+  const double rho_x = neighbour_correlation(r, 1, width);
+  const double rho_y = neighbour_correlation(r, width, width);
+  return (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y);
+}
+
 void ImageInformation::estimate_effective_pixel_fraction(int width) {
   effective_pixel_fraction_ = 1;
   if (pixels_used_ == 0) return;
   // Correlation without removing the mean: a shared offset is exactly the
   // correlated part that must not count N times.
-  const double rho_x = neighbour_correlation(residuals_, 1, width);
-  const double rho_y = neighbour_correlation(residuals_, width, width);
   const double mean_square = residual_sum_sq_ / pixels_used_;
   effective_pixel_fraction_ =
-      std::min(1.0, (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) / mean_square);
+      std::min(1.0, independent_sample_fraction(residuals_, width) / mean_square);
 }
 
 void ImageInformation::estimate_fitted_residual_factor(int width) {
@@ -925,9 +929,7 @@ void ImageInformation::estimate_fitted_residual_factor(int width) {
   fitted_residuals_ = residuals_;  // 0 where unused, and G's rows are 0 there
   residual_fit_f_ = residual_fit_.cast<float>();
   fitted_residuals_.noalias() -= G * residual_fit_f_;
-  const double rho_x = neighbour_correlation(fitted_residuals_, 1, width);
-  const double rho_y = neighbour_correlation(fitted_residuals_, width, width);
-  const double ess = (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y);
+  const double ess = independent_sample_fraction(fitted_residuals_, width);
   const double mean_square = double(fitted_residuals_.squaredNorm()) / (pixels_used_ - m);
   const double factor = mean_square / ess;
   if (std::isfinite(factor)) fitted_residual_factor_ = factor;  // else 1: the model's

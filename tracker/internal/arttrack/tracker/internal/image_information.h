@@ -518,6 +518,11 @@ class ImageInformation {
   // next column, width: the next row), about 0 (not the mean: a shared
   // offset is the correlated part), clamped to [0, 0.99].
   double neighbour_correlation(const Eigen::VectorXf& r, int step, int width) const;
+  // The fraction of the used pixels of `r` that count as independent
+  // samples, from its neighbour correlations along rows and columns:
+  // (1 - rho_x) / (1 + rho_x) * (1 - rho_y) / (1 + rho_y) (AR(1) in each
+  // direction).
+  double independent_sample_fraction(const Eigen::VectorXf& r, int width) const;
 };
 
 }  // namespace arttrack
