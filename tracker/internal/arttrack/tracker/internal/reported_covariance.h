@@ -1,22 +1,20 @@
-// The covariance the tracker reports (docs/method.md, "Reported
-// covariance"): PosteriorCovariance (posterior_covariance.h) over the DOFs
-// the particle filter samples, each image's information about them (from
-// the motion field, image_information.h) folded in after the image's
-// particle filter, and,
-// with uncertainty.model_error, the link shifts' variance and each curved
-// link's bulge (image_information.h) estimated from the images' residuals
-// as consider parameters; with
-// uncertainty.link_length_std_m, each joint origin's length error, the
-// user's stated URDF tolerance, as one more consider parameter per joint;
-// with uncertainty.model_error_learned_shifts, each link's shift learned
-// over many poses (learned_link_shifts.h) widens its prior where it is
+// The covariance the tracker reports (docs/method.md, "Reported covariance"):
+// PosteriorCovariance (posterior_covariance.h) over the DOFs the particle
+// filter samples, each image's information about them (from the motion field,
+// image_information.h) folded in after the image's particle filter, and, with
+// uncertainty.model_error, the link shifts' variance and each curved link's
+// bulge (image_information.h) estimated from the images' residuals as consider
+// parameters; with uncertainty.link_length_std_m, each joint origin's length
+// error, the user's stated URDF tolerance, as one more consider parameter per
+// joint; with uncertainty.model_error_learned_shifts, each link's shift
+// learned over many poses (learned_link_shifts.h) widens its prior where it is
 // larger; with uncertainty.depth_scale_std, the camera's depth scale, the
 // user's stated calibration, as the last consider parameter. Apart from the
-// covariance, the means' lag (mean_lag.h) that Tracker::estimate() adds to
-// the biases' and the camera offset's reported variances, and, with
-// uncertainty.model_error_unpinned_scale_on_learned false, a second
-// covariance whose joints keep the unpinned scale, which bounds the mean
-// refinement's step (step_bound_covariance()).
+// covariance, the means' lag (mean_lag.h) that Tracker::estimate() adds to the
+// biases' and the camera offset's reported variances, and, with
+// uncertainty.model_error_unpinned_scale_on_learned false, a second covariance
+// whose joints keep the unpinned scale, which bounds the mean refinement's
+// step (step_bound_covariance()).
 //
 // An image's update comes in two halves, with the mean's refinement
 // (refinement.h) between them: begin_image() moves the covariance to the
@@ -135,15 +133,15 @@ class ReportedCovariance {
     return step_bound_ ? *step_bound_ : covariance_;
   }
 
-  // The first half of an image's update at time_s: starts the covariance
-  // from the prior's angle variances (prior_std per DOF) at the first image,
-  // else predicts it to time_s; a DOF re-acquisition moved (`reopened`,
-  // cleared here) starts again from the broad prior it was searched with;
-  // then the image's information at the robot at `mean` (every DOF),
-  // rendered by `renderer` (the likelihood's size; `pool`, when given,
-  // shares the renders). Returns whether the
-  // mean may be refined on that information: some pixel informed it and no
-  // DOF was re-opened. No-op (false) without states.
+  // The first half of an image's update at time_s: starts the covariance from
+  // the prior's angle variances (prior_std per DOF) at the first image, else
+  // predicts it to time_s; a DOF re-acquisition moved (`reopened`, cleared
+  // here) starts again from the broad prior it was searched with; then the
+  // image's information at the robot at `mean` (every DOF), rendered by
+  // `renderer` (the likelihood's size; `pool`, when given, shares the
+  // renders). Returns whether the mean may be refined on that information:
+  // some pixel informed it and no DOF was re-opened. No-op (false) without
+  // states.
   bool begin_image(double time_s, std::span<const double> prior_std, std::vector<char>& reopened,
                    std::span<const double> mean, DepthRenderer& renderer,
                    const DepthLikelihood& likelihood, WorkerPool* pool = nullptr);
