@@ -231,28 +231,36 @@ TEST(TrackerTest, FullFusionLearnsAConstantEncoderBiasFromImages) {
   EXPECT_GT(tracker.stats().images_applied, 80);
 }
 
-// A controller polls the estimate at the encoders' rate: filled into a
-// kept TrackerEstimate it equals estimate()'s and, once the object has held
-// one, allocates nothing (full fusion after images: the covariance, the
-// end effector's pose and covariance, the health's chains and links).
-TEST(TrackerTest, EstimateIntoAKeptObjectAllocatesNothing) {
+// A controller feeds readings at 1 kHz and images at 30 Hz and polls the
+// estimate at the encoders' rate. Once warm none of it allocates: the stream
+// through full fusion (the image's queue entry, the particle filter, the
+// image's information and model-error fits, the refinement, the
+// re-filtering) on a scene whose visible links do not change, and the
+// estimate filled into a kept TrackerEstimate, which equals estimate()'s
+// (the covariance, the end effector's pose and covariance, the health's
+// chains and links).
+TEST(TrackerTest, TheStreamAndTheEstimateIntoAKeptObjectAllocateNothing) {
   auto model = arm_model();
   Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
   const double bias = 6 * kRadPerDeg;
   const DepthImage truth = render_truth(*model, 0.4, -0.6);
+  const std::vector<double> reading{0.4 + bias, -0.6 + bias};
   TrackerEstimate kept;
-  long allocations = 0;
-  for (int k = 0; k <= 400; ++k) {
+  long stream_allocations = 0, estimate_allocations = 0;
+  for (int k = 0; k <= 2000; ++k) {
     const double t = 0.001 * k;
-    tracker.add_joint_measurement(t, std::vector<double>{0.4 + bias, -0.6 + bias});
+    const long before = g_allocations.load();
+    tracker.add_joint_measurement(t, reading);
     if (k % 33 == 0) tracker.add_depth_image(t, truth, kCamera);
+    if (k >= 1000) stream_allocations += g_allocations.load() - before;  // after 31 images
     if (k < 200) continue;                 // the first images size the health
     if (k == 200) tracker.estimate(kept);  // and the first fill `kept`
-    const long before = g_allocations.load();
+    const long polled = g_allocations.load();
     tracker.estimate(kept);
-    allocations += g_allocations.load() - before;
+    estimate_allocations += g_allocations.load() - polled;
   }
-  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(stream_allocations, 0);
+  EXPECT_EQ(estimate_allocations, 0);
   const TrackerEstimate fresh = tracker.estimate();
   EXPECT_EQ(kept.angle_rad, fresh.angle_rad);
   EXPECT_EQ(kept.angle_std_rad, fresh.angle_std_rad);
@@ -262,7 +270,38 @@ TEST(TrackerTest, EstimateIntoAKeptObjectAllocatesNothing) {
   EXPECT_EQ(kept.T_camera_ee[0].matrix(), fresh.T_camera_ee[0].matrix());
   EXPECT_EQ(kept.T_camera_ee_covariance[0], fresh.T_camera_ee_covariance[0]);
   EXPECT_EQ(kept.health.links.size(), fresh.health.links.size());
-  EXPECT_GT(tracker.stats().images_applied, 5);
+  EXPECT_EQ(tracker.stats().images_applied, 61);
+}
+
+// Images that wait for the joints (stamped ahead of them) past the queue's
+// bound: each one's entry takes a dropped one's storage, so queueing an
+// image, subsampled (128x96 to the likelihood's 64x48) or not, allocates
+// nothing once the queue is full.
+TEST(TrackerTest, QueueingAnImageAllocatesNothingOnceTheQueueIsFull) {
+  auto model = arm_model();
+  TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+  config.max_pending_images = 3;
+  Tracker tracker(model, config, {"shoulder", "elbow"});
+  tracker.add_joint_measurement(0, std::vector<double>{0.4, -0.6});
+  const CameraIntrinsics fine = CameraIntrinsics::from_vertical_fov(128, 96, 60 * kRadPerDeg);
+  const DepthImage at_likelihood = render_truth(*model, 0.4, -0.6);
+  const DepthImage finer = render_truth(*model, 0.4, -0.6, fine);
+  long allocations = 0;
+  for (int k = 0; k < 40; ++k) {
+    const double stamp_s = 0.1 + 0.001 * k;
+    const long before = g_allocations.load();
+    if (k % 2 == 0)
+      tracker.add_depth_image(stamp_s, at_likelihood, kCamera);
+    else
+      tracker.add_depth_image(stamp_s, finer, fine);
+    if (k >= 8) allocations += g_allocations.load() - before;  // after a round of spares
+  }
+  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(tracker.stats().images_dropped_backlog, 37);
+  EXPECT_EQ(tracker.stats().images_applied, 0);
+  // The queued images are the newest three and still apply.
+  tracker.add_joint_measurement(0.2, std::vector<double>{0.4, -0.6});
+  EXPECT_EQ(tracker.stats().images_applied, 3);
 }
 
 // A planar arm with a round forearm and a ball of a hand (their slopes show

@@ -77,14 +77,21 @@ double mean_subsample_shift(int new_size, int size) {
 }  // namespace
 
 DepthImage subsample_depth(const DepthImage& image, int new_width, int new_height) {
-  ARTTRACK_CHECK_ARGUMENT(new_width > 0 && new_height > 0);
-  DepthImage out(new_width, new_height);
+  DepthImage out;
+  subsample_depth(image, new_width, new_height, out);
+  return out;
+}
+
+void subsample_depth(const DepthImage& image, int new_width, int new_height, DepthImage& out) {
+  ARTTRACK_CHECK_ARGUMENT(new_width > 0 && new_height > 0 && &out != &image);
+  out.width = new_width;
+  out.height = new_height;
+  out.depth_m.resize(std::size_t(new_width) * new_height);
   for (int v = 0; v < new_height; ++v) {
     const int sv = subsample_source_index(v, new_height, image.height);
     for (int u = 0; u < new_width; ++u)
       out.at(u, v) = image.at(subsample_source_index(u, new_width, image.width), sv);
   }
-  return out;
 }
 
 CameraIntrinsics subsampled_intrinsics(const CameraIntrinsics& source, int new_width,

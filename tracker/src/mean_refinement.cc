@@ -25,7 +25,9 @@ bool MeanRefinement::solve(const Eigen::MatrixXd& nominal_covariance, const Eige
   // The step is the MAP over the moving ones with the others held.
   prior_ldlt_.compute(prior_);
   system_ = prior_ldlt_.solve(Eigen::MatrixXd::Identity(m, m));  // P^-1
-  rhs_ = beta_ * gradient - system_ * x_;
+  // noalias: Eigen otherwise assumes `a - B x` aliases and evaluates it into
+  // a temporary (the same operations: rhs_ = a, then rhs_ -= B x).
+  rhs_.noalias() = beta_ * gradient - system_ * x_;
   system_ += beta_ * information;
   int moving = 0;
   for (Eigen::Index i = 0; i < m; ++i) {

@@ -235,8 +235,8 @@ void PosteriorCovariance::angle_covariance_at(double time_s, Eigen::MatrixXd& ou
   predict_covariance(states_, time_s - time_s_, out);
 }
 
-Eigen::MatrixXd PosteriorCovariance::nominal_angle_covariance() const {
-  return sign_.asDiagonal() * P_ * sign_.asDiagonal();
+void PosteriorCovariance::nominal_angle_covariance(Eigen::MatrixXd& out) const {
+  out = sign_.asDiagonal() * P_ * sign_.asDiagonal();
 }
 
 }  // namespace arttrack

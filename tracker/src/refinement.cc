@@ -38,8 +38,9 @@ bool Refinement::refine(const PosteriorCovariance& covariance, const ImageInform
     x_[i] = belief.mean_a[dof] - prior_mean[dof];  // theta - mu
     spread_[std::size_t(i)] = prior_std[dof];
   }
-  if (!solver_.solve(covariance.nominal_angle_covariance(), x_, information.information_matrix(),
-                     information.gradient(), information.pixels_per_dof(), spread_))
+  covariance.nominal_angle_covariance(nominal_);
+  if (!solver_.solve(nominal_, x_, information.information_matrix(), information.gradient(),
+                     information.pixels_per_dof(), spread_))
     return false;
   if (widen_beyond_sigma_ > 0) {
     covariance.angle_covariance(reported_);

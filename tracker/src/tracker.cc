@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <deque>
 #include <limits>
 #include <mutex>
 #include <sstream>
@@ -48,10 +47,10 @@ void load_belief(std::span<const double> in, JointBelief& b) {
 }
 
 struct PendingImage {
-  double stamp_s;
-  double apply_time_s;   // stamp minus the camera delay
-  DepthImage image;      // subsampled to the likelihood's resolution
-  DepthImage fit_image;  // to the end-effector fit's (empty: the likelihood's)
+  double stamp_s = 0;
+  double apply_time_s = 0;  // stamp minus the camera delay
+  DepthImage image;         // subsampled to the likelihood's resolution
+  DepthImage fit_image;     // to the end-effector fit's (empty: the likelihood's)
   CameraIntrinsics camera;
   Clock::time_point received;  // add_depth_image was called
 };
@@ -69,8 +68,9 @@ struct Tracker::Impl {
 
   const TrackerSetup setup;
 
-  // All members below `mutex` are guarded by it, except `images` and
-  // `reading_at_t`, which only the thread doing the update touches.
+  // All members below `mutex` are guarded by it, except `images`,
+  // `reading_at_t`, `applying` and `image_prior`, which only the thread
+  // doing the update touches.
   mutable std::mutex mutex;
   std::condition_variable wake, idle;
   bool initialized = false;
@@ -85,7 +85,11 @@ struct Tracker::Impl {
   std::vector<double> image_state;    // belief right after it
   std::vector<double> state_scratch;  // the belief flattened for the buffer
   double last_stamp_s = kNoTime;
-  std::deque<PendingImage> pending;
+  // The images waiting for the joints to reach their time, oldest first,
+  // and entries done with, whose pixel storage the next images reuse (so an
+  // image's queue entry allocates nothing once there are spares). Both are
+  // reserved to max_pending_images + 1 and never grow past it.
+  std::vector<PendingImage> pending, spare;
   bool updating = false;  // an asynchronous image update is running
   bool stop = false;
   TrackerStats stats;
@@ -100,6 +104,8 @@ struct Tracker::Impl {
   // readings at the image's time (DOF order) its searches start from.
   std::unique_ptr<ImageUpdate> images;
   std::vector<double> reading_at_t;
+  PendingImage applying;    // the image being applied, out of `pending`
+  JointBelief image_prior;  // apply_image()'s belief, kept for its storage
   std::thread worker;
 
   bool applicable(const PendingImage& p) const {
@@ -109,7 +115,12 @@ struct Tracker::Impl {
   // the joint filter from its measured noise (TrackerConfig::EncoderNoise).
   void weigh_readings_by_measured_noise();
   void apply_pending_locked(std::unique_lock<std::mutex>& lock);
-  void apply_image(PendingImage image, std::unique_lock<std::mutex>& lock);
+  // Moves pending's oldest entry into `applying` and applies it.
+  void apply_oldest_pending(std::unique_lock<std::mutex>& lock);
+  void apply_image(const PendingImage& image, std::unique_lock<std::mutex>& lock);
+  // Under the lock: pending's oldest entry, or `done`, becomes a spare.
+  void drop_oldest_pending();
+  void keep_as_spare(PendingImage& done);
   // TrackerStats' geometry fields from `images` (under the lock).
   void count_geometry();
   void worker_loop();
@@ -135,6 +146,8 @@ Tracker::Impl::Impl(std::shared_ptr<const RobotModel> m, const TrackerConfig& c,
     noise_meter = std::make_unique<EncoderNoiseMeter>(has_encoder, kEncoderNoiseTimeConstant_s);
   }
   buffer = std::make_unique<BeliefBuffer>(n_phys, 5 * n, setup.config.buffer_capacity);
+  pending.reserve(std::size_t(setup.config.max_pending_images) + 1);
+  spare.reserve(std::size_t(setup.config.max_pending_images) + 1);
   image_state.assign(5 * n, 0.0);
   state_scratch.assign(5 * n, 0.0);
   if (!setup.use_encoders) {
@@ -175,10 +188,27 @@ void Tracker::Impl::apply_pending_locked(std::unique_lock<std::mutex>& lock) {
     if (!pending.empty() && applicable(pending.front())) wake.notify_all();
     return;
   }
-  while (!pending.empty() && applicable(pending.front())) {
-    PendingImage next = std::move(pending.front());
-    pending.pop_front();
-    apply_image(std::move(next), lock);
+  while (!pending.empty() && applicable(pending.front())) apply_oldest_pending(lock);
+}
+
+void Tracker::Impl::apply_oldest_pending(std::unique_lock<std::mutex>& lock) {
+  // Out of the queue first: in asynchronous mode add_depth_image() changes
+  // the queue while the image is applied.
+  std::swap(applying, pending.front());
+  pending.erase(pending.begin());
+  apply_image(applying, lock);
+  keep_as_spare(applying);
+}
+
+void Tracker::Impl::drop_oldest_pending() {
+  keep_as_spare(pending.front());
+  pending.erase(pending.begin());
+}
+
+void Tracker::Impl::keep_as_spare(PendingImage& done) {
+  if (spare.size() < spare.capacity()) {
+    spare.emplace_back();
+    std::swap(spare.back(), done);
   }
 }
 
@@ -208,13 +238,14 @@ void Tracker::Impl::count_geometry() {
   stats.geometry_builds = images->geometry_builds();
 }
 
-void Tracker::Impl::apply_image(PendingImage image, std::unique_lock<std::mutex>& lock) {
+void Tracker::Impl::apply_image(const PendingImage& image, std::unique_lock<std::mutex>& lock) {
   const auto start = Clock::now();
   const double t = image.apply_time_s;
   // The prior at the image's time: the newest belief at or before it,
   // predicted forward. An image applied at or after the buffered entry
   // supersedes the entry's belief.
-  JointBelief prior = belief;
+  JointBelief& prior = image_prior;
+  prior = belief;
   double base_time;
   if (setup.use_encoders) {
     const int i = buffer->last_at_or_before(t);
@@ -295,13 +326,11 @@ void Tracker::Impl::worker_loop() {
     // Only the newest applicable image is worth the work; older ones that
     // piled up while an update ran are dropped.
     while (pending.size() > 1 && applicable(pending[1])) {
-      pending.pop_front();
+      drop_oldest_pending();
       ++stats.images_dropped_busy;
     }
-    PendingImage next = std::move(pending.front());
-    pending.pop_front();
     updating = true;
-    apply_image(std::move(next), lock);
+    apply_oldest_pending(lock);
     updating = false;
     idle.notify_all();
   }
@@ -383,9 +412,12 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
                               const CameraIntrinsics& camera) {
   const auto received = Clock::now();
   Impl& s = *impl_;
-  std::ostringstream where;
-  where.precision(9);
-  where << "depth image stamped " << stamp_s << " s";
+  auto where = [&] {  // for messages only: an accepted image formats nothing
+    std::ostringstream os;
+    os.precision(9);
+    os << "depth image stamped " << stamp_s << " s";
+    return os.str();
+  };
   if (!std::isfinite(stamp_s)) {
     std::lock_guard lock(s.mutex);
     ++s.stats.images_received;
@@ -394,11 +426,11 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   }
   if (image.width != camera.width || image.height != camera.height ||
       image.depth_m.size() != size_t(image.width) * image.height || image.width <= 0)
-    throw InputError(where.str() + ": image is " + std::to_string(image.width) + "x" +
+    throw InputError(where() + ": image is " + std::to_string(image.width) + "x" +
                      std::to_string(image.height) + " but the intrinsics say " +
                      std::to_string(camera.width) + "x" + std::to_string(camera.height));
   if (!(camera.fx > 0 && camera.fy > 0))
-    throw InputError(where.str() + ": focal lengths must be positive");
+    throw InputError(where() + ": focal lengths must be positive");
   // One branch-free pass over the pixels (it vectorises), then the first bad
   // pixel for the message only when there is one.
   int valid = 1;
@@ -410,7 +442,7 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
       const float z = image.at(u, v);
       if (!(z >= 0) || !std::isfinite(z)) {
         std::ostringstream os;
-        os << where.str() << ": pixel (" << u << ", " << v << ") has depth " << z
+        os << where() << ": pixel (" << u << ", " << v << ") has depth " << z
            << " (expected metres >= 0, 0 for no return)";
         throw InputError(os.str());
       }
@@ -419,17 +451,30 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
   // the likelihood would subsample to it anyway, and a 640x480 copy per
   // image is 64 times the memory (the fit's 160x120, 4 times).
   const int W = s.setup.config.depth_model.width, H = s.setup.config.depth_model.height;
-  auto at_size = [&](int width, int height) {
-    return image.width == width && image.height == height ? image
-                                                          : subsample_depth(image, width, height);
+  auto keep_at_size = [&](int width, int height, DepthImage& kept) {
+    if (image.width == width && image.height == height)
+      kept = image;
+    else
+      subsample_depth(image, width, height, kept);
   };
-  DepthImage kept, fit_kept;
+  PendingImage entry;  // a spare's storage, when there is one
   if (s.setup.use_images) {
-    kept = at_size(W, H);
+    {
+      std::lock_guard lock(s.mutex);
+      if (!s.spare.empty()) {
+        std::swap(entry, s.spare.back());
+        s.spare.pop_back();
+      }
+    }
+    keep_at_size(W, H, entry.image);
     // The end-effector fit's finer image, when the image has more pixels.
     int fit_W = 0, fit_H = 0;
-    if (s.images->fit_image_size(image.width, image.height, fit_W, fit_H))
-      fit_kept = at_size(fit_W, fit_H);
+    if (s.images->fit_image_size(image.width, image.height, fit_W, fit_H)) {
+      keep_at_size(fit_W, fit_H, entry.fit_image);
+    } else {
+      entry.fit_image.width = entry.fit_image.height = 0;
+      entry.fit_image.depth_m.clear();
+    }
   }
 
   std::unique_lock lock(s.mutex);
@@ -439,22 +484,27 @@ void Tracker::add_depth_image(double stamp_s, const DepthImage& image,
       !(std::abs(stamp_s - s.time_s) <= s.setup.config.max_image_clock_offset_s)) {
     ++s.stats.images_received;
     ++s.stats.images_dropped_bad_stamp;
+    s.keep_as_spare(entry);
     return;
   }
   if (stamp_s < s.last_stamp_s) {
     std::ostringstream os;
     os.precision(9);
-    os << where.str() << " comes after one stamped " << s.last_stamp_s
+    os << where() << " comes after one stamped " << s.last_stamp_s
        << " s: image time stamps go backwards";
     throw InputError(os.str());
   }
   s.last_stamp_s = stamp_s;
   ++s.stats.images_received;
   if (!s.setup.use_images) return;
-  s.pending.push_back({stamp_s, stamp_s - s.setup.config.camera_delay_s, std::move(kept),
-                       std::move(fit_kept), camera, received});
+  entry.stamp_s = stamp_s;
+  entry.apply_time_s = stamp_s - s.setup.config.camera_delay_s;
+  entry.camera = camera;
+  entry.received = received;
+  s.pending.emplace_back();
+  std::swap(s.pending.back(), entry);
   while (int(s.pending.size()) > s.setup.config.max_pending_images) {
-    s.pending.pop_front();
+    s.drop_oldest_pending();
     ++s.stats.images_dropped_backlog;
   }
   s.apply_pending_locked(lock);

@@ -81,6 +81,9 @@ struct DepthImage {
 // depth edges, which would invent depths that are on no surface): target
 // pixel u is source pixel floor((u + 0.5) W / w), clamped.
 DepthImage subsample_depth(const DepthImage& image, int new_width, int new_height);
+// The same into `out` (not `image`), in its storage: no allocation once `out`
+// has held an image of this many pixels.
+void subsample_depth(const DepthImage& image, int new_width, int new_height, DepthImage& out);
 
 // The intrinsics of the image subsample_depth() returns, for a source image
 // with intrinsics `source`. Not scaled_to(): the source pixel a block keeps

@@ -112,8 +112,9 @@ class PosteriorCovariance {
   // time_s()), the covariance unchanged: what the estimate reports between
   // images, without a copy of the whole filter. The same numbers to the bit.
   void angle_covariance_at(double time_s, Eigen::MatrixXd& out) const;
-  // The same from the filter's own covariance P (its weights).
-  Eigen::MatrixXd nominal_angle_covariance() const;
+  // The same from the filter's own covariance P (its weights), into `out`
+  // (no allocation once `out` has the size).
+  void nominal_angle_covariance(Eigen::MatrixXd& out) const;
   // The reported covariance of the states (Q_ee, or P).
   Eigen::MatrixXd covariance() const;
   const Eigen::MatrixXd& nominal_covariance() const { return P_; }

@@ -57,6 +57,7 @@ class Refinement {
   Eigen::VectorXd x_;  // theta - mu per state
   std::vector<double> spread_;
   std::vector<double> q_;
+  Eigen::MatrixXd nominal_;   // the filter's angle covariance (its weights)
   Eigen::MatrixXd reported_;  // the reported angle covariance
 };
 
