@@ -58,6 +58,11 @@ TEST(ArgumentChecks, ImageSizes) {
   EXPECT_NE(
       invalid_argument_of([] { subsample_depth(DepthImage(4, 4), 0, 2); }).find("subsample_depth"),
       std::string::npos);
+  // Into its own source: the pixels would be read after they were written.
+  DepthImage image(4, 4);
+  EXPECT_NE(
+      invalid_argument_of([&] { subsample_depth(image, 2, 2, image); }).find("subsample_depth"),
+      std::string::npos);
 }
 
 }  // namespace
