@@ -597,6 +597,45 @@ TEST(TrackerTest, BrokenReadingsAreDroppedAndCounted) {
   EXPECT_EQ(tracker.stats().images_applied, 1);
 }
 
+// A malformed image is an InputError naming the image by its stamp and the
+// problem (the size, the focal lengths, the first bad pixel, a stamp before
+// the last), and the tracker takes the next good image as before.
+TEST(TrackerTest, BadImagesAreErrorsNamingTheImageAndTheProblem) {
+  auto model = arm_model();
+  Tracker tracker(model, small_config(TrackingMethod::kFullFusion), {"shoulder", "elbow"});
+  const std::vector<double> q{0.2, -0.1};
+  tracker.add_joint_measurement(0.0, q);
+  const DepthImage image = render_truth(*model, 0.2, -0.1);
+  const std::string where = "depth image stamped 0.25 s";
+  const auto expect_error = [&](const std::string& error, const std::string& problem) {
+    EXPECT_NE(error.find(where), std::string::npos) << error;
+    EXPECT_NE(error.find(problem), std::string::npos) << error;
+  };
+  const DepthImage smaller(32, 24);
+  expect_error(error_of([&] { tracker.add_depth_image(0.25, smaller, kCamera); }),
+               "image is 32x24 but the intrinsics say 64x48");
+  CameraIntrinsics flat = kCamera;
+  flat.fx = 0;
+  expect_error(error_of([&] { tracker.add_depth_image(0.25, image, flat); }),
+               "focal lengths must be positive");
+  for (const float bad : {-0.5f, std::nanf(""), std::numeric_limits<float>::infinity()}) {
+    DepthImage broken = image;
+    broken.at(5, 7) = bad;
+    expect_error(error_of([&] { tracker.add_depth_image(0.25, broken, kCamera); }),
+                 "pixel (5, 7) has depth");
+  }
+  tracker.add_depth_image(0.5, image, kCamera);
+  const std::string backwards = error_of([&] { tracker.add_depth_image(0.25, image, kCamera); });
+  expect_error(backwards, "comes after one stamped 0.5 s: image time stamps go backwards");
+  EXPECT_EQ(tracker.stats().images_received, 1);
+  // The rejected images left the queue as it was: the good one applies.
+  tracker.add_joint_measurement(0.5, q);
+  EXPECT_EQ(tracker.stats().images_applied, 1);
+  tracker.add_depth_image(0.5, image, kCamera);
+  tracker.add_joint_measurement(0.501, q);
+  EXPECT_EQ(tracker.stats().images_applied, 2);
+}
+
 // The default margin and clock bound leave readings within the limits alone:
 // the same readings give the same estimate with the checks as good as off.
 TEST(TrackerTest, InputChecksDoNotChangeValidInput) {
