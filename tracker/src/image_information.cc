@@ -121,6 +121,8 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     motion_field_gradients(model, renderer.camera(), likelihood, pool);
     product_f_.noalias() = field_gradients_.transpose() * field_gradients_;
     field_information_ = product_f_.cast<double>();
+    product_vector_f_.noalias() = field_gradients_.transpose() * residuals_;
+    field_gradient_ = product_vector_f_.cast<double>();
   }
   if (params_.depth_scale) {
     const Eigen::MatrixXf& G = params_.motion_field ? field_gradients_ : gradients_;
