@@ -121,8 +121,6 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
     motion_field_gradients(model, renderer.camera(), likelihood, pool);
     product_f_.noalias() = field_gradients_.transpose() * field_gradients_;
     field_information_ = product_f_.cast<double>();
-    product_vector_f_.noalias() = field_gradients_.transpose() * residuals_;
-    field_gradient_ = product_vector_f_.cast<double>();
   }
   if (params_.depth_scale) {
     const Eigen::MatrixXf& G = params_.motion_field ? field_gradients_ : gradients_;
@@ -134,6 +132,13 @@ const Eigen::MatrixXd& ImageInformation::compute(DepthRenderer& renderer, std::s
   if (params_.link_shifts) compute_link_shifts(renderer.camera(), likelihood);
   if (!rigid_fits_.empty()) compute_rigid_fits(renderer.camera(), likelihood);
   return information_;
+}
+
+const Eigen::VectorXd& ImageInformation::motion_field_gradient() const {
+  if (!params_.motion_field) return gradient_;
+  field_product_f_.noalias() = field_gradients_.transpose() * residuals_;
+  field_gradient_ = field_product_f_.cast<double>();
+  return field_gradient_;
 }
 
 // field_gradients_: d r / d q from the motion field (motion_field_information()

@@ -122,10 +122,10 @@ class ImageInformation {
   // The same gradient as gradient() with d r / d q from the motion field
   // (with params.motion_field; else gradient()): it has no component along
   // a motion that moves no surface, where gradient()'s central differences
-  // may (above).
-  const Eigen::VectorXd& motion_field_gradient() const {
-    return params_.motion_field ? field_gradient_ : gradient_;
-  }
+  // may (above). Computed on the call from the last compute()'s motion
+  // field and residuals, so images that do not ask for it do not pay for
+  // it; allocation-free after the first call with a given DOF count.
+  const Eigen::VectorXd& motion_field_gradient() const;
   // The Gauss-Newton gradient of the last compute(): sum over the same
   // pixels of grad r (z - r) / sigma^2 (the log-likelihood's gradient of the
   // visible branch), in dofs() order.
@@ -356,7 +356,10 @@ class ImageInformation {
   Eigen::VectorXf product_vector_f_;  // the same for a vector
   Eigen::MatrixXf field_gradients_;   // pixel x DOF, motion field (params.motion_field)
   Eigen::VectorXd field_pixel_gradient_;
-  Eigen::VectorXd gradient_, field_gradient_;
+  Eigen::VectorXd gradient_;
+  // motion_field_gradient()'s workspace: its float product and the result.
+  mutable Eigen::VectorXf field_product_f_;
+  mutable Eigen::VectorXd field_gradient_;
   int pixels_used_ = 0;
   std::vector<int> pixels_per_dof_;
   double effective_pixel_fraction_ = 1;
