@@ -301,7 +301,8 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     key("uncertainty.mean_lag_time_constant_s", &C::mean_lag_time_constant_s));
   f(key("refinement.enabled", &C::refine_mean),
     key("refinement.min_pixels", &C::refinement_min_pixels),
-    key("refinement.widen_beyond_sigma", &C::refinement_widen_beyond_sigma));
+    key("refinement.widen_beyond_sigma", &C::refinement_widen_beyond_sigma),
+    key("refinement.unseen_information_ratio", &C::refinement_unseen_information_ratio));
   f.nested("end_effector_fit.", &C::end_effector_fit, [](FieldList<C::EndEffectorFitConfig>& e) {
     using E = C::EndEffectorFitConfig;
     e(key("enabled", &E::enabled), key("time_constant_s", &E::time_constant_s),

@@ -303,6 +303,8 @@ const std::vector<RangeRow> kRangeRows = {
     {"refinement.min_pixels", "10000000", "10000001"},
     {"refinement.widen_beyond_sigma", "0", "-0.5"},
     {"refinement.widen_beyond_sigma", "100", "101"},
+    {"refinement.unseen_information_ratio", "0", "-0.01"},
+    {"refinement.unseen_information_ratio", "1", "1.5"},
     {"end_effector_fit.time_constant_s", "0.001", "0.0009"},
     {"end_effector_fit.time_constant_s", "10000", "10001"},
     {"end_effector_fit.max_std_m", "0.000001", "0"},

@@ -6,13 +6,15 @@
 namespace arttrack {
 
 MeanRefinement::MeanRefinement(Eigen::VectorXd encoder_var_rad2, int min_pixels,
-                               double likelihood_exponent)
+                               double likelihood_exponent, double unseen_ratio)
     : encoder_var_rad2_(std::move(encoder_var_rad2)),
       min_pixels_(min_pixels),
-      beta_(likelihood_exponent) {}
+      beta_(likelihood_exponent),
+      unseen_ratio_(unseen_ratio) {}
 
 bool MeanRefinement::solve(const Eigen::MatrixXd& nominal_covariance, const Eigen::VectorXd& x,
                            const Eigen::MatrixXd& information, const Eigen::VectorXd& gradient,
+                           const Eigen::MatrixXd& field_information,
                            const std::vector<int>& pixels_per_state,
                            std::span<const double> spread) {
   const Eigen::Index m = x.size();
@@ -25,10 +27,14 @@ bool MeanRefinement::solve(const Eigen::MatrixXd& nominal_covariance, const Eige
   // The step is the MAP over the moving ones with the others held.
   prior_ldlt_.compute(prior_);
   system_ = prior_ldlt_.solve(Eigen::MatrixXd::Identity(m, m));  // P^-1
+  unseen_directions_ =
+      unseen_ratio_ > 0 ? project_out_unseen(information, gradient, field_information) : 0;
+  const Eigen::MatrixXd& seen_information = unseen_directions_ ? seen_information_ : information;
+  const Eigen::VectorXd& seen_gradient = unseen_directions_ ? seen_gradient_ : gradient;
   // noalias: Eigen otherwise assumes `a - B x` aliases and evaluates it into
   // a temporary (the same operations: rhs_ = a, then rhs_ -= B x).
-  rhs_.noalias() = beta_ * gradient - system_ * x_;
-  system_ += beta_ * information;
+  rhs_.noalias() = beta_ * seen_gradient - system_ * x_;
+  system_ += beta_ * seen_information;
   int moving = 0;
   for (Eigen::Index i = 0; i < m; ++i) {
     if (pixels_per_state[std::size_t(i)] >= min_pixels_) {
@@ -49,6 +55,34 @@ bool MeanRefinement::solve(const Eigen::MatrixXd& nominal_covariance, const Eige
   // particles looked is a linearisation far from its point, and could cross
   // into another mode.
   return shorten(spread);
+}
+
+int MeanRefinement::project_out_unseen(const Eigen::MatrixXd& information,
+                                       const Eigen::VectorXd& gradient,
+                                       const Eigen::MatrixXd& field_information) {
+  const Eigen::Index m = prior_.rows();
+  prior_llt_.compute(prior_);
+  if (prior_llt_.info() != Eigen::Success) return 0;
+  factor_ = prior_llt_.matrixL();
+  factor_inverse_.setIdentity(m, m);
+  prior_llt_.matrixL().solveInPlace(factor_inverse_);
+  product_.noalias() = field_information * factor_;
+  whitened_.noalias() = factor_.transpose() * product_;  // L^T F L
+  whitened_eigen_.compute(whitened_);
+  if (whitened_eigen_.info() != Eigen::Success) return 0;
+  // Eigenvalues ascend: the unseen directions come first.
+  int unseen = 0;
+  while (unseen < m && whitened_eigen_.eigenvalues()[unseen] < unseen_ratio_) ++unseen;
+  if (unseen == 0) return 0;
+  const auto basis = whitened_eigen_.eigenvectors().leftCols(unseen);
+  whitened_.setIdentity(m, m);
+  whitened_.noalias() -= basis * basis.transpose();  // 1 - U U^T
+  product_.noalias() = whitened_ * factor_inverse_;
+  projector_.noalias() = factor_ * product_;  // Pi = L (1 - U U^T) L^-1
+  product_.noalias() = information * projector_;
+  seen_information_.noalias() = projector_.transpose() * product_;
+  seen_gradient_.noalias() = projector_.transpose() * gradient;
+  return unseen;
 }
 
 bool MeanRefinement::shorten(std::span<const double> limit) {

@@ -9,12 +9,26 @@
 // gradient (image_information.h):
 //   delta = (P^-1 + beta I)^-1 (beta g - P^-1 (theta - mu)),
 // over the states at least min_pixels explained pixels depend on (the
-// others held), shortened so that no state moves further than its spread
+// others held), I and g without their part along the directions the image
+// does not see (below), shortened so that no state moves further than its spread
 // (the particles' prior standard deviation), or, when the step is longer
 // than widen_beyond_sigma reported standard deviations, than the larger of
 // that spread and its reported standard deviation (widen()). The tracker then takes the
 // full step or its half when it raises the target with the exact pixel
 // model (occlusion, outliers and edges included); otherwise the mean stays.
+//
+// The directions the image does not see: with unseen_ratio > 0, the
+// eigenvectors u of L^T F L (P = L L^T, F the motion field's information,
+// surface normals: what moving a surface shows) with eigenvalue below
+// unseen_ratio, the image adding less than that fraction of the prior's
+// information along L u. With Pi = L (1 - U U^T) L^-1 the projection onto
+// the rest along them, I and g become Pi^T I Pi and Pi^T g: along an unseen
+// direction the step is the prior's alone. Such a direction moves no
+// surface (a camera orbiting an axisymmetric base link while the joint that
+// turns it turns back), but I and g, from central differences of a
+// tessellated render, read the facets as information there, and the mean
+// walked along it (docs/accuracy.md, "What moves arm7's exact-depth
+// camera").
 //
 // States are PosteriorCovariance's (posterior_covariance.h), in its order.
 // Internal to the tracker (not installed). solve() allocates only when the
@@ -26,6 +40,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 namespace arttrack {
@@ -35,15 +50,23 @@ class MeanRefinement {
   // encoder_var_rad2: per state, the encoder variance added to the prior's
   // diagonal (bias states: the encoders' noise), else 0. likelihood_exponent
   // is beta.
-  MeanRefinement(Eigen::VectorXd encoder_var_rad2, int min_pixels, double likelihood_exponent);
+  // unseen_ratio: above, 0 for none.
+  MeanRefinement(Eigen::VectorXd encoder_var_rad2, int min_pixels, double likelihood_exponent,
+                 double unseen_ratio = 0);
 
   // The step from x = theta - mu under the nominal angle covariance P (the
   // filter's own weights), the image's information and gradient, the
-  // explained pixels per state and each state's spread. False when no state
-  // moves or the step is not finite.
+  // motion field's information (read with unseen_ratio > 0), the explained
+  // pixels per state and each state's spread. False when no state moves or
+  // the step is not finite.
   bool solve(const Eigen::MatrixXd& nominal_covariance, const Eigen::VectorXd& x,
              const Eigen::MatrixXd& information, const Eigen::VectorXd& gradient,
-             const std::vector<int>& pixels_per_state, std::span<const double> spread);
+             const Eigen::MatrixXd& field_information, const std::vector<int>& pixels_per_state,
+             std::span<const double> spread);
+
+  // After solve(): how many directions it found unseen (0 with
+  // unseen_ratio 0).
+  int unseen_directions() const { return unseen_directions_; }
 
   // After solve(): when the step before shortening is longer than
   // beyond_sigma standard deviations under `reported_covariance` (its
@@ -64,8 +87,16 @@ class MeanRefinement {
   Eigen::VectorXd encoder_var_rad2_;
   int min_pixels_;
   double beta_;
+  double unseen_ratio_;
+  int unseen_directions_ = 0;
   Eigen::VectorXd x_, delta_, rhs_, unclipped_, scratch_;
   Eigen::MatrixXd prior_, system_;
+  // The unseen directions' workspace: L, L^-1, L^T F L and then Pi, the
+  // projected information and gradient.
+  Eigen::LLT<Eigen::MatrixXd> prior_llt_;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> whitened_eigen_;
+  Eigen::MatrixXd factor_, factor_inverse_, whitened_, projector_, product_, seen_information_;
+  Eigen::VectorXd seen_gradient_;
   Eigen::LDLT<Eigen::MatrixXd> prior_ldlt_, reported_ldlt_;
   // Kept between images (a temporary factor or vector per call allocated):
   // the step's factor, and log_prior()'s point and its solve.
@@ -75,6 +106,10 @@ class MeanRefinement {
   // delta_ = unclipped_, shortened so that |delta_i| <= limit_i (0: held).
   // False when a limit is not finite.
   bool shorten(std::span<const double> limit);
+  // Sets seen_information_ and seen_gradient_ (above); returns how many
+  // directions are unseen.
+  int project_out_unseen(const Eigen::MatrixXd& information, const Eigen::VectorXd& gradient,
+                         const Eigen::MatrixXd& field_information);
 };
 
 }  // namespace arttrack

@@ -22,7 +22,7 @@ Refinement::Refinement(const TrackerSetup& setup,
     : on_(setup.config.method == TrackingMethod::kFullFusion && setup.config.refine_mean),
       widen_beyond_sigma_(setup.config.refinement_widen_beyond_sigma),
       solver_(encoder_var_per_state(setup, states), setup.config.refinement_min_pixels,
-              setup.config.likelihood_exponent),
+              setup.config.likelihood_exponent, setup.config.refinement_unseen_information_ratio),
       x_(Eigen::Index(states.size())),
       spread_(states.size()),
       q_(std::size_t(setup.n)) {}
@@ -40,7 +40,7 @@ bool Refinement::refine(const PosteriorCovariance& covariance, const ImageInform
   }
   covariance.nominal_angle_covariance(nominal_);
   if (!solver_.solve(nominal_, x_, information.information_matrix(), information.gradient(),
-                     information.pixels_per_dof(), spread_))
+                     information.motion_field_information(), information.pixels_per_dof(), spread_))
     return false;
   if (widen_beyond_sigma_ > 0) {
     covariance.angle_covariance(reported_);

@@ -185,6 +185,8 @@ void TrackerConfig::validate(const std::string& source) const {
   check("uncertainty.mean_lag_time_constant_s", mean_lag_time_constant_s, R::closed(0.5, 1e4));
   check("refinement.min_pixels", refinement_min_pixels, R::closed(1, 1e7));
   check("refinement.widen_beyond_sigma", refinement_widen_beyond_sigma, R::closed(0, 100));
+  check("refinement.unseen_information_ratio", refinement_unseen_information_ratio,
+        R::closed(0, 1));
   check("end_effector_fit.time_constant_s", end_effector_fit.time_constant_s, R::closed(1e-3, 1e4));
   check("end_effector_fit.max_std_m", end_effector_fit.max_std_m, R::closed(1e-6, 1));
   check("end_effector_fit.resolution_factor", end_effector_fit.resolution_factor, R::closed(1, 8));
@@ -337,7 +339,8 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   const ConfigNode refinement = root.child("refinement");
   c.refine_mean = refinement.get<bool>("enabled", c.refine_mean);
   read_numbers(refinement, {{"min_pixels", &c.refinement_min_pixels},
-                            {"widen_beyond_sigma", &c.refinement_widen_beyond_sigma}});
+                            {"widen_beyond_sigma", &c.refinement_widen_beyond_sigma},
+                            {"unseen_information_ratio", &c.refinement_unseen_information_ratio}});
   TrackerConfig::EndEffectorFitConfig& fit = c.end_effector_fit;
   const ConfigNode end_effector_fit = root.child("end_effector_fit");
   fit.enabled = end_effector_fit.get<bool>("enabled", fit.enabled);

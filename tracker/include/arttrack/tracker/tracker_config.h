@@ -297,6 +297,14 @@ struct TrackerConfig {
   // each state may move up to its reported standard deviation, not only the
   // particles' spread. 0: never.
   double refinement_widen_beyond_sigma = 2.0;
+  // A direction of the states along which the image's motion-field
+  // information (surface normals: what moving a surface shows) is below
+  // this fraction of the step's prior information takes no image term in
+  // the step: along it the mean follows the prior alone. Such a direction
+  // moves no surface (a camera orbiting an axisymmetric base link while the
+  // joint that turns it turns back), but the central differences of a
+  // tessellated render read their facets as information there. 0: off.
+  double refinement_unseen_information_ratio = 0.0;
   // Full fusion: each end effector's pose where the images show its end
   // link (the nearest link with geometry at or above it), not only where
   // the joint estimate's kinematics put it (tracker.h, "End-effector fit";
