@@ -30,11 +30,12 @@ struct UnseenDirectionProblem {
     a << 30, 30, 5, -4, -4, 60;
     field = a.transpose() * a;
     seen_gradient = a.transpose() * Eigen::Vector2d(0.7, -1.1);  // v^T g = 0
-    // What central differences over a tessellated render add: information
-    // and a gradient along v (a facet's edge read as a slope).
-    const Eigen::Vector3d facet(2, -1.5, 0.3);
-    artefact_information = 800 * facet * facet.transpose();
-    artefact_gradient = 9 * facet;
+    // What central differences one DOF at a time add: information and a
+    // gradient along v (edges a step moves across pixel centres, read as
+    // slopes, on different pixels per DOF).
+    const Eigen::Vector3d edges(2, -1.5, 0.3);
+    artefact_information = 800 * edges * edges.transpose();
+    artefact_gradient = 9 * edges;
   }
 
   Eigen::VectorXd step(double unseen_ratio, const Eigen::Matrix3d& information,
@@ -57,21 +58,21 @@ TEST(MeanRefinement, AlongADirectionThatMovesNoSurfaceTheMeanFollowsThePriorAlon
   const Eigen::Matrix3d information = p.field + p.artefact_information;
   const Eigen::Vector3d gradient = p.seen_gradient + p.artefact_gradient;
 
-  // Without the option the facets' information moves the mean along v,
+  // Without the option the edges' information moves the mean along v,
   // away from where the prior puts it.
   const Eigen::VectorXd off = p.step(0, information, gradient);
   EXPECT_GT(std::abs(p.prior_pull_along_v(off)), 1.0);
 
   // With it, one direction is unseen and the step meets the projected
   // problem's stationarity along v: P^-1 (x + delta) has no component
-  // along v, whatever the facets said there.
+  // along v, whatever the edges said there.
   int unseen = 0;
   const Eigen::VectorXd on = p.step(0.01, information, gradient, &unseen);
   EXPECT_EQ(unseen, 1);
   EXPECT_NEAR(p.prior_pull_along_v(on), 0, 1e-6);
 }
 
-TEST(MeanRefinement, WithoutFacetsTheUnseenDirectionChangesNothing) {
+TEST(MeanRefinement, WithoutEdgeArtefactsTheUnseenDirectionChangesNothing) {
   // The image's information is the motion field's and its gradient has no
   // part along v: removing v's part of them leaves the step as it was.
   const UnseenDirectionProblem p;

@@ -25,10 +25,11 @@
 // the rest along them, I and g become Pi^T I Pi and Pi^T g: along an unseen
 // direction the step is the prior's alone. Such a direction moves no
 // surface (a camera orbiting an axisymmetric base link while the joint that
-// turns it turns back), but I and g, from central differences of a
-// tessellated render, read the facets as information there, and the mean
-// walked along it (docs/accuracy.md, "What moves arm7's exact-depth
-// camera").
+// turns it turns back), but I and g, from central differences one DOF at a
+// time, count the edges each DOF's step moves across pixel centres as
+// slopes, on different pixels per DOF, so that their jumps do not cancel
+// along it: they read information there, and the mean walked along it (docs/accuracy.md, "What
+// moves arm7's exact-depth camera").
 //
 // States are PosteriorCovariance's (posterior_covariance.h), in its order.
 // Internal to the tracker (not installed). solve() allocates only when the

@@ -302,8 +302,10 @@ struct TrackerConfig {
   // this fraction of the step's prior information takes no image term in
   // the step: along it the mean follows the prior alone. Such a direction
   // moves no surface (a camera orbiting an axisymmetric base link while the
-  // joint that turns it turns back), but the central differences of a
-  // tessellated render read their facets as information there. 0: off.
+  // joint that turns it turns back), but the central differences, one DOF
+  // at a time, count each edge a DOF's step moves across a pixel centre as
+  // a slope, and the DOFs' jumps fall on different pixels, so they read
+  // information there. 0: off.
   double refinement_unseen_information_ratio = 0.0;
   // Full fusion: each end effector's pose where the images show its end
   // link (the nearest link with geometry at or above it), not only where
