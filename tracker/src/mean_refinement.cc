@@ -68,13 +68,31 @@ int MeanRefinement::project_out_unseen(const Eigen::MatrixXd& information,
   prior_llt_.matrixL().solveInPlace(factor_inverse_);
   product_.noalias() = field_information * factor_;
   whitened_.noalias() = factor_.transpose() * product_;  // L^T F L
-  whitened_eigen_.compute(whitened_);
-  if (whitened_eigen_.info() != Eigen::Success) return 0;
-  // Eigenvalues ascend: the unseen directions come first.
+  tridiagonal_.compute(whitened_);
+  diagonal_ = tridiagonal_.diagonal();
+  subdiagonal_ = tridiagonal_.subDiagonal();
+  tridiagonal_eigen_.computeFromTridiagonal(diagonal_, subdiagonal_, Eigen::ComputeEigenvectors);
+  if (tridiagonal_eigen_.info() != Eigen::Success) return 0;
+  // Q into a kept matrix with a kept workspace (the expression's assignment
+  // makes a workspace of its own).
+  tridiagonal_.matrixQ().evalTo(rotation_, householder_workspace_);
+  eigenvectors_.noalias() = rotation_ * tridiagonal_eigen_.eigenvectors();
+  // The central differences' information along each eigenvector, in the
+  // same units: u^T L^T I L u. A direction is unseen where the motion
+  // field's is below unseen_ratio of it; the others' columns are zeroed.
+  product_.noalias() = information * factor_;
+  whitened_.noalias() = factor_.transpose() * product_;  // L^T I L
   int unseen = 0;
-  while (unseen < m && whitened_eigen_.eigenvalues()[unseen] < unseen_ratio_) ++unseen;
+  for (Eigen::Index k = 0; k < m; ++k) {
+    column_.noalias() = whitened_ * eigenvectors_.col(k);
+    const double central = eigenvectors_.col(k).dot(column_);
+    if (tridiagonal_eigen_.eigenvalues()[k] < unseen_ratio_ * central)
+      ++unseen;
+    else
+      eigenvectors_.col(k).setZero();
+  }
   if (unseen == 0) return 0;
-  const auto basis = whitened_eigen_.eigenvectors().leftCols(unseen);
+  const auto& basis = eigenvectors_;
   whitened_.setIdentity(m, m);
   whitened_.noalias() -= basis * basis.transpose();  // 1 - U U^T
   product_.noalias() = whitened_ * factor_inverse_;

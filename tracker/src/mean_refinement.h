@@ -19,17 +19,20 @@
 //
 // The directions the image does not see: with unseen_ratio > 0, the
 // eigenvectors u of L^T F L (P = L L^T, F the motion field's information,
-// surface normals: what moving a surface shows) with eigenvalue below
-// unseen_ratio, the image adding less than that fraction of the prior's
-// information along L u. With Pi = L (1 - U U^T) L^-1 the projection onto
-// the rest along them, I and g become Pi^T I Pi and Pi^T g: along an unseen
+// surface normals: what moving a surface shows) whose eigenvalue is below
+// unseen_ratio times u^T L^T I L u, the central differences' information
+// along the same direction. (Below a fraction of the prior's information
+// instead, the test missed: a small image's real, weak information per
+// image falls under any such fraction once many images have narrowed the
+// prior, and a planar arm's camera then stayed 6 sigma off.) With Pi = L (1 - U U^T) L^-1 the
+// projection onto the rest along them, I and g become Pi^T I Pi and Pi^T g: along an unseen
 // direction the step is the prior's alone. Such a direction moves no
 // surface (a camera orbiting an axisymmetric base link while the joint that
 // turns it turns back), but I and g, from central differences one DOF at a
 // time, count the edges each DOF's step moves across pixel centres as
 // slopes, on different pixels per DOF, so that their jumps do not cancel
-// along it: they read information there, and the mean walked along it (docs/accuracy.md, "What
-// moves arm7's exact-depth camera").
+// along it: they read information there, and the mean walked along it
+// (docs/accuracy.md, "Directions that move no surface").
 //
 // States are PosteriorCovariance's (posterior_covariance.h), in its order.
 // Internal to the tracker (not installed). solve() allocates only when the
@@ -94,10 +97,15 @@ class MeanRefinement {
   Eigen::MatrixXd prior_, system_;
   // The unseen directions' workspace: L, L^-1, L^T F L and then Pi, the
   // projected information and gradient.
+  // The eigenvectors come from a tridiagonal form (Q^T L^T F L Q = T) and
+  // T's eigenvectors: SelfAdjointEigenSolver::compute() allocates Q's
+  // workspace on every call.
   Eigen::LLT<Eigen::MatrixXd> prior_llt_;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> whitened_eigen_;
-  Eigen::MatrixXd factor_, factor_inverse_, whitened_, projector_, product_, seen_information_;
-  Eigen::VectorXd seen_gradient_;
+  Eigen::Tridiagonalization<Eigen::MatrixXd> tridiagonal_;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal_eigen_;
+  Eigen::MatrixXd factor_, factor_inverse_, whitened_, rotation_, eigenvectors_, projector_,
+      product_, seen_information_;
+  Eigen::VectorXd diagonal_, subdiagonal_, householder_workspace_, column_, seen_gradient_;
   Eigen::LDLT<Eigen::MatrixXd> prior_ldlt_, reported_ldlt_;
   // Kept between images (a temporary factor or vector per call allocated):
   // the step's factor, and log_prior()'s point and its solve.

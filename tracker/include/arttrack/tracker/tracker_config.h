@@ -299,13 +299,14 @@ struct TrackerConfig {
   double refinement_widen_beyond_sigma = 2.0;
   // A direction of the states along which the image's motion-field
   // information (surface normals: what moving a surface shows) is below
-  // this fraction of the step's prior information takes no image term in
-  // the step: along it the mean follows the prior alone. Such a direction
+  // this fraction of the central differences' information takes no image
+  // term in the step: along it the mean follows the prior alone. Such a direction
   // moves no surface (a camera orbiting an axisymmetric base link while the
   // joint that turns it turns back), but the central differences, one DOF
   // at a time, count each edge a DOF's step moves across a pixel centre as
   // a slope, and the DOFs' jumps fall on different pixels, so they read
-  // information there. 0: off.
+  // information there. 0: off (stop 96; docs/accuracy.md, "Directions
+  // that move no surface").
   double refinement_unseen_information_ratio = 0.0;
   // Full fusion: each end effector's pose where the images show its end
   // link (the nearest link with geometry at or above it), not only where
