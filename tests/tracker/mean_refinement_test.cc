@@ -84,7 +84,8 @@ TEST(MeanRefinement, WhereTheCentralDifferencesAgreeWithTheFieldNothingChanges) 
 
 TEST(MeanRefinement, EveryDirectionSeenLeavesTheStepAsItWas) {
   // A field with no null direction (every eigenvalue of L^T F L far above
-  // the ratio): nothing is projected.
+  // the ratio times the central differences' information along it, edges
+  // included): nothing is projected.
   UnseenDirectionProblem p;
   p.field += 5000 * p.v * p.v.transpose();
   const Eigen::Matrix3d information = p.field + p.artefact_information;

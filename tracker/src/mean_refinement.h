@@ -24,9 +24,10 @@
 // along the same direction. (Below a fraction of the prior's information
 // instead, the test missed: a small image's real, weak information per
 // image falls under any such fraction once many images have narrowed the
-// prior, and a planar arm's camera then stayed 6 sigma off.) With Pi = L (1 - U U^T) L^-1 the
-// projection onto the rest along them, I and g become Pi^T I Pi and Pi^T g: along an unseen
-// direction the step is the prior's alone. Such a direction moves no
+// prior, and a planar arm's camera then stayed 6 sigma off.) With Pi =
+// L (1 - U U^T) L^-1 the projection onto the rest along them, I and g
+// become Pi^T I Pi and Pi^T g: along an unseen direction the step is the
+// prior's alone. Such a direction moves no
 // surface (a camera orbiting an axisymmetric base link while the joint that
 // turns it turns back), but I and g, from central differences one DOF at a
 // time, count the edges each DOF's step moves across pixel centres as

@@ -300,8 +300,8 @@ struct TrackerConfig {
   // A direction of the states along which the image's motion-field
   // information (surface normals: what moving a surface shows) is below
   // this fraction of the central differences' information takes no image
-  // term in the step: along it the mean follows the prior alone. Such a direction
-  // moves no surface (a camera orbiting an axisymmetric base link while the
+  // term in the step: along it the mean follows the prior alone. Such a
+  // direction moves no surface (a camera orbiting an axisymmetric base link while the
   // joint that turns it turns back), but the central differences, one DOF
   // at a time, count each edge a DOF's step moves across a pixel centre as
   // a slope, and the DOFs' jumps fall on different pixels, so they read
