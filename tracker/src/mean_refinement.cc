@@ -92,9 +92,8 @@ int MeanRefinement::project_out_unseen(const Eigen::MatrixXd& information,
       eigenvectors_.col(k).setZero();
   }
   if (unseen == 0) return 0;
-  const auto& basis = eigenvectors_;
   whitened_.setIdentity(m, m);
-  whitened_.noalias() -= basis * basis.transpose();  // 1 - U U^T
+  whitened_.noalias() -= eigenvectors_ * eigenvectors_.transpose();  // 1 - U U^T
   product_.noalias() = whitened_ * factor_inverse_;
   projector_.noalias() = factor_ * product_;  // Pi = L (1 - U U^T) L^-1
   product_.noalias() = information * projector_;

@@ -10,8 +10,8 @@
 //   delta = (P^-1 + beta I)^-1 (beta g - P^-1 (theta - mu)),
 // over the states at least min_pixels explained pixels depend on (the
 // others held), I and g without their part along the directions the image
-// does not see (below), shortened so that no state moves further than its spread
-// (the particles' prior standard deviation), or, when the step is longer
+// does not see (below), shortened so that no state moves further than its
+// spread (the particles' prior standard deviation), or, when the step is longer
 // than widen_beyond_sigma reported standard deviations, than the larger of
 // that spread and its reported standard deviation (widen()). The tracker then takes the
 // full step or its half when it raises the target with the exact pixel
@@ -27,13 +27,12 @@
 // prior, and a planar arm's camera then stayed 6 sigma off.) With Pi =
 // L (1 - U U^T) L^-1 the projection onto the rest along them, I and g
 // become Pi^T I Pi and Pi^T g: along an unseen direction the step is the
-// prior's alone. Such a direction moves no
-// surface (a camera orbiting an axisymmetric base link while the joint that
-// turns it turns back), but I and g, from central differences one DOF at a
-// time, count the edges each DOF's step moves across pixel centres as
-// slopes, on different pixels per DOF, so that their jumps do not cancel
-// along it: they read information there, and the mean walked along it
-// (docs/accuracy.md, "Directions that move no surface").
+// prior's alone. Such a direction moves no surface (a camera orbiting an
+// axisymmetric base link while the joint that turns it turns back), but I
+// and g, from central differences one DOF at a time, count the edges each DOF's step moves across
+// pixel centres as slopes, on different pixels per DOF, so that their jumps do not cancel along it:
+// they read information there, and the mean walked along it (docs/accuracy.md, "Directions that
+// move no surface").
 //
 // States are PosteriorCovariance's (posterior_covariance.h), in its order.
 // Internal to the tracker (not installed). solve() allocates only when the
