@@ -146,8 +146,9 @@ py::dict health_dict(const TrackingHealth& h) {
       "whole"_a = chain_health_dict(h.whole), "chains"_a = chains,
       "acquisitions"_a = h.acquisitions, "chains_reacquired"_a = h.chains_reacquired,
       "refinements_accepted"_a = h.refinements_accepted,
-      "unseen_priors_kept"_a = h.unseen_priors_kept, "hand_searches"_a = h.hand_searches,
-      "hand_shifts_accepted"_a = h.hand_shifts_accepted,
+      "unseen_priors_kept"_a = h.unseen_priors_kept,
+      "images_with_unseen_motion"_a = h.images_with_unseen_motion,
+      "hand_searches"_a = h.hand_searches, "hand_shifts_accepted"_a = h.hand_shifts_accepted,
       "last_acquisition_ms"_a = h.last_acquisition_ms, "model_error_std_m"_a = h.model_error_std_m,
       "links"_a = links,
       "encoder_noise_measured_rad"_a = py::array_t<double>(
@@ -471,7 +472,7 @@ void bind_tracker(py::module_& m) {
           "chain: name, rendered_pixels, explained_fraction, contradicted_fraction, "
           "abandoned_fraction, weakest_part_joint, weakest_part_explained_fraction, "
           "unconfirmed), acquisitions, chains_reacquired, refinements_accepted, "
-          "unseen_priors_kept, hand_searches, "
+          "unseen_priors_kept, images_with_unseen_motion, hand_searches, "
           "hand_shifts_accepted, "
           "last_acquisition_ms, model_error_std_m (m), links (per link with geometry: link, "
           "shift_m, the surface shift the images pin, NaN before one does, and images), "

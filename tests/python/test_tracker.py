@@ -58,6 +58,9 @@ def test_python_fed_tracker_converges(dataset):
     # Its search along each hand ran at the images that fitted a hand.
     assert 0 <= e.health["hand_shifts_accepted"] <= e.health["hand_searches"]
     assert isinstance(e.health["unseen_priors_kept"], int)  # joints unseen kept at their prior
+    # Images whose refinement step had a motion that moves no surface (a count).
+    assert isinstance(e.health["images_with_unseen_motion"], int)
+    assert e.health["images_with_unseen_motion"] >= 0
     assert e.health["hand_searches"] > 0
     # Each encoder's noise as its readings show it: every joint of this robot
     # has one, and the dataset's encoders are within a few hundredths of a degree.

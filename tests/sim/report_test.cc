@@ -724,6 +724,7 @@ TEST(RunOutputs, TheTrackersCountsAreSummedOverRuns) {
     last.acquisitions = int(k) + 1, last.chains_reacquired = int(k);
     last.refinements_accepted = 40 + int(k);
     last.unseen_priors_kept = 7 * int(k);
+    last.images_with_unseen_motion = 5 + 3 * int(k);
     last.hand_searches = 300, last.hand_shifts_accepted = k == 0 ? 100 : 125;
   }
   for (std::size_t m = 0; m < r.method_results.size(); ++m)
@@ -734,24 +735,27 @@ TEST(RunOutputs, TheTrackersCountsAreSummedOverRuns) {
   EXPECT_EQ(c.chains_reacquired, 1);
   EXPECT_EQ(c.refinements_accepted, 81);
   EXPECT_EQ(c.unseen_priors_kept, 7);
+  EXPECT_EQ(c.images_with_unseen_motion, 13);
   EXPECT_EQ(c.hand_searches, 600);
   EXPECT_EQ(c.hand_shifts_accepted, 225);
   EXPECT_EQ(r.method_results[0].counts.hand_searches, 0);
 
   const std::string json = summary_json(r);
-  EXPECT_NE(json.find("\"health_counts\": {\n        \"runs\": 2,\n        \"acquisitions\": 3,\n"
-                      "        \"chains_reacquired\": 1,\n        \"refinements_accepted\": 81,\n"
-                      "        \"unseen_priors_kept\": 7,\n        \"hand_searches\": 600,\n       "
-                      " \"hand_shifts_accepted\": 225\n"
-                      "      }"),
-            std::string::npos)
+  EXPECT_NE(
+      json.find("\"health_counts\": {\n        \"runs\": 2,\n        \"acquisitions\": 3,\n"
+                "        \"chains_reacquired\": 1,\n        \"refinements_accepted\": 81,\n"
+                "        \"unseen_priors_kept\": 7,\n        \"images_with_unseen_motion\": "
+                "13,\n        \"hand_searches\": 600,\n        \"hand_shifts_accepted\": 225\n"
+                "      }"),
+      std::string::npos)
       << json;
   EXPECT_EQ(count_occurrences(json, "health_counts"),
             2u);  // every method, encoders_only's zeros too
   std::ostringstream table;
   print_summary_table(table, r);
   EXPECT_NE(table.str().find("full_fusion, counts summed over runs (2): searches 3 (chains that "
-                             "took one's result 1), refinement steps taken 81, joints unseen kept "
+                             "took one's result 1), refinement steps taken 81 (images with a "
+                             "motion they cannot see 13), joints unseen kept "
                              "at their prior 7, hand fits searched along the hand 600 "
                              "(shifted 225, 38%)\n"),
             std::string::npos)

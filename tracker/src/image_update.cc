@@ -151,10 +151,12 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
   if (unseen_found)
     health_.unseen_priors_kept +=
         unseen_joints_.keep_priors(covariance_.information().pixels_per_dof(), belief);
-  if (informed && refinement_.on())
+  if (informed && refinement_.on()) {
     health_.refinements_accepted +=
         refinement_.refine(covariance_.step_bound_covariance(), covariance_.information(),
                            prior_mean_, prior_std_, filter_, belief);
+    health_.images_with_unseen_motion += refinement_.unseen_directions() > 0;
+  }
   covariance_.end_image(time_s, health_);
   covariance_.record_means(time_s, belief);
   // Not at the first image: its search has just placed the arms.

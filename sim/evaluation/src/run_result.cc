@@ -70,6 +70,7 @@ HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t metho
     counts.chains_reacquired += h.chains_reacquired;
     counts.refinements_accepted += h.refinements_accepted;
     counts.unseen_priors_kept += h.unseen_priors_kept;
+    counts.images_with_unseen_motion += h.images_with_unseen_motion;
     counts.hand_searches += h.hand_searches;
     counts.hand_shifts_accepted += h.hand_shifts_accepted;
   }

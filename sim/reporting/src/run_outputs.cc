@@ -141,6 +141,7 @@ Json counts_json(const HealthCounts& c) {
               {"chains_reacquired", c.chains_reacquired},
               {"refinements_accepted", c.refinements_accepted},
               {"unseen_priors_kept", c.unseen_priors_kept},
+              {"images_with_unseen_motion", c.images_with_unseen_motion},
               {"hand_searches", c.hand_searches},
               {"hand_shifts_accepted", c.hand_shifts_accepted}};
 }
@@ -551,9 +552,10 @@ void print_summary_table(std::ostream& out, const ScenarioResult& r) {
     if (c.acquisitions == 0 && c.refinements_accepted == 0 && c.hand_searches == 0) continue;
     out << m.method << ", counts summed over runs (" << c.runs << "): searches " << c.acquisitions
         << " (chains that took one's result " << c.chains_reacquired << "), refinement steps taken "
-        << c.refinements_accepted << ", joints unseen kept at their prior " << c.unseen_priors_kept
-        << ", hand fits searched along the hand " << c.hand_searches << " (shifted "
-        << c.hand_shifts_accepted;
+        << c.refinements_accepted << " (images with a motion they cannot see "
+        << c.images_with_unseen_motion << "), joints unseen kept at their prior "
+        << c.unseen_priors_kept << ", hand fits searched along the hand " << c.hand_searches
+        << " (shifted " << c.hand_shifts_accepted;
     if (c.hand_searches > 0)
       out << ", " << std::lround(100.0 * double(c.hand_shifts_accepted) / double(c.hand_searches))
           << "%";

@@ -160,6 +160,13 @@ struct TrackingHealth {
   // of view or behind an occluder is where its encoders and learned biases
   // put it.
   int unseen_priors_kept = 0;
+  // Images whose refinement step found a motion of the states that moves no
+  // surface the camera sees (refinement.unseen_information_ratio), summed:
+  // along it the step follows the prior, and so does the estimate. A robot
+  // whose base link is round about its first joint (a camera orbit with that
+  // joint turning back) shows one on every image (arm7); the dual arm on
+  // about a third of its images (directions its images barely pin).
+  int images_with_unseen_motion = 0;
   double last_acquisition_ms = 0;  // wall time of the newest search
   // The end-effector fit's search along each hand (end_effector_fit.
   // axis_search_range_m): fitted hands searched so far, and the searches

@@ -179,13 +179,14 @@ std::vector<double> encoder_noise_medians_rad(const std::vector<RunResult>& runs
 
 // The tracker's own counts of what it did to get there (TrackingHealth's
 // counters: searches, Gauss-Newton steps, joints unseen (out of view or
-// hidden) kept at their prior, the end-effector fit's search along each
+// hidden) kept at their prior, images whose step had a motion they cannot
+// see, the end-effector fit's search along each
 // hand), summed over the runs' last estimates; `method` indexes
 // RunResult::methods. A run without samples adds nothing.
 struct HealthCounts {
   int runs = 0;  // runs counted
   long long acquisitions = 0, chains_reacquired = 0, refinements_accepted = 0;
-  long long unseen_priors_kept = 0;
+  long long unseen_priors_kept = 0, images_with_unseen_motion = 0;
   long long hand_searches = 0, hand_shifts_accepted = 0;
 };
 HealthCounts health_counts(const std::vector<RunResult>& runs, std::size_t method);

@@ -46,6 +46,7 @@ namespace arttrack::sim {
 //                                  "runs_scaled"}},
 //        "health_counts": {"runs", "acquisitions", "chains_reacquired",
 //                          "refinements_accepted", "unseen_priors_kept",
+//                          "images_with_unseen_motion",
 //                          "hand_searches",
 //                          "hand_shifts_accepted"}}},
 //    "timing": {"joint_update_us": {"p50","p99"}, "image_update_ms": {"p50","p99"},

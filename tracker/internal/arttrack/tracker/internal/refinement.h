@@ -47,6 +47,9 @@ class Refinement {
   bool refine(const PosteriorCovariance& covariance, const ImageInformation& information,
               std::span<const double> prior_mean, std::span<const double> prior_std,
               ImageFilter& image, JointBelief& belief);
+  // After refine(): how many directions of the states its step found that
+  // move no surface (MeanRefinement::unseen_directions()).
+  int unseen_directions() const { return solver_.unseen_directions(); }
 
  private:
   // Setup.
