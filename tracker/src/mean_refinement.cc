@@ -79,14 +79,16 @@ int MeanRefinement::project_out_unseen(const Eigen::MatrixXd& information,
   eigenvectors_.noalias() = rotation_ * tridiagonal_eigen_.eigenvectors();
   // The central differences' information along each eigenvector, in the
   // same units: u^T L^T I L u. A direction is unseen where the motion
-  // field's is below unseen_ratio of it; the others' columns are zeroed.
+  // field's is below unseen_ratio of the prior's (1 when whitened) and of
+  // the central differences'; the others' columns are zeroed.
   product_.noalias() = information * factor_;
   whitened_.noalias() = factor_.transpose() * product_;  // L^T I L
   int unseen = 0;
   for (Eigen::Index k = 0; k < m; ++k) {
     column_.noalias() = whitened_ * eigenvectors_.col(k);
     const double central = eigenvectors_.col(k).dot(column_);
-    if (tridiagonal_eigen_.eigenvalues()[k] < unseen_ratio_ * central)
+    const double field = tridiagonal_eigen_.eigenvalues()[k];
+    if (field < unseen_ratio_ && field < unseen_ratio_ * central)
       ++unseen;
     else
       eigenvectors_.col(k).setZero();

@@ -299,8 +299,9 @@ struct TrackerConfig {
   double refinement_widen_beyond_sigma = 2.0;
   // A direction of the states along which the image's motion-field
   // information (surface normals: what moving a surface shows) is below
-  // this fraction of the central differences' information takes no image
-  // term in the step: along it the mean follows the prior alone. Such a
+  // this fraction both of the prior's and of the central differences'
+  // information takes no image term in the step: along it the mean follows
+  // the prior alone. Such a
   // direction moves no surface (a camera orbiting an axisymmetric base link while the
   // joint that turns it turns back), but the central differences, one DOF
   // at a time, count each edge a DOF's step moves across a pixel centre as
