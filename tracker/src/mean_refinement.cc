@@ -77,22 +77,26 @@ int MeanRefinement::project_out_unseen(const Eigen::MatrixXd& information,
   // makes a workspace of its own).
   tridiagonal_.matrixQ().evalTo(rotation_, householder_workspace_);
   eigenvectors_.noalias() = rotation_ * tridiagonal_eigen_.eigenvectors();
-  // The central differences' information along each eigenvector, in the
-  // same units: u^T L^T I L u. A direction is unseen where the motion
-  // field's is below unseen_ratio of the prior's (1 when whitened) and of
-  // the central differences'; the others' columns are zeroed.
+  // Eigenvalues ascend: the candidates, below unseen_ratio of the prior's
+  // information (1 when whitened), come first. Each is unseen where it is
+  // also below unseen_ratio of the central differences' information along
+  // it, in the same units: u^T L^T I L u. The others' columns are zeroed.
+  Eigen::Index candidates = 0;
+  while (candidates < m && tridiagonal_eigen_.eigenvalues()[candidates] < unseen_ratio_)
+    ++candidates;
+  if (candidates == 0) return 0;
   product_.noalias() = information * factor_;
   whitened_.noalias() = factor_.transpose() * product_;  // L^T I L
   int unseen = 0;
-  for (Eigen::Index k = 0; k < m; ++k) {
+  for (Eigen::Index k = 0; k < candidates; ++k) {
     column_.noalias() = whitened_ * eigenvectors_.col(k);
     const double central = eigenvectors_.col(k).dot(column_);
-    const double field = tridiagonal_eigen_.eigenvalues()[k];
-    if (field < unseen_ratio_ && field < unseen_ratio_ * central)
+    if (tridiagonal_eigen_.eigenvalues()[k] < unseen_ratio_ * central)
       ++unseen;
     else
       eigenvectors_.col(k).setZero();
   }
+  eigenvectors_.rightCols(m - candidates).setZero();
   if (unseen == 0) return 0;
   whitened_.setIdentity(m, m);
   whitened_.noalias() -= eigenvectors_ * eigenvectors_.transpose();  // 1 - U U^T

@@ -30,15 +30,16 @@
 // central differences' only, a direction the field sees at several times
 // the prior's information, where a mesh's central differences read a
 // hundred times more, was taken out, and the sculpted dual arm's camera
-// converged over 30 s instead of 2. With Pi =
-// L (1 - U U^T) L^-1 the projection onto the rest along them, I and g
-// become Pi^T I Pi and Pi^T g: along an unseen direction the step is the
-// prior's alone. Such a direction moves no surface (a camera orbiting an
-// axisymmetric base link while the joint that turns it turns back), but I
-// and g, from central differences one DOF at a time, count the edges each DOF's step moves across
-// pixel centres as slopes, on different pixels per DOF, so that their jumps do not cancel along it:
-// they read information there, and the mean walked along it (docs/accuracy.md, "Directions that
-// move no surface").
+// converged over 30 s instead of 2. With Pi = L (1 - U U^T) L^-1 the
+// projection onto the rest along them, I and g become Pi^T I Pi and Pi^T
+// g: along an unseen direction the step is the prior's alone. Such a
+// direction moves no surface (a camera orbiting an axisymmetric base link
+// while the joint that turns it turns back), but I and g, from central
+// differences one DOF at a time, count the edges each DOF's step moves
+// across pixel centres as slopes, on different pixels per DOF, so that
+// their jumps do not cancel along it: they read information there, and the
+// mean walked along it (docs/accuracy.md, "Directions that move no
+// surface").
 //
 // States are PosteriorCovariance's (posterior_covariance.h), in its order.
 // Internal to the tracker (not installed). solve() allocates only when the

@@ -50,9 +50,10 @@
 //   than refinement.widen_beyond_sigma of them (the mean still converging).
 //   With refinement.unseen_information_ratio (off by default), along a
 //   direction that moves no surface (the motion field's information below
-//   that fraction of the prior's and of the central differences': arm7's camera orbiting its
-//   round base with joint 1 turning back) the step is the prior's alone;
-//   the central differences read edges as information there.
+//   that fraction of the prior's and of the central differences': arm7's
+//   camera orbiting its round base with joint 1 turning back) the step is
+//   the prior's alone; the central differences read edges as information
+//   there.
 // - Joints out of view (particle_filter.keep_unseen_prior). A joint none of
 //   whose links the camera draws at the image's prior mean (or fewer than
 //   particle_filter.unseen_below_pixels, at the view's edge), and that no

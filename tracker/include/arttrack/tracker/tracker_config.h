@@ -301,9 +301,9 @@ struct TrackerConfig {
   // information (surface normals: what moving a surface shows) is below
   // this fraction both of the prior's and of the central differences'
   // information takes no image term in the step: along it the mean follows
-  // the prior alone. Such a
-  // direction moves no surface (a camera orbiting an axisymmetric base link while the
-  // joint that turns it turns back), but the central differences, one DOF
+  // the prior alone. Such a direction moves no surface (a camera orbiting
+  // an axisymmetric base link while the joint that turns it turns back),
+  // but the central differences, one DOF
   // at a time, count each edge a DOF's step moves across a pixel centre as
   // a slope, and the DOFs' jumps fall on different pixels, so they read
   // information there. 0: off (stop 96; docs/accuracy.md, "Directions
