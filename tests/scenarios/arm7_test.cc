@@ -23,12 +23,12 @@ TEST(Arm7, FullFusionTracksTheSecondRobotBetterThanEncodersOverThreeSeeds) {
     const Percentiles encoders = window(r, "encoders_only", 6, 12);
     const Percentiles fusion = window(r, "full_fusion", 6, 12);
     // Measured (seeds 1, 2, 3) from 6 to 12 s: encoders only p50 158.9,
-    // 162.2, 160.1 mm; full fusion p50 7.6, 7.6, 7.6 mm, p99 9.1, 9.8, 9.2 mm
-    // (at 640x480 and 20 s, 5 runs: p50 2.2 mm, docs/accuracy.md).
+    // 162.2, 160.1 mm; full fusion p50 0.06, 0.05, 0.05 mm, p99 0.50, 0.37,
+    // 0.53 mm (stop 98; 7.6 mm when this test was written, issue 12).
     EXPECT_GT(encoders.p50, 80 * kMm);
-    EXPECT_LT(fusion.p50, 15 * kMm);
+    EXPECT_LT(fusion.p50, 1 * kMm);
     EXPECT_LT(fusion.p50, encoders.p50 / 8);
-    EXPECT_LT(fusion.p99, 20 * kMm);
+    EXPECT_LT(fusion.p99, 5 * kMm);
     EXPECT_EQ(method(r, "full_fusion").summary.lost_runs(), 0u);
     // The finger is the one prismatic joint: its figures are metres.
     ASSERT_EQ(r.prismatic.size(), r.joint_names.size());
