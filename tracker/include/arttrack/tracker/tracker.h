@@ -48,7 +48,7 @@
 //   coordinate-wise particles lag. Each state moves at most the particles'
 //   spread, or its reported standard deviation while the step is longer
 //   than refinement.widen_beyond_sigma of them (the mean still converging).
-//   With refinement.unseen_information_ratio (off by default), along a
+//   With refinement.unseen_information_ratio (0.01 by default), along a
 //   direction that moves no surface (the motion field's information below
 //   that fraction of the prior's and of the central differences': arm7's
 //   camera orbiting its round base with joint 1 turning back) the step is

@@ -303,12 +303,12 @@ struct TrackerConfig {
   // information takes no image term in the step: along it the mean follows
   // the prior alone. Such a direction moves no surface (a camera orbiting
   // an axisymmetric base link while the joint that turns it turns back),
-  // but the central differences, one DOF
-  // at a time, count each edge a DOF's step moves across a pixel centre as
-  // a slope, and the DOFs' jumps fall on different pixels, so they read
-  // information there. 0: off (stop 96; docs/accuracy.md, "Directions
-  // that move no surface").
-  double refinement_unseen_information_ratio = 0.0;
+  // but the central differences, one DOF at a time, count each edge a DOF's
+  // step moves across a pixel centre as a slope, and the DOFs' jumps fall on
+  // different pixels, so they read information there. 0: off, the default
+  // before stop 98 (arm7's exact-depth camera walked 35-71 mm along its
+  // round base; docs/accuracy.md, "Directions that move no surface").
+  double refinement_unseen_information_ratio = 0.01;
   // Full fusion: each end effector's pose where the images show its end
   // link (the nearest link with geometry at or above it), not only where
   // the joint estimate's kinematics put it (tracker.h, "End-effector fit";
