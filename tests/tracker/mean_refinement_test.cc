@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "../count_allocations.h"
 #include "mean_refinement.h"
 
 namespace arttrack {
@@ -124,6 +125,28 @@ TEST(MeanRefinement, ADirectionTheFieldSeesIsKeptWhereTheCentralDifferencesReadF
   const Eigen::VectorXd on = p.step(0.01, information, gradient, &unseen);
   EXPECT_EQ(unseen, 0);
   EXPECT_EQ(on, p.step(0, information, gradient));
+}
+
+TEST(MeanRefinement, AStepWithAnUnseenDirectionAllocatesNothingOnceSized) {
+  // The default's path on every image of arm7: the whitening, the
+  // eigenvectors, the central differences' information along the
+  // candidates and the projection, into the solver's kept workspace.
+  const UnseenDirectionProblem p;
+  const Eigen::MatrixXd prior = p.prior, field = p.field,
+                        information = p.field + p.artefact_information;
+  const Eigen::VectorXd x = p.x, gradient = p.seen_gradient + p.artefact_gradient;
+  MeanRefinement solver(Eigen::VectorXd::Zero(3), 1, 1.0, 0.01);
+  const long sizing = g_allocations.load();
+  ASSERT_TRUE(solver.solve(prior, x, information, gradient, field, p.pixels, p.spread));
+  EXPECT_GT(g_allocations.load(), sizing);  // the first step sizes the workspace
+  const long before = g_allocations.load();
+  bool solved = true;
+  for (int k = 0; k < 10; ++k)
+    solved = solver.solve(prior, x, information, gradient, field, p.pixels, p.spread) && solved;
+  const long allocations = g_allocations.load() - before;
+  EXPECT_TRUE(solved);
+  EXPECT_EQ(solver.unseen_directions(), 1);
+  EXPECT_EQ(allocations, 0);
 }
 
 }  // namespace
