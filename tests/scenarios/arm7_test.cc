@@ -3,7 +3,7 @@
 // Full fusion must track it clearly better than the encoders alone over
 // three seeds of the constant-bias scenario, never lose it, and keep its
 // camera offset off the motion its round base hides. Short runs
-// (short_run.h: 160x120 camera, 80x60 likelihood; about 21 s, label slow).
+// (short_run.h: 160x120 camera, 80x60 likelihood; about 14 s, label slow).
 //
 // Thresholds from measured values with a margin; the measured values are in
 // the comments.
@@ -31,8 +31,8 @@ TEST(Arm7, FullFusionTracksTheSecondRobotBetterThanEncodersOverThreeSeeds) {
     EXPECT_LT(fusion.p50, 1 * kMm);
     EXPECT_LT(fusion.p50, encoders.p50 / 8);
     EXPECT_LT(fusion.p99, 5 * kMm);
-    const MethodResult& fused = method(r, "full_fusion");
-    EXPECT_EQ(fused.summary.lost_runs(), 0u);
+    const MethodResult& fusion_result = method(r, "full_fusion");
+    EXPECT_EQ(fusion_result.summary.lost_runs(), 0u);
     // The base link is two coaxial cylinders: the camera orbiting its axis
     // while joint 1 turns back moves no surface, so the camera offset must
     // stay where its prior puts it along that motion. Measured (seeds 1, 2,
@@ -42,9 +42,9 @@ TEST(Arm7, FullFusionTracksTheSecondRobotBetterThanEncodersOverThreeSeeds) {
     // read the base's edges as information there and the step walked the
     // camera along it) 43.8, 27.2, 32.2 mm and 1.32, 0.82, 0.97 degrees
     // (docs/accuracy.md, "Directions that move no surface").
-    EXPECT_LT(fused.summary.converged.camera_translation_m.p50, 10 * kMm);
-    EXPECT_LT(fused.summary.converged.camera_rotation_rad.p50, 0.3 * kRadPerDeg);
-    EXPECT_GT(fused.counts.images_with_unseen_motion, 300);
+    EXPECT_LT(fusion_result.summary.converged.camera_translation_m.p50, 10 * kMm);
+    EXPECT_LT(fusion_result.summary.converged.camera_rotation_rad.p50, 0.3 * kRadPerDeg);
+    EXPECT_GT(fusion_result.counts.images_with_unseen_motion, 300);
     // The finger is the one prismatic joint: its figures are metres.
     ASSERT_EQ(r.prismatic.size(), r.joint_names.size());
     for (std::size_t j = 0; j < r.joint_names.size(); ++j)
