@@ -307,7 +307,7 @@ void list_tracker_config(FieldList<TrackerConfig>& f) {
     using E = C::EndEffectorFitConfig;
     e(key("enabled", &E::enabled), key("time_constant_s", &E::time_constant_s),
       key("max_std_m", &E::max_std_m), key("resolution_factor", &E::resolution_factor),
-      key("axis_search_range_m", &E::axis_search_range_m));
+      key("axis_search_range_m", &E::axis_search_range_m), key("link_scales", &E::link_scales));
   });
   f.nested("acquisition.", &C::acquisition, [](FieldList<C::Acquisition>& a) {
     using A = C::Acquisition;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "arttrack/tracker/kinematics.h"
@@ -181,6 +182,39 @@ TEST(EndEffectorFit, TheLeastDeterminedDirectionCarriesTheUnpinnedShapeError) {
     EXPECT_NEAR(camera_axes(0, 0), var * (1 + extra * 0.01), 1e-12) << scale;
     EXPECT_NEAR(camera_axes(1, 1), var * (1 + extra * 0.01), 1e-12) << scale;
     EXPECT_NEAR(camera_axes(0, 2), 0.0, 1e-15) << scale;
+  }
+}
+
+// end_effector_fit.link_scales: a fitted link the images learned to be 4%
+// larger than its model moves every fit by 0.04 times the fit's response
+// to its scale, here 1.5 mm along the camera's x at the tool (the
+// response a pure translation, the fit isotropic): the same in every
+// image, so once the fits' say is whole it is all of the added
+// covariance, along x alone. Not learned (NaN), or the option off: none.
+TEST(EndEffectorFit, LearnedLinkScalesWidenTheFittedPositionByTheirShift) {
+  for (const bool on : {true, false}) {
+    TrackerConfig config = small_config(TrackingMethod::kFullFusion);
+    config.end_effector_fit.link_scales = on;
+    const TrackerSetup setup(arm_model(), config, {"shoulder", "elbow"});
+    for (const double scale : {0.04, std::numeric_limits<double>::quiet_NaN()}) {
+      EndEffectorFit fit(setup);
+      const std::vector<double> mean(std::size_t(setup.n), 0.0);
+      const Eigen::Matrix3d R = R_camera_tool(setup);
+      ImageInformation::RigidFit f;
+      f.information = Eigen::Matrix<double, 6, 6>::Identity() * 1e8;
+      f.pixels = 100;  // no motion: no scatter
+      f.scale_links = {1};
+      f.scale_cross.setZero(6, 1);
+      f.scale_cross(0, 0) = 1e8 * 0.0015 / 0.04;  // information^-1 of it: 1.5 mm / 4%
+      const std::vector<double> link_scales = {0.0, scale, 0.0};
+      for (int k = 0; k <= 200; ++k) fit.update(0.1 * k, {f}, mean, mean, 0.0, {}, link_scales);
+      const Eigen::Matrix3d camera_axes =
+          R * fit.estimates()[0].position_covariance_m2 * R.transpose();
+      const double expected_m2 = on && !std::isnan(scale) ? 0.0015 * 0.0015 : 0.0;
+      EXPECT_NEAR(camera_axes(0, 0), expected_m2, 1e-6 * 0.0015 * 0.0015) << on << scale;
+      EXPECT_NEAR(camera_axes(1, 1), 0.0, 1e-15);
+      EXPECT_NEAR(camera_axes(2, 2), 0.0, 1e-15);
+    }
   }
 }
 

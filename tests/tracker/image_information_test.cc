@@ -11,6 +11,7 @@
 #include "../count_allocations.h"
 #include "../scratch_dir.h"
 #include "arttrack/tracker/error.h"
+#include "arttrack/tracker/internal/end_effector_fit.h"
 #include "arttrack/tracker/internal/worker_pool.h"
 
 namespace arttrack {
@@ -532,6 +533,53 @@ TEST(ImageInformation, LinkScaleSeesALargerLink) {
   EXPECT_NEAR(scales_seen(1.0, 0.004)[index_of("post")].scale, 0.0, 0.002);
 }
 
+// A rigid fit's scale columns (RigidFit::scale_cross): the real post 3%
+// larger about its centre moves the post's rigid fit, and 0.03 times the
+// fit's response to the post's scale predicts where it moves a point 8 cm
+// above the post's centre (the translation and the turn both count; the
+// same first-order fit, so to a few percent). The board's fit takes both
+// links' columns (the post is below it), the post's only its own. The
+// predicted shift's outer product is scale_shift_m2()'s.
+TEST(ImageInformation, RigidFitScaleColumnsPredictTheFitOfALargerLink) {
+  PostScene scene;
+  const RobotModel& model = scene.model;
+  const int post_link = model.link_index("post"), board_link = model.link_index("board");
+  ImageInformation info(camera_offset_dofs(model));
+  info.set_rigid_fit_links(model, {post_link, board_link});
+  scene.observe(info, 1.03, 0.0, 0.0);
+  const auto& with_geometry = info.shift_links();
+  const int post =
+      int(std::find(with_geometry.begin(), with_geometry.end(), post_link) - with_geometry.begin());
+  const int board = 1 - post;
+  const ImageInformation::RigidFit& fit = info.rigid_fits()[0];
+  ASSERT_EQ(fit.scale_links, std::vector<int>{post});
+  ASSERT_EQ(fit.scale_cross.cols(), 1);
+  std::vector<int> board_subtree = info.rigid_fits()[1].scale_links;
+  std::sort(board_subtree.begin(), board_subtree.end());
+  EXPECT_EQ(board_subtree, (std::vector<int>{std::min(post, board), std::max(post, board)}));
+  ASSERT_GT(fit.pixels, 50);
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> normal(fit.information);
+  const Eigen::Matrix<double, 6, 1> fitted = normal.solve(fit.gradient);
+  const Eigen::Matrix<double, 6, 1> predicted = 0.03 * normal.solve(fit.scale_cross.col(0));
+  KinematicsState state(model);
+  forward_kinematics(model, scene.q0, state);
+  const Eigen::Isometry3d T_camera_post = T_camera_link(model, state, post_link);
+  const Eigen::Vector3d point_m = T_camera_post * Eigen::Vector3d(0, 0, 0.08);
+  auto shift_at = [&](const Eigen::Matrix<double, 6, 1>& x) {
+    return Eigen::Vector3d(x.head<3>() + x.tail<3>().cross(point_m - fit.origin_m));
+  };
+  const Eigen::Vector3d fitted_m = shift_at(fitted), predicted_m = shift_at(predicted);
+  EXPECT_GT(fitted_m.norm(), 0.001) << fitted_m.transpose();
+  EXPECT_LT((fitted_m - predicted_m).norm(), 0.1 * fitted_m.norm())
+      << fitted_m.transpose() << " / " << predicted_m.transpose();
+  std::vector<double> scales(with_geometry.size(), std::numeric_limits<double>::quiet_NaN());
+  scales[std::size_t(post)] = 0.03;
+  const Eigen::Matrix3d expected_m2 = predicted_m * predicted_m.transpose();
+  EXPECT_LT((scale_shift_m2(fit, scales, point_m) - expected_m2).norm(), 1e-9 * expected_m2.norm());
+  scales[std::size_t(post)] = std::numeric_limits<double>::quiet_NaN();  // not learned: none
+  EXPECT_EQ(scale_shift_m2(fit, scales, point_m).norm(), 0.0);
+}
+
 // Link bulges: the real post's radius 3 mm more than the model's reads as
 // its bulge (2.2 mm: one image's noise variance at the likelihood's 3 mm
 // is taken off, and the steepest pixels leave the inliers) and no longer
@@ -592,6 +640,8 @@ TEST(ImageInformation, TheModelErrorFitsAllocateNothingOnceSized) {
   PostScene scene;
   ImageInformation info(camera_offset_dofs(scene.model),
                         {.link_shifts = true, .motion_field = true});
+  info.set_rigid_fit_links(scene.model,
+                           {scene.model.link_index("post"), scene.model.link_index("board")});
   scene.observe(info, 1.0, 0.003, 0.0);  // a thicker post: shifts, a bulge and scales to fit
   std::vector<char> pinned;
   std::vector<double> column_square_m2, bulge_square_m2;

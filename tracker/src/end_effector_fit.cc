@@ -61,6 +61,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
       last_seen_s_(setup.ee_links.size(), 0.0),
       average_(setup.ee_links.size(), EndEffectorCorrection::Zero()),
       weak_shape_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
+      link_scale_m2_(setup.ee_links.size(), Eigen::Matrix3d::Zero()),
       kinematics_(*setup.model),
       q_(Eigen::VectorXd::Zero(setup.n)) {
   const TrackerConfig& c = setup.config;
@@ -69,6 +70,7 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
   max_var_m2_ = c.end_effector_fit.max_std_m * c.end_effector_fit.max_std_m;
   unpinned_scale_ = c.model_error_unpinned_scale;
   depth_scale_std_ = c.depth_scale_std;
+  link_scales_ = c.end_effector_fit.link_scales;
   for (std::size_t e = 0; e < setup.ee_links.size(); ++e) {
     const int link = fit_link_of(*setup.model, setup.ee_links[e]);
     if (link < 0) continue;
@@ -79,12 +81,34 @@ EndEffectorFit::EndEffectorFit(const TrackerSetup& setup)
   motions_.assign(fit_links_.size(), Eigen::Isometry3d::Identity());
   seen_.assign(fit_links_.size(), false);
   noise_m2_.assign(fit_links_.size(), Eigen::Matrix3d::Zero());
+  scale_shift_m2_.assign(fit_links_.size(), Eigen::Matrix3d::Zero());
+}
+
+Eigen::Matrix3d scale_shift_m2(const ImageInformation::RigidFit& fit,
+                               std::span<const double> link_scales,
+                               const Eigen::Vector3d& point_m) {
+  Eigen::Matrix3d sum_m2 = Eigen::Matrix3d::Zero();
+  if (link_scales.empty()) return sum_m2;
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> normal(fit.information);
+  if (normal.info() != Eigen::Success) return sum_m2;
+  for (int c = 0; c < fit.scale_cross.cols(); ++c) {
+    const std::size_t link = std::size_t(fit.scale_links[std::size_t(c)]);
+    const double scale = link < link_scales.size() ? link_scales[link] : 0.0;
+    if (!std::isfinite(scale) || scale == 0) continue;
+    // The motion a unit scale fits, X -> X + t + w x (X - o), at the point.
+    const Eigen::Matrix<double, 6, 1> x = normal.solve(fit.scale_cross.col(c));
+    const Eigen::Vector3d shift_m =
+        scale * (x.head<3>() + x.tail<3>().cross(point_m - fit.origin_m));
+    sum_m2.noalias() += shift_m * shift_m.transpose();
+  }
+  return sum_m2;
 }
 
 void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
                             std::span<const double> mean_fitted, std::span<const double> mean_final,
                             double model_error_std_m,
-                            std::span<const Eigen::Vector3d> axis_shifts_m) {
+                            std::span<const Eigen::Vector3d> axis_shifts_m,
+                            std::span<const double> link_scales) {
   if (!on_) return;
   const double dt = started_ ? std::max(0.0, time_s - last_time_s_) : 0.0;
   started_ = true;
@@ -118,9 +142,14 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
   const RobotModel& model = *setup_.model;
   for (int j = 0; j < setup_.n; ++j) q_[j] = mean_fitted[std::size_t(j)];
   forward_kinematics(model, q_, kinematics_);
-  for (std::size_t f = 0; f < fit_links_.size(); ++f)
-    if (seen_[f])
-      motions_[f] = motions_[f] * T_camera_link(model, kinematics_, setup_.ee_links[ee_of(f)]);
+  for (std::size_t f = 0; f < fit_links_.size(); ++f) {
+    if (!seen_[f]) continue;
+    const Eigen::Isometry3d T_camera_ee =
+        T_camera_link(model, kinematics_, setup_.ee_links[ee_of(f)]);
+    if (link_scales_)
+      scale_shift_m2_[f] = scale_shift_m2(fits[f], link_scales, T_camera_ee.translation());
+    motions_[f] = motions_[f] * T_camera_ee;
+  }
   for (int j = 0; j < setup_.n; ++j) q_[j] = mean_final[std::size_t(j)];
   forward_kinematics(model, q_, kinematics_);
   for (std::size_t f = 0; f < fit_links_.size(); ++f) {
@@ -150,6 +179,8 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
             .eigenvalues()[2];
     Eigen::Matrix3d& shape = weak_shape_[i];
     if (largest_m2 > 0) shape += weight * (noise_ee_m2 / largest_m2 - shape);
+    Eigen::Matrix3d& link_scale = link_scale_m2_[i];
+    if (link_scales_) link_scale += weight * (R.transpose() * scale_shift_m2_[f] * R - link_scale);
     double& total = fits_weight_[i];
     total += weight * (1 - total);
     e.weight = total;
@@ -159,7 +190,7 @@ void EndEffectorFit::update(double time_s, const std::vector<ImageInformation::R
     e.position_covariance_m2 =
         scatter / total + shape_var_m2 * Eigen::Matrix3d::Identity() +
         (unpinned_scale_ * unpinned_scale_ - 1) * shape_var_m2 * (shape / total) +
-        scale_m * scale_m.transpose();
+        scale_m * scale_m.transpose() + link_scale / total;
   }
 }
 

@@ -615,33 +615,49 @@ void ImageInformation::set_rigid_fit_links(const RobotModel& model, std::vector<
   }
   rigid_fits_.assign(links.size(), RigidFit{});
   rigid_fits_of_label_.clear();
+  rigid_scale_column_of_label_.clear();
 }
 
 void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
                                           const DepthLikelihood& likelihood) {
   if (rigid_fits_of_label_.empty()) {  // shift_above_ is the model's (prepare_workers)
     rigid_fits_of_label_.resize(shift_links_.size());
+    rigid_scale_column_of_label_.resize(shift_links_.size());
+    for (RigidFit& fit : rigid_fits_) fit.scale_links.clear();
     for (std::size_t l = 0; l < shift_above_.size(); ++l)
       for (std::size_t f = 0; f < rigid_fit_shift_.size(); ++f)
         if (std::find(shift_above_[l].begin(), shift_above_[l].end(), rigid_fit_shift_[f]) !=
-            shift_above_[l].end())
+            shift_above_[l].end()) {
           rigid_fits_of_label_[l].push_back(int(f));
+          rigid_scale_column_of_label_[l].push_back(int(rigid_fits_[f].scale_links.size()));
+          rigid_fits_[f].scale_links.push_back(int(l));
+        }
+    for (RigidFit& fit : rigid_fits_) fit.scale_cross.resize(6, std::ssize(fit.scale_links));
   }
   for (std::size_t f = 0; f < rigid_fits_.size(); ++f) {
-    rigid_fits_[f] = RigidFit{};
-    rigid_fits_[f].origin_m =
-        T_link_camera_[std::size_t(rigid_fit_shift_[f])].inverse().translation();
+    RigidFit& fit = rigid_fits_[f];  // reset in place: scale_cross keeps its size
+    fit.information.setZero();
+    fit.gradient.setZero();
+    fit.scale_cross.setZero();
+    fit.pixels = 0;
+    fit.origin_m = T_link_camera_[std::size_t(rigid_fit_shift_[f])].inverse().translation();
   }
+  link_origin_camera_.resize(shift_links_.size());  // as the shifts' (sized once)
+  for (std::size_t l = 0; l < shift_links_.size(); ++l)
+    link_origin_camera_[l] = T_link_camera_[l].inverse().translation();
   for_each_labelled_pixel(camera, likelihood, false, [&](int p, int l, const Eigen::Vector3d& j) {
     const std::vector<int>& fits = rigid_fits_of_label_[std::size_t(l)];
     if (fits.empty()) return;
     const Eigen::Vector3d X = rendered_point(p, camera);
-    for (int f : fits) {
-      RigidFit& fit = rigid_fits_[std::size_t(f)];
+    // The pixel's own link's scale, about that link's origin.
+    const double h = j.dot(X - link_origin_camera_[std::size_t(l)]);
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      RigidFit& fit = rigid_fits_[std::size_t(fits[i])];
       Eigen::Matrix<double, 6, 1> g;
       g << j, (X - fit.origin_m).cross(j);
       fit.information.noalias() += g * g.transpose();
       fit.gradient += double(residuals_[p]) * g;
+      fit.scale_cross.col(rigid_scale_column_of_label_[std::size_t(l)][i]) += h * g;
       ++fit.pixels;
     }
   });

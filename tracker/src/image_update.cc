@@ -171,8 +171,10 @@ double ImageUpdate::apply(const DepthImage& image, const DepthImage& fit_image,
                     : axis_search_.search(renderer, likelihood, mean_fitted_, fits);
     health_.hand_searches = axis_search_.searched();
     health_.hand_shifts_accepted = axis_search_.accepted();
+    link_scales_.resize(health_.links.size());  // sized once
+    for (std::size_t g = 0; g < health_.links.size(); ++g) link_scales_[g] = health_.links[g].scale;
     end_effector_fit_.update(time_s, fits, mean_fitted_, belief.mean_a,
-                             covariance_.model_error_std_m(), shifts);
+                             covariance_.model_error_std_m(), shifts, link_scales_);
   }
   check.update(belief.mean_a, image, stamp_s, renderer, health_);
   return search_ms;

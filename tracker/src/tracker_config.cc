@@ -344,6 +344,7 @@ TrackerConfig tracker_config_from_yaml(const YamlDocument& doc) {
   TrackerConfig::EndEffectorFitConfig& fit = c.end_effector_fit;
   const ConfigNode end_effector_fit = root.child("end_effector_fit");
   fit.enabled = end_effector_fit.get<bool>("enabled", fit.enabled);
+  fit.link_scales = end_effector_fit.get<bool>("link_scales", fit.link_scales);
   read_numbers(end_effector_fit, {{"time_constant_s", &fit.time_constant_s},
                                   {"max_std_m", &fit.max_std_m},
                                   {"resolution_factor", &fit.resolution_factor},

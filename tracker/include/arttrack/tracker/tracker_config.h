@@ -327,6 +327,10 @@ struct TrackerConfig {
     double max_std_m = 0.002;
     int resolution_factor = 2;
     double axis_search_range_m = 0.01;
+    // Whether the reported position also takes the fit links' shape scales
+    // the images learn (TrackingHealth::LinkModelError::scale): the shift a
+    // link's scale moves its rigid fit by (end_effector_fit.h).
+    bool link_scales = false;
   };
   EndEffectorFitConfig end_effector_fit;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the

@@ -55,7 +55,16 @@
 // where the scaled image does, s times its distance from the camera along
 // its line of sight (scaling about the camera's centre), an error every
 // image shares, so s^2 X X^T (X the hand's position in camera axes) is
-// added. EstimateReport weighs the result against
+// added. With end_effector_fit.link_scales, a link of the fitted subtree
+// whose shape the images learn to be s larger than its model's (a hand 4%
+// bigger; ImageInformation::LinkScaleFit, the health's links[].scale)
+// moves every image's fit by s times the fit's response to that scale
+// (ImageInformation::RigidFit::scale_cross): an error the images share,
+// whose square, averaged like the scatter, is added too. The pooled shape
+// error above comes from the links that fit: on a dual arm whose length
+// errors sit on links no image pins it reads 0, while its hands, 4% off
+// their meshes, sat 2 mm off against a reported 0.9 mm (docs/accuracy.md,
+// stop 99). EstimateReport weighs the result against
 // the kinematics' by the fits' say (EndEffectorFitEstimate::weight), which
 // fades while no image shows the hand.
 //
@@ -92,6 +101,13 @@ Eigen::Isometry3d correction_transform(const EndEffectorCorrection& c);
 bool rigid_fit_motion(const ImageInformation::RigidFit& fit, double max_var_m2,
                       Eigen::Isometry3d& motion, Eigen::Matrix3d& translation_noise_m2);
 
+// The shift of `point_m` (camera axes) that the learned shape scales of
+// the fit's links (`link_scales`, per link with geometry; NaN or 0: none)
+// move the rigid fit by, each link's s information^-1 G^T h (RigidFit),
+// summed as outer products, m^2: the links' scales are independent.
+Eigen::Matrix3d scale_shift_m2(const ImageInformation::RigidFit& fit,
+                               std::span<const double> link_scales, const Eigen::Vector3d& point_m);
+
 // What the fits say about one end effector.
 struct EndEffectorFitEstimate {
   // The averaged correction, times exp(-t / time_constant_s) while held
@@ -126,10 +142,14 @@ class EndEffectorFit {
   // order) at `mean_fitted`, `mean_final` the image's final mean (both
   // every DOF); `model_error_std_m` the links' shape error (above).
   // `axis_shifts_m` (fit_links() order, camera axes; empty: none): added
-  // to each fit's translation (end_effector_axis_search.h).
+  // to each fit's translation (end_effector_axis_search.h). `link_scales`
+  // (per link with geometry, ImageInformation::shift_links() order; NaN
+  // where not learned; empty: none): the links' learned shape scales,
+  // taken with end_effector_fit.link_scales.
   void update(double time_s, const std::vector<ImageInformation::RigidFit>& fits,
               std::span<const double> mean_fitted, std::span<const double> mean_final,
-              double model_error_std_m, std::span<const Eigen::Vector3d> axis_shifts_m = {});
+              double model_error_std_m, std::span<const Eigen::Vector3d> axis_shifts_m = {},
+              std::span<const double> link_scales = {});
 
   // Per end effector (TrackerConfig::end_effectors order): the averaged
   // correction and its uncertainty (a zero correction of weight 0 until an
@@ -156,6 +176,10 @@ class EndEffectorFit {
   // Per end effector, the fits' noise shape in end-effector axes (above),
   // averaged like the scatter.
   std::vector<Eigen::Matrix3d> weak_shape_;
+  // Per end effector, the learned link scales' shift of its position
+  // (above), m^2 in end-effector axes, averaged like the scatter.
+  std::vector<Eigen::Matrix3d> link_scale_m2_;
+  bool link_scales_ = false;
   double unpinned_scale_ = 1;
   double depth_scale_std_ = 0;
   // Per fitted end effector, the last image's: whether it determined the
@@ -164,6 +188,7 @@ class EndEffectorFit {
   std::vector<char> seen_;
   std::vector<Eigen::Isometry3d> motions_;
   std::vector<Eigen::Matrix3d> noise_m2_;
+  std::vector<Eigen::Matrix3d> scale_shift_m2_;  // camera axes, at the fitted mean
   std::size_t ee_of(std::size_t f) const { return std::size_t(fitted_ee_[f]); }
   double last_time_s_ = 0;
   bool started_ = false;

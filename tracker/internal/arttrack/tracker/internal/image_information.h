@@ -317,11 +317,20 @@ class ImageInformation {
   // fit is information^-1 gradient, in m and rad, its noise covariance
   // information^-1 when the pixels' noise is the likelihood's. Computed by
   // compute() whether or not params.link_shifts is on.
+  // A link of the subtree whose shape is s larger than its model's about
+  // its own origin o_l (LinkScaleFit, below) moves its pixels' depth by
+  // s h, h = j . (X - o_l): the fit then moves by s information^-1 G^T h,
+  // an error a rigid motion cannot take up (a hand 4% bigger, fitted, sits
+  // 2 mm off). Per subtree link, G^T h is a column of scale_cross, the
+  // link's index as shift_links()'s in scale_links (sized at the first
+  // compute(), then kept).
   struct RigidFit {
     Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> gradient = Eigen::Matrix<double, 6, 1>::Zero();
     Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();  // o, camera axes, at q
     int pixels = 0;
+    std::vector<int> scale_links;
+    Eigen::Matrix<double, 6, Eigen::Dynamic> scale_cross;
   };
   // `links`: model link indices, each with geometry (InputError otherwise);
   // repeats allowed. Before the first compute().
@@ -393,9 +402,10 @@ class ImageInformation {
   Eigen::VectorXd depth_scale_cross_;
   double residual_sum_sq_ = 0;  // of the used pixels' residuals u
   // Rigid fits: per fit its link's shift_links_ index; per shift link
-  // (label), the fits whose subtree it belongs to.
+  // (label), the fits whose subtree it belongs to, and its column in each
+  // one's scale_cross.
   std::vector<int> rigid_fit_shift_;
-  std::vector<std::vector<int>> rigid_fits_of_label_;
+  std::vector<std::vector<int>> rigid_fits_of_label_, rigid_scale_column_of_label_;
   std::vector<RigidFit> rigid_fits_;
   void compute_rigid_fits(const CameraIntrinsics& camera, const DepthLikelihood& likelihood);
 

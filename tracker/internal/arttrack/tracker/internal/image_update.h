@@ -129,6 +129,8 @@ class ImageUpdate {
   std::vector<double> carrier_added_var_;
   // The mean the image's information is computed at (before the refinement).
   std::vector<double> mean_fitted_;
+  // Per link with geometry: the health's learned scale, for the end-effector fit.
+  std::vector<double> link_scales_;
   std::vector<char> reopened_;
   // The camera blocks (indices into the filter's blocks), how many an
   // image samples (the n-th image from the (n m)-th on, cyclically), and
