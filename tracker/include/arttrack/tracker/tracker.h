@@ -80,7 +80,9 @@
 //   their positions' covariance is the fits' (their scatter about the
 //   average, plus the links' shape error, at
 //   uncertainty.model_error_unpinned_scale times it along the direction
-//   the fits determine least), not the angles'. The angles, biases and
+//   the fits determine least, and the shift each fitted link's learned
+//   scale moves the fit by: end_effector_fit.link_scales), not the
+//   angles'. The angles, biases and
 //   their covariance are the filter's, unchanged. Each fit is also
 //   searched along that direction with the whole pixel likelihood, which
 //   sees a hand reaching past the model's silhouette
@@ -198,7 +200,10 @@ struct TrackingHealth {
   // look, not a measurement: a link beside a scaled link or a wrong length
   // can read a few percent, and a link whose geometry's centre lies far
   // from its origin reads part of its scale as a shift (docs/accuracy.md,
-  // stop 86).
+  // stop 86). With end_effector_fit.link_scales (the default) the scales
+  // of the end-effector fits' links widen the hands' reported positions
+  // (the realistic dual arm's hands, 4% off their meshes, read +3.1% and
+  // -2.9%; stop 99).
   struct LinkModelError {
     std::string link;
     double shift_m = std::numeric_limits<double>::quiet_NaN();
@@ -245,7 +250,8 @@ struct TrackerEstimate {
   // covariance after the first image, posterior_covariance.h); with the
   // end-effector fit, the position's is the fits' where they have a say
   // (their scatter and the links' shape error, widened along the direction
-  // they determine least, "End-effector fit" above).
+  // they determine least, and the fitted links' learned scales' shift of
+  // them, "End-effector fit" above).
   std::vector<Eigen::Matrix<double, 6, 6>> T_camera_ee_covariance;
   // The end-effector fit's share of T_camera_ee ("End-effector fit" above):
   // per end effector, the rigid motion in its own axes (translation m, then

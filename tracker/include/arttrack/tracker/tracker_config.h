@@ -329,8 +329,9 @@ struct TrackerConfig {
     double axis_search_range_m = 0.01;
     // Whether the reported position also takes the fit links' shape scales
     // the images learn (TrackingHealth::LinkModelError::scale): the shift a
-    // link's scale moves its rigid fit by (end_effector_fit.h).
-    bool link_scales = false;
+    // link's scale moves its rigid fit by (end_effector_fit.h). The
+    // default since stop 99 (docs/accuracy.md).
+    bool link_scales = true;
   };
   EndEffectorFitConfig end_effector_fit;
   // Acquisition (tracker.h): an annealed, coarse-to-fine search from the
