@@ -275,9 +275,11 @@ Eigen::Vector3d ImageInformation::depth_slope_vector(int p, const CameraIntrinsi
 void ImageInformation::place_surfaces(const RobotModel& model) {
   const Eigen::Isometry3d T_camera_root =
       kinematics_.T_root_link[std::size_t(model.camera_link())].inverse();
-  for (std::size_t k = 0; k < shift_links_.size(); ++k)
+  for (std::size_t k = 0; k < shift_links_.size(); ++k) {
     T_link_camera_[k] =
         (T_camera_root * kinematics_.T_root_link[std::size_t(shift_links_[k])]).inverse();
+    link_origin_camera_[k] = T_link_camera_[k].inverse().translation();
+  }
   for (int l = 0; l < model.num_links(); ++l) {
     int i = first_round_shape_[std::size_t(l)];
     for (const RoundShape& s : model.link(l).round_shapes)
@@ -368,6 +370,7 @@ void ImageInformation::prepare_workers(DepthRenderer& renderer, int num_workers)
           first_round_shape_[std::size_t(l)] + int(model.link(l).round_shapes.size());
     T_shape_camera_.resize(std::size_t(first_round_shape_.back()));
     T_link_camera_.resize(shift_links_.size());
+    link_origin_camera_.resize(shift_links_.size());
     surface_normals_.clear();
     for (int l : shift_links_)
       surface_normals_.emplace_back(model.link(l).mesh, model.link(l).round_shapes,
@@ -532,9 +535,6 @@ void ImageInformation::compute_link_shifts(const CameraIntrinsics& camera,
   bulge_information_.setZero(L);
   bulge_gradient_.setZero(L);
   bulge_pixels_.assign(std::size_t(L), 0);
-  link_origin_camera_.resize(std::size_t(L));
-  for (int l = 0; l < L; ++l)
-    link_origin_camera_[std::size_t(l)] = T_link_camera_[std::size_t(l)].inverse().translation();
   // The slopes, not the surfaces' normals: with the round shapes' normals the link
   // shifts' variance (link_shift_variance_m2) fell to nothing on the
   // realistic dual arm (1.8 mm -> 0.2 mm in 8 s, realistic/both.yaml, stop
@@ -623,7 +623,6 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
   if (rigid_fits_of_label_.empty()) {  // shift_above_ is the model's (prepare_workers)
     rigid_fits_of_label_.resize(shift_links_.size());
     rigid_scale_column_of_label_.resize(shift_links_.size());
-    for (RigidFit& fit : rigid_fits_) fit.scale_links.clear();
     for (std::size_t l = 0; l < shift_above_.size(); ++l)
       for (std::size_t f = 0; f < rigid_fit_shift_.size(); ++f)
         if (std::find(shift_above_[l].begin(), shift_above_[l].end(), rigid_fit_shift_[f]) !=
@@ -640,11 +639,8 @@ void ImageInformation::compute_rigid_fits(const CameraIntrinsics& camera,
     fit.gradient.setZero();
     fit.scale_cross.setZero();
     fit.pixels = 0;
-    fit.origin_m = T_link_camera_[std::size_t(rigid_fit_shift_[f])].inverse().translation();
+    fit.origin_m = link_origin_camera_[std::size_t(rigid_fit_shift_[f])];
   }
-  link_origin_camera_.resize(shift_links_.size());  // as the shifts' (sized once)
-  for (std::size_t l = 0; l < shift_links_.size(); ++l)
-    link_origin_camera_[l] = T_link_camera_[l].inverse().translation();
   for_each_labelled_pixel(camera, likelihood, false, [&](int p, int l, const Eigen::Vector3d& j) {
     const std::vector<int>& fits = rigid_fits_of_label_[std::size_t(l)];
     if (fits.empty()) return;

@@ -391,7 +391,6 @@ class ImageInformation {
   // g^T G_shift (links x 3 links), g^T g and g^T u, g = j . (X - o) / sigma.
   Eigen::MatrixXd scale_cross_, scale_shift_cross_;
   Eigen::VectorXd scale_information_, scale_gradient_;
-  std::vector<Eigen::Vector3d> link_origin_camera_;  // o per shift link, camera axes, at q
   // Link bulges, per shift link (its own pixels), as the scales' with
   // g = -|j| / sigma; the motion field's DOF columns too.
   Eigen::MatrixXd bulge_cross_, field_bulge_cross_, bulge_shift_cross_;
@@ -436,6 +435,7 @@ class ImageInformation {
   // camera's pose in each such link's frame at q (place_surfaces()).
   std::vector<SurfaceNormals> surface_normals_;
   std::vector<Eigen::Isometry3d> T_link_camera_;
+  std::vector<Eigen::Vector3d> link_origin_camera_;  // o per shift link, camera axes, at q
   void place_surfaces(const RobotModel& model);
   // The unit normal, in camera axes, of the round shape of `link` that
   // camera-frame point X lies on, at q; false when on none.
